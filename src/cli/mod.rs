@@ -1,0 +1,75 @@
+//! Command-line interface: one module per subcommand, each turning raw flags
+//! into validated library types once and then calling the library.
+
+mod motion;
+
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::{Parser, Subcommand};
+
+/// Monte Carlo fragility analysis of free-standing rigid blocks under earthquakes.
+#[derive(Debug, Parser)]
+#[command(name = "rockfrag", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands, in pipeline order.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Generate one synthetic ground motion (CSV `t,acc,vel,disp`, optional SVG plot).
+    Motion(motion::MotionArgs),
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Motion(args) => motion::run(args),
+    }
+}
+
+/// Prints a clap error as one clear line (argument and accepted values) and
+/// exits with status 2; help and version requests print normally and exit 0.
+pub fn exit_on_parse_error(err: clap::Error) -> ! {
+    match err.kind() {
+        ErrorKind::DisplayHelp
+        | ErrorKind::DisplayVersion
+        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => err.exit(),
+        _ => {}
+    }
+    eprintln!("{}", one_line(&err));
+    std::process::exit(2);
+}
+
+fn one_line(err: &clap::Error) -> String {
+    let text = |k: ContextKind| match err.get(k) {
+        Some(ContextValue::String(s)) => Some(s.clone()),
+        Some(ContextValue::Strings(v)) => Some(v.join(", ")),
+        _ => None,
+    };
+    let arg = text(ContextKind::InvalidArg);
+    let value = text(ContextKind::InvalidValue);
+    let valid = text(ContextKind::ValidValue).or_else(|| text(ContextKind::ValidSubcommand));
+    let mut line = match (&arg, &value) {
+        (Some(a), Some(v)) => format!("error: invalid value '{v}' for {a}"),
+        (Some(a), None) => match err.kind() {
+            ErrorKind::MissingRequiredArgument => format!("error: missing required argument {a}"),
+            ErrorKind::UnknownArgument => format!("error: unknown argument {a}"),
+            _ => format!("error: problem with argument {a}"),
+        },
+        _ => {
+            // Fall back to clap's own first line.
+            let rendered = err.render().to_string();
+            rendered.lines().next().unwrap_or("error: invalid arguments").to_string()
+        }
+    };
+    if let Some(v) = valid {
+        line.push_str(&format!(" (accepted: {v})"));
+    }
+    if let Some(reason) = text(ContextKind::Custom).filter(|_| value.is_some()) {
+        line.push_str(&format!(": {reason}"));
+    }
+    line.push_str("; see 'rockfrag --help'");
+    line
+}

@@ -1,0 +1,45 @@
+//! # rockfrag
+//!
+//! Monte Carlo fragility analysis of free-standing rigid blocks under
+//! earthquakes.
+//!
+//! Data flows one way, and the modules are declared in that order:
+//!
+//! ```text
+//! spec ─▶ motion ─▶ solver ─▶ outcome ─▶ study ─▶ fragility ─▶ figures
+//! ```
+//!
+//! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
+//!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
+//! - [`solver`]: the event-driven block solver (rest, rock, flight, impacts);
+//! - [`outcome`]: what one analysis produces;
+//! - [`figures`]: publication figures drawn with an embedded font.
+//!
+//! ## Governing equations
+//!
+//! Symmetric block, width 2B, height 2H, R = √(B²+H²), θc = atan(B/H),
+//! I_O = 4mR²/3 about a corner, p² = 3g/(4R). Rocking about a corner
+//! (S = sign θ), paper eq. (1):
+//!
+//! ```text
+//! I_O θ̈ = m R cos(θc − |θ|) ẍg − S m R sin(θc − |θ|) (g + ÿg)
+//! ```
+//!
+//! Impacts: impulse–momentum at the striking corner with Newton restitution e
+//! (or an energy-consistent law); at a rock impact ω₂/ω₁ = 1 − 1.5(1+e)sin²θc.
+//!
+//! ## References
+//! - Shenton, H. W. and Jones, N. P. (1991). Base excitation of rigid bodies.
+//!   I: Formulation. *J. Eng. Mech.* 117(10), 2286–2306.
+//! - Shenton, H. W. and Jones, N. P. Effect of friction and restitution on
+//!   rocking response (the seed paper of this crate).
+//! - Housner, G. W. (1963). The behavior of inverted pendulum structures during
+//!   earthquakes. *Bull. Seismol. Soc. Am.* 53(2), 403–417.
+//! - Clough, R. W. and Penzien, J. (1975). *Dynamics of Structures*.
+//! - Dormand, J. R. and Prince, P. J. (1980). A family of embedded Runge–Kutta
+//!   formulae. *J. Comput. Appl. Math.* 6(1), 19–26.
+
+pub mod error;
+pub mod motion;
+
+pub use error::{Error, Result};

@@ -1,0 +1,130 @@
+//! The ground-motion record: uniformly sampled ground acceleration, velocity
+//! and displacement, in SI units.
+//!
+//! Between samples the acceleration is taken as **linear** in time; velocity
+//! and displacement are its exact integrals under that rule. This is the rule
+//! the solver assumes, so a record whose `vel`/`disp` obey it is "consistent".
+
+use crate::error::{Error, Result};
+
+/// Standard gravity used to convert accelerations given in g (m/s²).
+pub const G_STANDARD: f64 = 9.81;
+
+/// A uniformly sampled ground-motion record (SI units), sample k at t = k·dt.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// Human-readable name (file name, or `seed/index` for synthetic records).
+    pub name: String,
+    /// Sample interval Δt (s).
+    pub dt: f64,
+    /// Horizontal ground acceleration ẍg (m/s²).
+    pub acc: Vec<f64>,
+    /// Horizontal ground velocity ẋg (m/s), consistent with `acc`.
+    pub vel: Vec<f64>,
+    /// Horizontal ground displacement xg (m), consistent with `vel`.
+    pub disp: Vec<f64>,
+    /// Vertical ground acceleration ÿg (m/s²), if the record has one.
+    pub acc_v: Option<Vec<f64>>,
+}
+
+impl Record {
+    /// Builds a record from accelerations alone, integrating velocity and
+    /// displacement from rest by the linear-acceleration rule.
+    ///
+    /// ```
+    /// use rockfrag::motion::Record;
+    /// let r = Record::from_acc("step", 0.5, vec![0.0, 1.0, 1.0]).unwrap();
+    /// assert_eq!(r.vel, vec![0.0, 0.25, 0.75]);
+    /// ```
+    pub fn from_acc(name: impl Into<String>, dt: f64, acc: Vec<f64>) -> Result<Self> {
+        let (vel, disp) = integrate_linear(dt, &acc, 0.0, 0.0);
+        let r = Record {
+            name: name.into(),
+            dt,
+            acc,
+            vel,
+            disp,
+            acc_v: None,
+        };
+        r.validate()?;
+        Ok(r)
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.acc.len()
+    }
+
+    /// True if the record has no samples.
+    pub fn is_empty(&self) -> bool {
+        self.acc.is_empty()
+    }
+
+    /// Duration (s) from the first to the last sample.
+    pub fn duration(&self) -> f64 {
+        self.dt * (self.len().saturating_sub(1)) as f64
+    }
+
+    /// Peak |ẍg| (m/s²).
+    pub fn pga(&self) -> f64 {
+        self.acc.iter().fold(0.0_f64, |m, a| m.max(a.abs()))
+    }
+
+    /// Peak |ẋg| (m/s).
+    pub fn pgv(&self) -> f64 {
+        self.vel.iter().fold(0.0_f64, |m, a| m.max(a.abs()))
+    }
+
+    /// Checks that the record is usable: at least two samples, a positive
+    /// finite Δt, equal lengths and finite values.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |message: String| Error::InvalidRecord {
+            name: self.name.clone(),
+            message,
+        };
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(bad(format!("sample interval dt = {} must be positive and finite", self.dt)));
+        }
+        if self.acc.len() < 2 {
+            return Err(bad(format!("{} samples; at least 2 are needed", self.acc.len())));
+        }
+        if self.vel.len() != self.acc.len() || self.disp.len() != self.acc.len() {
+            return Err(bad("acc, vel and disp have different lengths".into()));
+        }
+        if let Some(v) = &self.acc_v {
+            if v.len() != self.acc.len() {
+                return Err(bad("vertical acceleration has a different length".into()));
+            }
+        }
+        let series = [Some(&self.acc), Some(&self.vel), Some(&self.disp), self.acc_v.as_ref()];
+        for (label, s) in ["acc", "vel", "disp", "acc_v"].iter().zip(series) {
+            if let Some(s) = s {
+                if let Some(k) = s.iter().position(|x| !x.is_finite()) {
+                    return Err(bad(format!("{label} sample {k} is {}", s[k])));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Integrates a piecewise-linear acceleration exactly: returns (velocity,
+/// displacement) at the samples, starting from `v0`, `d0`.
+///
+/// v_{k+1} = v_k + Δt (a_k + a_{k+1})/2 ;
+/// d_{k+1} = d_k + Δt v_k + Δt² (2 a_k + a_{k+1})/6   (linear-acceleration rule).
+pub fn integrate_linear(dt: f64, acc: &[f64], v0: f64, d0: f64) -> (Vec<f64>, Vec<f64>) {
+    let mut vel = Vec::with_capacity(acc.len());
+    let mut disp = Vec::with_capacity(acc.len());
+    let (mut v, mut d) = (v0, d0);
+    for k in 0..acc.len() {
+        vel.push(v);
+        disp.push(d);
+        if k + 1 < acc.len() {
+            let (a0, a1) = (acc[k], acc[k + 1]);
+            d += dt * v + dt * dt * (2.0 * a0 + a1) / 6.0;
+            v += dt * (a0 + a1) / 2.0;
+        }
+    }
+    (vel, disp)
+}
