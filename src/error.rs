@@ -45,6 +45,14 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// The solver could not continue (step size underflow, event storm).
+    #[error("solver failed at t = {time} s: {message}")]
+    Solver {
+        /// Time of the failure (s).
+        time: f64,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 impl Error {

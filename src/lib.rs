@@ -40,6 +40,9 @@
 //!   formulae. *J. Comput. Appl. Math.* 6(1), 19–26.
 
 pub mod error;
+mod io_util;
 pub mod motion;
+pub mod solver;
+pub mod outcome;
 
 pub use error::{Error, Result};

@@ -1,0 +1,98 @@
+//! What one analysis (one block, one record) produces: a small summary struct.
+
+use serde::Serialize;
+
+/// Modes of motion of the block (the paper's five).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mode {
+    /// At rest on both corners.
+    Rest,
+    /// Sliding on both corners (finite friction only).
+    Slide,
+    /// Rocking about a stuck corner.
+    Rock,
+    /// Rocking about a slipping corner (finite friction only).
+    SlideRock,
+    /// No contact.
+    Flight,
+}
+
+impl Mode {
+    /// All modes, in the order of [`Outcome::time_in_mode`].
+    pub const ALL: [Mode; 5] = [Mode::Rest, Mode::Slide, Mode::Rock, Mode::SlideRock, Mode::Flight];
+
+    /// Lower-case name used in CSV and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Rest => "rest",
+            Mode::Slide => "slide",
+            Mode::Rock => "rock",
+            Mode::SlideRock => "slide-rock",
+            Mode::Flight => "flight",
+        }
+    }
+
+    /// Index into [`Outcome::time_in_mode`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// Work counters of one analysis (for the speed-against-error report).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Stats {
+    /// Right-hand-side evaluations of the rock equation.
+    pub rhs_calls: u64,
+    /// Accepted Runge–Kutta steps.
+    pub steps_accepted: u64,
+    /// Rejected Runge–Kutta steps.
+    pub steps_rejected: u64,
+    /// Events handled (impacts, landings, uplifts, starts, settles, …).
+    pub events: u64,
+}
+
+/// Summary of one analysis. Angles in rad, times in s, ratios dimensionless.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Outcome {
+    /// |θ| reached π/2 (the paper's definition of overturning).
+    pub overturned: bool,
+    /// Time of overturning, if it happened.
+    pub overturn_time: Option<f64>,
+    /// The block left the ground from rock at least once (N reached 0). The
+    /// paper's program stopped there and counted the run as overturned.
+    pub uplifted: bool,
+    /// The block moved at all (rest was broken).
+    pub moved: bool,
+    /// Peak |θ| over the run divided by θc.
+    pub theta_max_over_theta_c: f64,
+    /// Peak |F|/N while rocking (friction needed to sustain the motion).
+    pub mu_motion: f64,
+    /// Peak |P_t/P_n| over all impacts (friction needed to prevent sliding at impact).
+    pub mu_impact: f64,
+    /// Number of corner impacts (rock impacts and landings, each corner counted).
+    pub impacts: u64,
+    /// Number of free-flight phases.
+    pub flights: u64,
+    /// Number of rock → flight lift-offs (N reached 0 with a consistent release).
+    pub uplifts: u64,
+    /// Number of times N reached 0 but releasing the pivot was inconsistent
+    /// (the pivot was kept until N > 0 again or the release became consistent).
+    pub liftoff_holds: u64,
+    /// Number of impacts that increased kinetic energy (possible under Newton's law).
+    pub energy_gains: u64,
+    /// Number of ring-down settles (an impact rebound below the settle threshold
+    /// treated as plastic, or a flat block with negligible velocity set to rest).
+    pub settles: u64,
+    /// Time at which the analysis ended (overturning or end of record).
+    pub end_time: f64,
+    /// Time of the first impact, if any.
+    pub first_impact_time: Option<f64>,
+    /// Time spent in each mode, in the order of [`Mode::ALL`].
+    pub time_in_mode: [f64; 5],
+    /// Largest |energy residual| between events, relative to the run's energy
+    /// scale, when the energy audit is on.
+    pub energy_residual: Option<f64>,
+    /// Work counters.
+    pub stats: Stats,
+}

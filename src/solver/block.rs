@@ -1,0 +1,85 @@
+//! Block geometry and the derived constants of the rocking problem.
+
+use crate::error::{Error, Result};
+
+/// A symmetric rigid block of width 2B and height 2H on a rigid foundation.
+/// All dynamic quantities are per unit mass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Block {
+    /// Half-width B (m).
+    pub b: f64,
+    /// Half-height H (m).
+    pub h: f64,
+    /// Gravity g (m/s²).
+    pub g: f64,
+    /// Half-diagonal R = √(B² + H²) (m).
+    pub r: f64,
+    /// Critical angle θc = atan(B/H) (rad).
+    pub theta_c: f64,
+    /// sin θc.
+    pub sin_c: f64,
+    /// cos θc.
+    pub cos_c: f64,
+    /// Centroidal inertia per unit mass, I/m = R²/3 (m²).
+    pub inertia: f64,
+    /// Frequency parameter p = √(3g/(4R)) (rad/s).
+    pub p: f64,
+}
+
+impl Block {
+    /// A block of base width `width` = 2B (m) and aspect ratio `aspect` = H/B,
+    /// under gravity `g` (m/s²).
+    ///
+    /// ```
+    /// let b = rockfrag::solver::Block::new(0.5, 4.0, 9.81).unwrap();
+    /// assert!((b.theta_c - 0.25f64.atan()).abs() < 1e-15);
+    /// ```
+    pub fn new(width: f64, aspect: f64, g: f64) -> Result<Self> {
+        if !(width.is_finite() && width > 0.0) {
+            return Err(Error::invalid("width", width, "a positive base width 2B in m"));
+        }
+        if !(aspect.is_finite() && aspect > 0.0) {
+            return Err(Error::invalid("aspect", aspect, "a positive aspect ratio H/B"));
+        }
+        if !(g.is_finite() && g > 0.0) {
+            return Err(Error::invalid("g", g, "a positive gravity in m/s²"));
+        }
+        let b = 0.5 * width;
+        let h = aspect * b;
+        let r = b.hypot(h);
+        let theta_c = (b / h).atan();
+        Ok(Block {
+            b,
+            h,
+            g,
+            r,
+            theta_c,
+            sin_c: b / r,
+            cos_c: h / r,
+            inertia: r * r / 3.0, // I = m R²/3 for a uniform rectangle of half-diagonal R
+            p: (0.75 * g / r).sqrt(), // p² = m g R / I_O = 3g/(4R)
+        })
+    }
+
+    /// Offset (x, y) of corner `side` (+1 right, −1 left) from the centre of
+    /// mass when the block is rotated by θ (counter-clockwise positive).
+    #[inline]
+    pub fn corner_offset(&self, side: f64, theta: f64) -> (f64, f64) {
+        let (s, c) = theta.sin_cos();
+        // body vector (side·B, −H) rotated by θ
+        (side * self.b * c + self.h * s, side * self.b * s - self.h * c)
+    }
+
+    /// Height above the ground of corner `side` given the centre of mass's
+    /// vertical displacement `y` from its rest height H, and θ.
+    #[inline]
+    pub fn corner_height(&self, side: f64, y: f64, theta: f64) -> f64 {
+        self.h + y + self.corner_offset(side, theta).1
+    }
+
+    /// Kinetic energy per unit mass relative to the ground.
+    #[inline]
+    pub fn kinetic(&self, vx: f64, vy: f64, omega: f64) -> f64 {
+        0.5 * (vx * vx + vy * vy + self.inertia * omega * omega)
+    }
+}

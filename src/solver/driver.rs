@@ -1,0 +1,857 @@
+//! The event loop: one mode at a time, stopping at every record sample and at
+//! every located event, then applying the reset map of the event.
+//!
+//! The record's acceleration is linear between samples, so each sample
+//! interval is a smooth stretch of forcing. Inside it:
+//! - **rest** needs no integration: the start of rocking is the exact crossing
+//!   of |ẍg| = (g + ÿg)·B/H on the linear forcing;
+//! - **rock** (1 DOF) is integrated by Dormand–Prince 5(4) (or solved in
+//!   closed form for the linearised model) and its events (impact θ = 0,
+//!   lift-off N = 0, overturning |θ| = π/2) are located by root finding on the
+//!   dense output;
+//! - **flight** (3 DOF) has a closed form (G follows a cubic in time, θ̇ is
+//!   constant) and landings are located on it.
+//!
+//! Ring-down rule: an impact whose rebound normal velocity is below
+//! ε·√(gR) is treated as plastic (e = 0 at that impact), and a block whose
+//! corners are both within touching distance and move slower than ε·√(gR)
+//! is set to rest (ε = `settle_tol`). Two-contact rule: at an impact every
+//! corner within 1e-9·B of the ground is in contact; while any contact corner
+//! approaches the ground, the single-corner impact law is applied at the one
+//! approaching fastest (sequential impacts), at most 64 times, after which
+//! the block is set down flat and still.
+//!
+//! Lift-off rule under infinite friction: when N reaches 0 in rock, the pivot
+//! is released into flight only if it would then rise (q < 0, see
+//! [`physics::rock_release_q`](super::physics::rock_release_q)); otherwise
+//! the pivot is held (a tensile contact, counted in `liftoff_holds`) until
+//! N > 0 again or the release becomes consistent.
+
+use super::block::Block;
+use super::dopri::{self, Tolerance};
+use super::history::{History, HistoryRow};
+use super::impact::{self, Velocity};
+use super::physics as ph;
+use super::roots::brent;
+use super::scan::first_descent;
+use super::settings::{Analysis, Friction, Model, SolverSettings};
+use crate::error::{Error, Result};
+use crate::motion::Record;
+use crate::outcome::{Mode, Outcome};
+use std::f64::consts::FRAC_PI_2;
+
+/// Rock about the corner on side −s (s = +1: left corner, θ ≥ 0).
+#[derive(Clone, Copy, Debug)]
+struct RockState {
+    s: f64,
+    theta: f64,
+    omega: f64,
+    /// N reached 0 but releasing the pivot was inconsistent: the pivot is held.
+    hold: bool,
+}
+
+/// Free flight, relative to the ground.
+#[derive(Clone, Copy, Debug)]
+struct FlightState {
+    x: f64,
+    vx: f64,
+    y: f64,
+    vy: f64,
+    theta: f64,
+    omega: f64,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum State {
+    Rest,
+    Rock(RockState),
+    Flight(FlightState),
+}
+
+impl State {
+    fn mode(&self) -> Mode {
+        match self {
+            State::Rest => Mode::Rest,
+            State::Rock(_) => Mode::Rock,
+            State::Flight(_) => Mode::Flight,
+        }
+    }
+}
+
+/// Events located inside a sample interval.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Event {
+    /// Rest broken: start rocking with θ > 0 (s = +1) or θ < 0 (s = −1).
+    StartRock(f64),
+    /// θ reached 0 while rocking.
+    RockImpact,
+    /// N reached 0 and the pivot can be released.
+    Uplift,
+    /// N reached 0 but the pivot would not rise: hold it.
+    HoldStart,
+    /// N > 0 again while holding.
+    HoldEnd,
+    /// While holding, the release became consistent.
+    Release,
+    /// A corner (side ±1) reached the ground in flight.
+    Landing(f64),
+    /// |θ| reached π/2.
+    Overturn,
+}
+
+/// Ground acceleration on one sample interval: ẍg = a0 + a1 (t − t0),
+/// ÿg = v0 + v1 (t − t0).
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    t0: f64,
+    a0: f64,
+    a1: f64,
+    v0: f64,
+    v1: f64,
+}
+
+impl Segment {
+    #[inline]
+    fn at(&self, t: f64) -> (f64, f64) {
+        let tau = t - self.t0;
+        (self.a0 + self.a1 * tau, self.v0 + self.v1 * tau)
+    }
+}
+
+/// Solves one analysis: a block under a record. Returns the per-run outcome;
+/// pushes the full history into `history` when one is given.
+///
+/// ```
+/// use rockfrag::motion::Record;
+/// use rockfrag::solver::{simulate, Analysis, Block, SolverSettings};
+/// let block = Block::new(0.5, 4.0, 9.81).unwrap();
+/// // 2 s of constant acceleration at 0.3 g, above the rocking threshold g/4
+/// let record = Record::from_acc("pulse", 0.01, vec![0.3 * 9.81; 201]).unwrap();
+/// let out = simulate(&Analysis::new(block, 0.0), &record, &SolverSettings::default(), None).unwrap();
+/// assert!(out.moved);
+/// ```
+pub fn simulate(
+    analysis: &Analysis,
+    record: &Record,
+    settings: &SolverSettings,
+    history: Option<&mut History>,
+) -> Result<Outcome> {
+    analysis.validate()?;
+    settings.validate()?;
+    record.validate()?;
+    if let Friction::Coulomb { .. } = analysis.friction {
+        return Err(Error::invalid(
+            "friction",
+            "coulomb",
+            "inf (finite friction is not implemented yet)",
+        ));
+    }
+    if settings.model == Model::Linear && record.acc_v.is_some() {
+        return Err(Error::invalid(
+            "model",
+            "linear",
+            "nonlinear when the record has vertical acceleration",
+        ));
+    }
+    let mut run = Run::new(analysis, record, settings, history);
+    run.solve()?;
+    Ok(run.out)
+}
+
+struct Run<'a> {
+    bl: Block,
+    e: f64,
+    set: &'a SolverSettings,
+    acc: &'a [f64],
+    acc_v: Option<&'a [f64]>,
+    dt: f64,
+    init: super::settings::Initial,
+    out: Outcome,
+    hist: Option<&'a mut History>,
+    /// Step size carried between steps (s).
+    h: f64,
+    /// Horizontal offset of the block's footprint from its initial place (m).
+    x_base: f64,
+    /// Accumulated work of the ground (J/kg), energy audit.
+    work: f64,
+    /// Accumulated energy jumps at events (J/kg), energy audit.
+    jumps: f64,
+    /// Energy at t = 0 (J/kg).
+    e0: f64,
+    /// Largest |E − E0 − W − jumps| seen and the energy scale.
+    resid: f64,
+    escale: f64,
+    /// Ring-down velocity threshold ε√(gR) (m/s).
+    v_settle: f64,
+    /// Contact distance of the two-contact rule (m).
+    h_touch: f64,
+}
+
+impl<'a> Run<'a> {
+    fn new(an: &Analysis, rec: &'a Record, set: &'a SolverSettings, hist: Option<&'a mut History>) -> Self {
+        let bl = an.block;
+        Run {
+            bl,
+            e: an.restitution,
+            set,
+            acc: &rec.acc,
+            acc_v: rec.acc_v.as_deref(),
+            dt: rec.dt,
+            init: an.initial,
+            out: Outcome::default(),
+            hist,
+            h: rec.dt * 0.25,
+            x_base: 0.0,
+            work: 0.0,
+            jumps: 0.0,
+            e0: 0.0,
+            resid: 0.0,
+            escale: bl.g * bl.r * (1.0 - bl.cos_c),
+            v_settle: set.settle_tol * (bl.g * bl.r).sqrt(),
+            h_touch: 1e-9 * bl.b,
+        }
+    }
+
+    #[inline]
+    fn segment(&self, k: usize) -> Segment {
+        let t0 = k as f64 * self.dt;
+        let (a0, a1) = (self.acc[k], (self.acc[k + 1] - self.acc[k]) / self.dt);
+        let (v0, v1) = match self.acc_v {
+            Some(v) => (v[k], (v[k + 1] - v[k]) / self.dt),
+            None => (0.0, 0.0),
+        };
+        Segment { t0, a0, a1, v0, v1 }
+    }
+
+    fn initial_state(&self) -> State {
+        let (th, om) = (self.init.theta, self.init.theta_dot);
+        if self.init.y_dot > 0.0 {
+            let i = self.init;
+            State::Flight(FlightState { x: 0.0, vx: i.x_dot, y: 0.0, vy: i.y_dot, theta: 0.0, omega: om })
+        } else if th == 0.0 && om == 0.0 {
+            State::Rest
+        } else {
+            let s = if th != 0.0 { th.signum() } else { om.signum() };
+            State::Rock(RockState { s, theta: th, omega: om, hold: false })
+        }
+    }
+
+    fn solve(&mut self) -> Result<()> {
+        let n = self.acc.len();
+        let mut state = self.initial_state();
+        match state {
+            State::Rest => {}
+            State::Flight(_) => {
+                self.out.moved = true;
+                self.out.flights += 1;
+            }
+            State::Rock(_) => self.out.moved = true,
+        }
+        self.e0 = self.energy(&state);
+        let mut k = 0usize;
+        let mut t = 0.0;
+        let seg0 = self.segment(0);
+        self.push_row(t, &state, &seg0, false);
+        self.note_theta(&state);
+        while k + 1 < n {
+            let seg = self.segment(k);
+            let t_end = (k + 1) as f64 * self.dt;
+            let t_start = t;
+            let mode = state.mode();
+            let event = match &mut state {
+                State::Rest => self.rest(&seg, &mut t, t_end),
+                State::Rock(rs) => match self.set.model {
+                    Model::Nonlinear if self.set.audit_energy => self.rock_nonlinear::<3>(rs, &seg, &mut t, t_end)?,
+                    Model::Nonlinear => self.rock_nonlinear::<2>(rs, &seg, &mut t, t_end)?,
+                    Model::Linear => self.rock_linear(rs, &seg, &mut t, t_end),
+                },
+                State::Flight(fs) => self.flight(fs, &seg, &mut t, t_end),
+            };
+            self.out.time_in_mode[mode.index()] += t - t_start;
+            match event {
+                None => {
+                    t = t_end;
+                    k += 1;
+                    let seg_end = if k + 1 < n { self.segment(k) } else { Segment { t0: t, ..seg } };
+                    self.push_row(t, &state, &seg_end, false);
+                    self.audit(&state);
+                }
+                Some(ev) => {
+                    self.out.stats.events += 1;
+                    if self.out.stats.events > self.set.max_events {
+                        return Err(Error::Solver {
+                            time: t,
+                            message: format!("more than {} events (max_events)", self.set.max_events),
+                        });
+                    }
+                    self.audit(&state);
+                    self.push_row(t, &state, &seg, true);
+                    let before = self.energy(&state);
+                    state = self.handle(ev, state, t)?;
+                    self.jumps += self.energy(&state) - before;
+                    self.note_theta(&state);
+                    self.push_row(t, &state, &seg, true);
+                    if self.out.overturned {
+                        break;
+                    }
+                }
+            }
+        }
+        self.out.end_time = t;
+        if self.set.audit_energy {
+            self.out.energy_residual = Some(self.resid / self.escale);
+        }
+        Ok(())
+    }
+
+    // ---------------------------------------------------------------- rest
+
+    /// Rest: find the first time in [t, t_end] where |ẍg| > (g + ÿg)·B/H
+    /// (exact on linear forcing: both sides of the inequality are linear in t).
+    fn rest(&mut self, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
+        let tanc = self.bl.b / self.bl.h;
+        let (ax0, ay0) = seg.at(*t);
+        let (ax1, ay1) = seg.at(t_end);
+        let mut best: Option<(f64, f64)> = None;
+        for s in [1.0, -1.0] {
+            // f = s·ẍg − (g + ÿg)·tanθc, linear on the interval
+            let f0 = s * ax0 - (self.bl.g + ay0) * tanc;
+            let f1 = s * ax1 - (self.bl.g + ay1) * tanc;
+            let tc = if f0 > 0.0 {
+                Some(*t)
+            } else if f1 > 0.0 {
+                Some(*t + (t_end - *t) * (f0 / (f0 - f1)))
+            } else {
+                None
+            };
+            if let Some(tc) = tc
+                && best.is_none_or(|(tb, _)| tc < tb)
+            {
+                best = Some((tc, s));
+            }
+        }
+        match best {
+            Some((tc, s)) => {
+                *t = tc;
+                Some(Event::StartRock(s))
+            }
+            None => {
+                *t = t_end;
+                None
+            }
+        }
+    }
+
+    // ---------------------------------------------------------------- rock
+
+    /// Nonlinear rock over [t, t_end] by DOPRI5; N = 3 also integrates the
+    /// ground work for the energy audit.
+    fn rock_nonlinear<const N: usize>(
+        &mut self,
+        rs: &mut RockState,
+        seg: &Segment,
+        t: &mut f64,
+        t_end: f64,
+    ) -> Result<Option<Event>> {
+        let bl = self.bl;
+        let s = rs.s;
+        let seg = *seg;
+        let mut rhs = |tt: f64, y: &[f64; N]| -> [f64; N] {
+            let (ax, ay) = seg.at(tt);
+            let mut out = [0.0; N];
+            out[0] = y[1];
+            out[1] = ph::rock_accel(&bl, s, y[0], ax, ay);
+            if let Some(w) = out.get_mut(2) {
+                let k = ph::rock_kinematics(&bl, s, y[0], y[1]);
+                *w = ph::ground_power(ax, ay, k[1], k[3]);
+            }
+            out
+        };
+        let mut atol = [0.0; N];
+        atol[0] = self.set.atol * bl.theta_c;
+        atol[1] = self.set.atol * bl.p * bl.theta_c;
+        if let Some(a) = atol.get_mut(2) {
+            *a = self.set.atol * self.escale;
+        }
+        let tol = Tolerance { rtol: self.set.rtol, atol };
+        let mut y = [0.0; N];
+        y[0] = rs.theta;
+        y[1] = rs.omega;
+        let mut f0 = rhs(*t, &y);
+        self.out.stats.rhs_calls += 1;
+        let h_min = 1e-14 * self.dt.max(1.0);
+        loop {
+            let remaining = t_end - *t;
+            if remaining <= 1e-12 * self.dt {
+                break;
+            }
+            let clipped = self.h >= remaining * 0.999;
+            let h = if clipped { remaining } else { self.h };
+            let step = dopri::attempt(&mut rhs, *t, &y, &f0, h, &tol);
+            self.out.stats.rhs_calls += 6;
+            if !(step.err <= 1.0) {
+                self.out.stats.steps_rejected += 1;
+                let fac = if step.err.is_finite() { dopri::step_factor(step.err).min(0.9) } else { 0.2 };
+                self.h = h * fac;
+                if self.h < h_min {
+                    return Err(Error::Solver { time: *t, message: format!("step size {} s too small in rock", self.h) });
+                }
+                continue;
+            }
+            self.out.stats.steps_accepted += 1;
+            let t1 = *t + h;
+            let path = |tt: f64| {
+                let th = step.component_at(0, tt);
+                let om = step.component_at(1, tt);
+                let (ax, ay) = seg.at(tt);
+                (th, om, ph::rock_accel(&bl, s, th, ax, ay), ax, ay)
+            };
+            let fac = dopri::step_factor(step.err);
+            if !(clipped && fac >= 1.0) {
+                self.h = h * fac;
+            }
+            if let Some((te, ev)) = self.rock_events(rs, &path, *t, t1, 1) {
+                let ye = step.at(te);
+                if N == 3 {
+                    self.work += step.component_at(N - 1, te) - y[N - 1];
+                }
+                rs.theta = ye[0];
+                rs.omega = ye[1];
+                *t = te;
+                return Ok(Some(ev));
+            }
+            if N == 3 {
+                self.work += step.y1[N - 1] - y[N - 1];
+                y[N - 1] = 0.0;
+            }
+            y[0] = step.y1[0];
+            y[1] = step.y1[1];
+            f0 = step.f1;
+            *t = t1;
+        }
+        rs.theta = y[0];
+        rs.omega = y[1];
+        *t = t_end;
+        Ok(None)
+    }
+
+    /// Linearised rock over [t, t_end], in closed form:
+    /// θ(τ) = A cosh λτ + B sinh λτ − (c0 + c1τ)/λ².
+    fn rock_linear(&mut self, rs: &mut RockState, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
+        let (ax0, _) = seg.at(*t);
+        let (l2, c0, c1) = ph::linear_coeffs(&self.bl, rs.s, ax0, seg.a1);
+        let lam = l2.sqrt();
+        let a = rs.theta + c0 / l2;
+        let b = (rs.omega + c1 / l2) / lam;
+        let t0 = *t;
+        let path = |tt: f64| {
+            let tau = tt - t0;
+            let (sh, ch) = ((lam * tau).sinh(), (lam * tau).cosh());
+            let th = a * ch + b * sh - (c0 + c1 * tau) / l2;
+            let om = lam * (a * sh + b * ch) - c1 / l2;
+            let (ax, ay) = seg.at(tt);
+            (th, om, l2 * th + c0 + c1 * tau, ax, ay)
+        };
+        let n = 1 + (2.0 * lam * (t_end - t0)) as usize;
+        self.out.stats.steps_accepted += 1;
+        if let Some((te, ev)) = self.rock_events(rs, &path, t0, t_end, n) {
+            let (th, om, ..) = path(te);
+            rs.theta = th;
+            rs.omega = om;
+            *t = te;
+            return Some(ev);
+        }
+        let (th, om, ..) = path(t_end);
+        rs.theta = th;
+        rs.omega = om;
+        *t = t_end;
+        None
+    }
+
+    /// Locates the earliest rock event on (ta, tb] along `path(t) = (θ, θ̇, θ̈, ẍg, ÿg)`,
+    /// and updates the peak rotation and friction demand.
+    fn rock_events(
+        &mut self,
+        rs: &RockState,
+        path: &impl Fn(f64) -> (f64, f64, f64, f64, f64),
+        ta: f64,
+        tb: f64,
+        n: usize,
+    ) -> Option<(f64, Event)> {
+        let s = rs.s;
+        let bl = self.bl;
+        let xtol = 1e-15 * tb.abs().max(1.0);
+        let mut best: Option<(f64, Event)> = None;
+        // Impact: ψ = sθ reaches 0 (grazing dips included).
+        let psi = |tt: f64| {
+            let (th, om, ..) = path(tt);
+            (s * th, s * om)
+        };
+        earliest(&mut best, first_descent(psi, ta, tb, n, xtol), Event::RockImpact);
+        // Overturning: π/2 − ψ reaches 0.
+        let over = |tt: f64| {
+            let (th, om, ..) = path(tt);
+            (FRAC_PI_2 - s * th, -s * om)
+        };
+        earliest(&mut best, first_descent(over, ta, tb, n, xtol), Event::Overturn);
+        // Normal force and release condition (checked at the ends of each piece).
+        let normal = |tt: f64| {
+            let (th, om, al, ax, ay) = path(tt);
+            ph::rock_reactions(&bl, s, th, om, al, ax, ay).1
+        };
+        let release = |tt: f64| {
+            let (th, om, _, _, ay) = path(tt);
+            ph::rock_release_q(&bl, s, th, om, ay)
+        };
+        let width = (tb - ta) / n as f64;
+        let mut t0 = ta;
+        let (mut n0, mut q0) = (normal(ta), release(ta));
+        for i in 1..=n {
+            let t1 = if i == n { tb } else { ta + width * i as f64 };
+            let (n1, q1) = (normal(t1), release(t1));
+            if !rs.hold && n0 >= 0.0 && n1 < 0.0 {
+                let te = brent(normal, t0, t1, n0, n1, xtol);
+                let ev = if release(te) < 0.0 { Event::Uplift } else { Event::HoldStart };
+                earliest(&mut best, Some(te), ev);
+                break;
+            }
+            if rs.hold {
+                if n0 <= 0.0 && n1 > 0.0 {
+                    earliest(&mut best, Some(brent(normal, t0, t1, n0, n1, xtol)), Event::HoldEnd);
+                }
+                if q0 >= 0.0 && q1 < 0.0 {
+                    earliest(&mut best, Some(brent(release, t0, t1, q0, q1, xtol)), Event::Release);
+                }
+                if best.is_some() {
+                    break;
+                }
+            }
+            t0 = t1;
+            n0 = n1;
+            q0 = q1;
+        }
+        // Peak rotation: turning points (θ̇ = 0) inside, and the end point.
+        let t_stop = best.map_or(tb, |(te, _)| te);
+        let (th_a, om_a, ..) = path(ta);
+        let (th_b, om_b, al_b, ax_b, ay_b) = path(t_stop);
+        let mut peak = th_a.abs().max(th_b.abs());
+        if om_a * om_b < 0.0 {
+            let tm = brent(|tt| path(tt).1, ta, t_stop, om_a, om_b, xtol);
+            let (th_m, om_m, _, ax_m, ay_m) = path(tm);
+            peak = peak.max(th_m.abs());
+            if self.hist.is_some() {
+                // turning points are part of the history: they are the amplitudes
+                let st = State::Rock(RockState { theta: th_m, omega: om_m, ..*rs });
+                let seg = Segment { t0: tm, a0: ax_m, a1: 0.0, v0: ay_m, v1: 0.0 };
+                self.push_row(tm, &st, &seg, true);
+            }
+        }
+        let ratio = peak / bl.theta_c;
+        if ratio > self.out.theta_max_over_theta_c {
+            self.out.theta_max_over_theta_c = ratio.min(FRAC_PI_2 / bl.theta_c);
+        }
+        // Friction demand |F|/N at the end of the step (N > 0 only).
+        let (f, nn) = ph::rock_reactions(&bl, s, th_b, om_b, al_b, ax_b, ay_b);
+        if nn > 0.0 {
+            self.out.mu_motion = self.out.mu_motion.max(f.abs() / nn);
+        }
+        best
+    }
+
+    // ---------------------------------------------------------------- flight
+
+    /// Free flight over [t, t_end] in closed form; locates landings of either
+    /// corner and overturning.
+    fn flight(&mut self, fs: &mut FlightState, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
+        let bl = self.bl;
+        let t0 = *t;
+        let (a0, b0) = seg.at(t0);
+        let (a1, b1) = (seg.a1, seg.v1);
+        let gy0 = bl.g + b0;
+        let f = *fs;
+        // relative motion: ẍ = −ẍg, ÿ = −g − ÿg, θ̈ = 0
+        let pos = move |tau: f64| -> FlightState {
+            FlightState {
+                x: f.x + f.vx * tau - a0 * tau * tau / 2.0 - a1 * tau * tau * tau / 6.0,
+                vx: f.vx - a0 * tau - a1 * tau * tau / 2.0,
+                y: f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau / 6.0,
+                vy: f.vy - gy0 * tau - b1 * tau * tau / 2.0,
+                theta: f.theta + f.omega * tau,
+                omega: f.omega,
+            }
+        };
+        let span = t_end - t0;
+        let n = 1 + (f.omega.abs() * span / 0.2) as usize;
+        let xtol = 1e-15 * t_end.abs().max(1.0);
+        let mut best: Option<(f64, Event)> = None;
+        for side in [-1.0, 1.0] {
+            let height = |tau: f64| {
+                let p = pos(tau);
+                let (rx, ry) = bl.corner_offset(side, p.theta);
+                (bl.h + p.y + ry, p.vy + p.omega * rx)
+            };
+            earliest(&mut best, first_descent(height, 0.0, span, n, xtol), Event::Landing(side));
+        }
+        if f.omega != 0.0 {
+            let te = (FRAC_PI_2.copysign(f.omega) - f.theta) / f.omega;
+            if (0.0..=span).contains(&te) {
+                earliest(&mut best, Some(te), Event::Overturn);
+            }
+        }
+        let tau_end = best.map_or(span, |(te, _)| te);
+        if self.set.audit_energy {
+            // ∫ (−ẍg ẋ − ÿg ẏ) dτ, exact by 3-point Gauss–Legendre (integrand is cubic)
+            let (half, mid) = (0.5 * tau_end, 0.5 * tau_end);
+            let nodes = [(-0.6f64.sqrt(), 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.6f64.sqrt(), 5.0 / 9.0)];
+            for (xi, w) in nodes {
+                let tau = mid + half * xi;
+                let p = pos(tau);
+                self.work += w * half * ph::ground_power(a0 + a1 * tau, b0 + b1 * tau, p.vx, p.vy);
+            }
+        }
+        *fs = pos(tau_end);
+        *t = t0 + tau_end;
+        let ratio = fs.theta.abs() / bl.theta_c;
+        self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio.min(FRAC_PI_2 / bl.theta_c));
+        match best {
+            Some((_, ev)) => Some(ev),
+            None => {
+                *t = t_end;
+                None
+            }
+        }
+    }
+
+    // ---------------------------------------------------------------- events
+
+    /// Applies the reset map of an event and returns the new state.
+    fn handle(&mut self, ev: Event, state: State, t: f64) -> Result<State> {
+        Ok(match (ev, state) {
+            (Event::Overturn, st) => {
+                self.out.overturned = true;
+                self.out.overturn_time = Some(t);
+                st
+            }
+            (Event::StartRock(s), _) => {
+                self.out.moved = true;
+                self.h = self.h.min(0.25 * self.dt);
+                State::Rock(RockState { s, theta: 0.0, omega: 0.0, hold: false })
+            }
+            (Event::HoldStart, State::Rock(mut rs)) => {
+                self.out.liftoff_holds += 1;
+                rs.hold = true;
+                State::Rock(rs)
+            }
+            (Event::HoldEnd, State::Rock(mut rs)) => {
+                rs.hold = false;
+                State::Rock(rs)
+            }
+            (Event::Uplift | Event::Release, State::Rock(rs)) => {
+                self.out.uplifted = true;
+                self.out.uplifts += 1;
+                self.out.flights += 1;
+                State::Flight(self.rock_to_flight(&rs))
+            }
+            (Event::RockImpact, State::Rock(rs)) => {
+                let mut fs = self.rock_to_flight(&rs);
+                fs.theta = 0.0;
+                self.impacts(t, fs, rs.s)
+            }
+            (Event::Landing(side), State::Flight(fs)) => self.impacts(t, fs, side),
+            (ev, st) => {
+                return Err(Error::Solver {
+                    time: t,
+                    message: format!("event {ev:?} cannot happen in mode {}", st.mode().name()),
+                });
+            }
+        })
+    }
+
+    /// Rock state → rigid-body pose and velocity in the flight representation.
+    fn rock_to_flight(&self, rs: &RockState) -> FlightState {
+        let [x, vx, y, vy] = ph::rock_kinematics(&self.bl, rs.s, rs.theta, rs.omega);
+        FlightState { x: self.x_base + x, vx, y, vy, theta: rs.theta, omega: rs.omega }
+    }
+
+    /// Sequential corner impacts starting with corner `side`, then the choice
+    /// of the next mode (rest, rock or flight).
+    fn impacts(&mut self, t: f64, pose: FlightState, side: f64) -> State {
+        let bl = self.bl;
+        let mut vel = Velocity { vx: pose.vx, vy: pose.vy, omega: pose.omega };
+        let touching: [bool; 2] =
+            [-1.0, 1.0].map(|sd| bl.corner_height(sd, pose.y, pose.theta) <= self.h_touch);
+        let mut next = Some(side);
+        let mut count = 0;
+        while let Some(sd) = next {
+            let (rx, ry) = bl.corner_offset(sd, pose.theta);
+            let mut r = impact::corner_impact(&bl, &vel, rx, ry, self.e, self.set.impact);
+            let un_after = impact::point_velocity(&r.after, rx, ry).1;
+            if self.e > 0.0 && un_after > 0.0 && un_after <= self.v_settle {
+                // ring-down: a rebound below the threshold is plastic
+                r = impact::corner_impact(&bl, &vel, rx, ry, 0.0, self.set.impact);
+                self.out.settles += 1;
+            }
+            self.out.impacts += 1;
+            self.out.first_impact_time.get_or_insert(t);
+            if r.p_n > 0.0 {
+                self.out.mu_impact = self.out.mu_impact.max(r.p_t.abs() / r.p_n);
+            }
+            let t_before = bl.kinetic(vel.vx, vel.vy, vel.omega);
+            if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
+                self.out.energy_gains += 1;
+            }
+            vel = r.after;
+            count += 1;
+            if count >= 64 {
+                // no convergence of sequential impacts: set the block down flat
+                self.out.settles += 1;
+                return self.land_flat(pose);
+            }
+            // the contact corner approaching fastest, if any
+            next = None;
+            let mut worst = -self.v_settle;
+            for (i, sd) in [-1.0, 1.0].into_iter().enumerate() {
+                if touching[i] {
+                    let (rx, ry) = bl.corner_offset(sd, pose.theta);
+                    let un = impact::point_velocity(&vel, rx, ry).1;
+                    if un < worst {
+                        worst = un;
+                        next = Some(sd);
+                    }
+                }
+            }
+        }
+        // Which contact corners stay on the ground?
+        let staying: Vec2 = [-1.0, 1.0].map(|sd| {
+            let i = if sd < 0.0 { 0 } else { 1 };
+            touching[i] && {
+                let (rx, ry) = bl.corner_offset(sd, pose.theta);
+                impact::point_velocity(&vel, rx, ry).1 <= self.v_settle
+            }
+        });
+        match staying {
+            [true, true] => {
+                if vel.vx != 0.0 || vel.vy != 0.0 || vel.omega != 0.0 {
+                    self.out.settles += 1;
+                }
+                self.land_flat(pose)
+            }
+            [true, false] | [false, true] => {
+                let pivot = if staying[0] { -1.0 } else { 1.0 };
+                let s = -pivot;
+                let rs = RockState { s, theta: pose.theta, omega: vel.omega, hold: false };
+                let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
+                self.x_base = pose.x - x;
+                State::Rock(rs)
+            }
+            [false, false] => {
+                self.out.flights += 1;
+                State::Flight(FlightState { vx: vel.vx, vy: vel.vy, omega: vel.omega, ..pose })
+            }
+        }
+    }
+
+    /// Both corners down, no velocity: rest at the current footprint.
+    fn land_flat(&mut self, pose: FlightState) -> State {
+        self.x_base = pose.x;
+        State::Rest
+    }
+
+    // ---------------------------------------------------------------- bookkeeping
+
+    fn note_theta(&mut self, state: &State) {
+        let th = match state {
+            State::Rest => 0.0,
+            State::Rock(r) => r.theta,
+            State::Flight(f) => f.theta,
+        };
+        let ratio = (th.abs() / self.bl.theta_c).min(FRAC_PI_2 / self.bl.theta_c);
+        self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio);
+    }
+
+    /// Mechanical energy per unit mass in the ground frame.
+    fn energy(&self, state: &State) -> f64 {
+        match state {
+            State::Rest => 0.0,
+            State::Rock(r) => {
+                let [_, vx, y, vy] = ph::rock_kinematics(&self.bl, r.s, r.theta, r.omega);
+                ph::energy(&self.bl, vx, vy, r.omega, y)
+            }
+            State::Flight(f) => ph::energy(&self.bl, f.vx, f.vy, f.omega, f.y),
+        }
+    }
+
+    fn audit(&mut self, state: &State) {
+        if self.set.audit_energy {
+            let e = self.energy(state);
+            let r = e - self.e0 - self.work - self.jumps;
+            self.resid = self.resid.max(r.abs());
+            self.escale = self.escale.max(e.abs()).max(self.work.abs());
+        }
+    }
+
+    fn push_row(&mut self, t: f64, state: &State, seg: &Segment, event: bool) {
+        let Some(hist) = self.hist.as_deref_mut() else { return };
+        let bl = &self.bl;
+        let (ax, ay) = seg.at(t);
+        let row = match state {
+            State::Rest => HistoryRow {
+                t,
+                mode: Mode::Rest,
+                theta: 0.0,
+                theta_dot: 0.0,
+                x: self.x_base,
+                x_dot: 0.0,
+                y: 0.0,
+                y_dot: 0.0,
+                n: bl.g + ay,
+                f: ax,
+                event,
+            },
+            State::Rock(r) => {
+                let [x, vx, y, vy] = ph::rock_kinematics(bl, r.s, r.theta, r.omega);
+                let alpha = ph::rock_accel(bl, r.s, r.theta, ax, ay);
+                let (f, n) = ph::rock_reactions(bl, r.s, r.theta, r.omega, alpha, ax, ay);
+                HistoryRow {
+                    t,
+                    mode: Mode::Rock,
+                    theta: r.theta,
+                    theta_dot: r.omega,
+                    x: self.x_base + x,
+                    x_dot: vx,
+                    y,
+                    y_dot: vy,
+                    n,
+                    f,
+                    event,
+                }
+            }
+            State::Flight(f) => HistoryRow {
+                t,
+                mode: Mode::Flight,
+                theta: f.theta,
+                theta_dot: f.omega,
+                x: f.x,
+                x_dot: f.vx,
+                y: f.y,
+                y_dot: f.vy,
+                n: 0.0,
+                f: 0.0,
+                event,
+            },
+        };
+        hist.rows.push(row);
+    }
+}
+
+type Vec2 = [bool; 2];
+
+/// Keeps the earliest of the located events.
+#[inline]
+fn earliest(best: &mut Option<(f64, Event)>, te: Option<f64>, ev: Event) {
+    if let Some(te) = te
+        && best.is_none_or(|(tb, _)| te < tb)
+    {
+        *best = Some((te, ev));
+    }
+}

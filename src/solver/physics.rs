@@ -1,0 +1,67 @@
+//! The physics of each mode as plain functions (per unit mass, relative to the
+//! moving ground). Every formula names the equation it implements; see
+//! `shared/physics.md` for the derivations.
+
+use super::block::Block;
+
+/// Angular acceleration in rock about the corner on side −s (s = sign θ):
+/// I_O θ̈ = mR cos(θc−|θ|) ẍg − S mR sin(θc−|θ|)(g+ÿg), paper eq. (1), I_O = 4mR²/3.
+#[inline]
+pub fn rock_accel(bl: &Block, s: f64, theta: f64, ax: f64, ay: f64) -> f64 {
+    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
+    0.75 / bl.r * (cp * ax - s * sp * (bl.g + ay))
+}
+
+/// Contact reactions (F, N) per unit mass during rock (physics.md, checked):
+/// F = ẍg − R cosφ θ̈ − S R sinφ θ̇², N = g + ÿg − R cosφ θ̇² + S R sinφ θ̈, φ = θc − |θ|.
+#[inline]
+pub fn rock_reactions(bl: &Block, s: f64, theta: f64, omega: f64, alpha: f64, ax: f64, ay: f64) -> (f64, f64) {
+    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
+    let f = ax - bl.r * cp * alpha - s * bl.r * sp * omega * omega;
+    let n = bl.g + ay - bl.r * cp * omega * omega + s * bl.r * sp * alpha;
+    (f, n)
+}
+
+/// The part of N without θ̈: q = g + ÿg − R cosφ θ̇². If the pivot were
+/// released, its vertical acceleration in flight would be −q, so lift-off is
+/// consistent only when q < 0 (physics.md, "Lift-off under infinite friction").
+#[inline]
+pub fn rock_release_q(bl: &Block, s: f64, theta: f64, omega: f64, ay: f64) -> f64 {
+    let cp = (bl.theta_c - s * theta).cos();
+    bl.g + ay - bl.r * cp * omega * omega
+}
+
+/// Centre-of-mass position and velocity (x, ẋ, y, ẏ) relative to its rest
+/// position while rocking: x = S(R sinφ − B), y = R cosφ − H,
+/// ẋ = −R cosφ θ̇, ẏ = S R sinφ θ̇.
+#[inline]
+pub fn rock_kinematics(bl: &Block, s: f64, theta: f64, omega: f64) -> [f64; 4] {
+    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
+    [
+        s * (bl.r * sp - bl.b),
+        -bl.r * cp * omega,
+        bl.r * cp - bl.h,
+        s * bl.r * sp * omega,
+    ]
+}
+
+/// Mechanical energy per unit mass in the ground frame: ½(ẋ²+ẏ²) + ½Iθ̇² + g y.
+#[inline]
+pub fn energy(bl: &Block, vx: f64, vy: f64, omega: f64, y: f64) -> f64 {
+    bl.kinetic(vx, vy, omega) + bl.g * y
+}
+
+/// Rate of work of the ground's inertial forces per unit mass: −ẍg ẋ − ÿg ẏ.
+#[inline]
+pub fn ground_power(ax: f64, ay: f64, vx: f64, vy: f64) -> f64 {
+    -ax * vx - ay * vy
+}
+
+/// Linearised rock about θ = 0 (tangent to eq. (1) in θ, the θ·ẍg term
+/// dropped): θ̈ = λ²θ + (3/4R)(cosθc ẍg − S g sinθc), λ² = p² cosθc.
+/// Returns (λ², c0, c1) for ẍg = a0 + a1 τ: θ̈ = λ²θ + c0 + c1 τ.
+#[inline]
+pub fn linear_coeffs(bl: &Block, s: f64, a0: f64, a1: f64) -> (f64, f64, f64) {
+    let k = 0.75 / bl.r;
+    (bl.p * bl.p * bl.cos_c, k * (bl.cos_c * a0 - s * bl.g * bl.sin_c), k * bl.cos_c * a1)
+}

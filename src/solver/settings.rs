@@ -1,0 +1,159 @@
+//! Solver settings and the description of one analysis.
+
+use super::block::Block;
+use super::impact::ImpactLaw;
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+/// Which rock equation to integrate.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Model {
+    /// The paper's nonlinear eq. (1), integrated by Dormand–Prince 5(4) with
+    /// dense output and error control.
+    #[default]
+    Nonlinear,
+    /// Eq. (1) linearised in θ about θ = 0 (θc kept exact), solved in closed
+    /// form over each interval of linear forcing. Fast; accurate for |θ| ≪ θc.
+    Linear,
+}
+
+/// Contact friction model.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Friction {
+    /// Contacts never slip (the paper's assumption).
+    #[default]
+    Infinite,
+    /// Coulomb friction with static μs and kinetic μk ≤ μs.
+    Coulomb {
+        /// Static coefficient μs.
+        mu_s: f64,
+        /// Kinetic coefficient μk.
+        mu_k: f64,
+    },
+}
+
+/// Numerical settings of the solver. Plain data with documented defaults.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SolverSettings {
+    /// Rock equation (default: nonlinear).
+    pub model: Model,
+    /// Relative tolerance of the Runge–Kutta error control (default: 1e-8).
+    pub rtol: f64,
+    /// Absolute tolerance, as a fraction of θc for θ and of p·θc for θ̇
+    /// (default: 1e-10).
+    pub atol: f64,
+    /// Impact law (default: Newton, the paper's).
+    pub impact: ImpactLaw,
+    /// Ring-down settle threshold ε (dimensionless, default 1e-6): an impact
+    /// whose rebound velocity is below ε·√(gR) is treated as plastic, and a
+    /// block within ε·θc of flat whose corners move slower than ε·√(gR)
+    /// is set to rest.
+    pub settle_tol: f64,
+    /// Largest number of events in one analysis before it is abandoned as
+    /// stalled (default: 1,000,000).
+    pub max_events: u64,
+    /// Track the work of the ground and report the energy residual (default: false).
+    pub audit_energy: bool,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            model: Model::Nonlinear,
+            rtol: 1e-8,
+            atol: 1e-10,
+            impact: ImpactLaw::Newton,
+            settle_tol: 1e-6,
+            max_events: 1_000_000,
+            audit_energy: false,
+        }
+    }
+}
+
+impl SolverSettings {
+    /// Checks every field's range; errors name the field and the accepted range.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.rtol > 0.0 && self.rtol < 1.0) {
+            return Err(Error::invalid("rtol", self.rtol, "a relative tolerance in (0, 1)"));
+        }
+        if !(self.atol > 0.0 && self.atol < 1.0) {
+            return Err(Error::invalid("atol", self.atol, "an absolute tolerance in (0, 1)"));
+        }
+        if !(self.settle_tol > 0.0 && self.settle_tol < 1.0) {
+            return Err(Error::invalid("settle_tol", self.settle_tol, "a threshold in (0, 1)"));
+        }
+        if self.max_events == 0 {
+            return Err(Error::invalid("max_events", 0, "a positive count"));
+        }
+        Ok(())
+    }
+}
+
+/// Initial conditions of the block (default: at rest).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Initial {
+    /// Initial rotation θ0 (rad); the block rocks on the corner on the side of θ0.
+    pub theta: f64,
+    /// Initial angular velocity θ̇0 (rad/s).
+    pub theta_dot: f64,
+    /// Initial vertical velocity of the centre of mass (m/s). A positive value
+    /// throws the block into free flight from its flat rest pose (θ0 must be 0).
+    pub y_dot: f64,
+    /// Initial horizontal velocity of the centre of mass (m/s), used with `y_dot`.
+    pub x_dot: f64,
+}
+
+/// One block with its contact properties: everything an analysis needs
+/// besides the record and the numerical settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Analysis {
+    /// Geometry and gravity.
+    pub block: Block,
+    /// Coefficient of restitution e ∈ [0, 1].
+    pub restitution: f64,
+    /// Friction model.
+    pub friction: Friction,
+    /// Initial conditions.
+    pub initial: Initial,
+}
+
+impl Analysis {
+    /// A block starting at rest, with infinite friction.
+    pub fn new(block: Block, restitution: f64) -> Self {
+        Analysis { block, restitution, friction: Friction::Infinite, initial: Initial::default() }
+    }
+
+    /// Checks the restitution, friction and initial conditions.
+    pub fn validate(&self) -> Result<()> {
+        if !(0.0..=1.0).contains(&self.restitution) {
+            return Err(Error::invalid("restitution", self.restitution, "a coefficient of restitution in [0, 1]"));
+        }
+        if let Friction::Coulomb { mu_s, mu_k } = self.friction {
+            if !(mu_s.is_finite() && mu_s >= 0.0) {
+                return Err(Error::invalid("mu_s", mu_s, "a static friction coefficient ≥ 0"));
+            }
+            if !(mu_k.is_finite() && mu_k >= 0.0 && mu_k <= mu_s) {
+                return Err(Error::invalid("mu_k", mu_k, "a kinetic friction coefficient in [0, mu_s]"));
+            }
+        }
+        let th = self.initial.theta;
+        if !(th.is_finite() && th.abs() < std::f64::consts::FRAC_PI_2) {
+            return Err(Error::invalid("theta0", th, "an initial rotation with |θ0| < π/2 rad"));
+        }
+        let i = &self.initial;
+        if !(i.y_dot.is_finite() && i.y_dot >= 0.0 && i.x_dot.is_finite()) {
+            return Err(Error::invalid("y_dot0", i.y_dot, "a finite upward velocity ≥ 0 in m/s"));
+        }
+        if i.y_dot > 0.0 && i.theta != 0.0 {
+            return Err(Error::invalid("theta0", i.theta, "0 when the block is thrown (y_dot0 > 0)"));
+        }
+        if !self.initial.theta_dot.is_finite() {
+            return Err(Error::invalid("theta_dot0", self.initial.theta_dot, "a finite angular velocity in rad/s"));
+        }
+        Ok(())
+    }
+}
