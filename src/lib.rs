@@ -44,5 +44,6 @@ mod io_util;
 pub mod motion;
 pub mod solver;
 pub mod outcome;
+pub mod reference;
 
 pub use error::{Error, Result};

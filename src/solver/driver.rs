@@ -506,6 +506,12 @@ impl<'a> Run<'a> {
         let width = (tb - ta) / n as f64;
         let mut t0 = ta;
         let (mut n0, mut q0) = (normal(ta), release(ta));
+        if !rs.hold && n0 < 0.0 {
+            // Entered rock with the pivot already in tension (after an impact
+            // or from initial conditions): decide at once.
+            let ev = if q0 < 0.0 { Event::Uplift } else { Event::HoldStart };
+            return Some((ta, ev));
+        }
         for i in 1..=n {
             let t1 = if i == n { tb } else { ta + width * i as f64 };
             let (n1, q1) = (normal(t1), release(t1));
