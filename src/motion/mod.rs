@@ -1,6 +1,27 @@
 //! Ground motions: stochastic synthesis (Clough–Penzien spectrum, time
 //! envelope, zero-phase high-pass) and recorded motions (PEER `.AT2`, CSV).
+//!
+//! Data flow of a synthetic record, one file per concept:
+//!
+//! ```text
+//! psd (eq. 6) ─▶ synth: random phases, inverse FFT ─▶ envelope (eq. 7)
+//!   ─▶ baseline: zero-phase high-pass, drift-free linear-rule integration
+//!   ─▶ scale to the target PGA ─▶ Record (acc, vel, disp)
+//! ```
+//!
+//! Units are SI throughout; intensities in g are converted once, at the
+//! edge, with `g` = [`G_STANDARD`] unless a setting overrides it.
 
+mod baseline;
+mod envelope;
+mod io;
+mod psd;
 mod record;
+mod synth;
 
+pub use baseline::Baseline;
+pub use envelope::Envelope;
+pub use io::{At2, DT_REL_TOL, read_at2, read_csv, read_record, write_csv, write_csv_to};
+pub use psd::CloughPenzien;
 pub use record::{G_STANDARD, Record, integrate_linear};
+pub use synth::{SynthesisSettings, Synthesizer, record_seed, synthesize};

@@ -83,10 +83,16 @@ impl Record {
             message,
         };
         if !(self.dt.is_finite() && self.dt > 0.0) {
-            return Err(bad(format!("sample interval dt = {} must be positive and finite", self.dt)));
+            return Err(bad(format!(
+                "sample interval dt = {} must be positive and finite",
+                self.dt
+            )));
         }
         if self.acc.len() < 2 {
-            return Err(bad(format!("{} samples; at least 2 are needed", self.acc.len())));
+            return Err(bad(format!(
+                "{} samples; at least 2 are needed",
+                self.acc.len()
+            )));
         }
         if self.vel.len() != self.acc.len() || self.disp.len() != self.acc.len() {
             return Err(bad("acc, vel and disp have different lengths".into()));
@@ -96,7 +102,12 @@ impl Record {
                 return Err(bad("vertical acceleration has a different length".into()));
             }
         }
-        let series = [Some(&self.acc), Some(&self.vel), Some(&self.disp), self.acc_v.as_ref()];
+        let series = [
+            Some(&self.acc),
+            Some(&self.vel),
+            Some(&self.disp),
+            self.acc_v.as_ref(),
+        ];
         for (label, s) in ["acc", "vel", "disp", "acc_v"].iter().zip(series) {
             if let Some(s) = s {
                 if let Some(k) = s.iter().position(|x| !x.is_finite()) {

@@ -1,0 +1,484 @@
+//! Reading and writing records: PEER NGA `.AT2` (acceleration in g) and CSV
+//! (`t,acc[,vel,disp]`, SI units).
+//!
+//! Floats are written in Rust's shortest round-trip form, so a written file
+//! reads back bit for bit. Files are written to a temporary file in the same
+//! directory and renamed into place: a reader never sees a half-written file.
+//!
+//! Every parse error names the file and the 1-based line
+//! ([`Error::Parse`]).
+
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use super::record::{Record, integrate_linear};
+use crate::error::{Error, Result};
+
+/// Relative tolerance on the time step when checking that a CSV record is
+/// uniformly sampled.
+pub const DT_REL_TOL: f64 = 1e-6;
+
+/// The content of a PEER NGA `.AT2` file: three free header lines, then
+/// `NPTS= n, DT= dt SEC`, then the accelerations in g, several per line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct At2 {
+    /// The three free-text header lines (database, event and station, units).
+    pub header: [String; 3],
+    /// Sample interval Δt, s.
+    pub dt: f64,
+    /// Ground acceleration, in g.
+    pub acc_g: Vec<f64>,
+}
+
+fn parse_err(path: &Path, line: usize, message: impl Into<String>) -> Error {
+    Error::Parse {
+        path: path.to_path_buf(),
+        line,
+        message: message.into(),
+    }
+}
+
+fn io_err(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+fn read_text(path: &Path) -> Result<String> {
+    let text = fs::read_to_string(path).map_err(|e| io_err(path, e))?;
+    Ok(text.strip_prefix('\u{feff}').unwrap_or(&text).to_string())
+}
+
+/// Parses a float, also accepting a Fortran `D` exponent; rejects NaN and ±∞.
+fn parse_value(token: &str) -> std::result::Result<f64, String> {
+    let v = token
+        .replace(['D', 'd'], "E")
+        .parse::<f64>()
+        .map_err(|_| format!("cannot read '{token}' as a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("value '{token}' is not finite"))
+    }
+}
+
+/// Reads `NPTS` and `DT` from the fourth AT2 header line, in either the NGA
+/// form `NPTS=  5590, DT= .0050 SEC` (any spacing, commas, case) or the older
+/// `5590   .0050   NPTS, DT` form.
+fn parse_npts_dt(line: &str) -> std::result::Result<(usize, f64), String> {
+    let upper = line.to_ascii_uppercase().replace([',', '=', ':', ';'], " ");
+    let tokens: Vec<&str> = upper
+        .split_whitespace()
+        .map(|t| {
+            ["SECONDS", "SECS", "SEC"]
+                .iter()
+                .find_map(|u| t.strip_suffix(u))
+                .unwrap_or(t)
+        })
+        .filter(|t| !t.is_empty() && *t != "S")
+        .collect();
+    let expected = "expected 'NPTS= n, DT= dt SEC' or 'n dt NPTS, DT'";
+    let label = |name: &str| tokens.iter().position(|t| *t == name);
+    let (Some(ip), Some(id)) = (label("NPTS"), label("DT")) else {
+        return Err(format!("no NPTS and DT in '{}': {expected}", line.trim()));
+    };
+    let numeric = |t: &&str| t.parse::<f64>().is_ok();
+    let (npts, dt) =
+        if tokens.get(ip + 1).is_some_and(numeric) && tokens.get(id + 1).is_some_and(numeric) {
+            (tokens[ip + 1], tokens[id + 1])
+        } else {
+            // Older form: the numbers come first, in the order of the labels.
+            let numbers: Vec<&str> = tokens[..ip.min(id)]
+                .iter()
+                .copied()
+                .filter(numeric)
+                .collect();
+            if numbers.len() != 2 {
+                return Err(format!(
+                    "cannot find the values of NPTS and DT in '{}': {expected}",
+                    line.trim()
+                ));
+            }
+            if ip < id {
+                (numbers[0], numbers[1])
+            } else {
+                (numbers[1], numbers[0])
+            }
+        };
+    let npts = npts
+        .parse::<usize>()
+        .map_err(|_| format!("NPTS = '{npts}' is not a whole number of samples"))?;
+    let dt = parse_value(dt)?;
+    if dt <= 0.0 {
+        return Err(format!("DT = {dt} must be positive"));
+    }
+    Ok((npts, dt))
+}
+
+impl At2 {
+    /// Reads and parses an `.AT2` file.
+    pub fn read(path: impl AsRef<Path>) -> Result<At2> {
+        let path = path.as_ref();
+        At2::parse(&read_text(path)?, path)
+    }
+
+    /// Parses the text of an `.AT2` file; `path` is used in error messages.
+    pub fn parse(text: &str, path: &Path) -> Result<At2> {
+        let lines: Vec<&str> = text.lines().collect();
+        if lines.iter().all(|l| l.trim().is_empty()) {
+            return Err(parse_err(
+                path,
+                1,
+                "empty file: expected 4 header lines and the accelerations",
+            ));
+        }
+        if lines.len() < 4 {
+            return Err(parse_err(
+                path,
+                lines.len(),
+                format!(
+                    "missing header: an AT2 file has 4 header lines (the 4th giving NPTS and DT), found {}",
+                    lines.len()
+                ),
+            ));
+        }
+        let (npts, dt) = parse_npts_dt(lines[3]).map_err(|m| parse_err(path, 4, m))?;
+        if npts < 2 {
+            return Err(parse_err(
+                path,
+                4,
+                format!("NPTS = {npts}: at least 2 samples are needed"),
+            ));
+        }
+        let mut acc_g = Vec::with_capacity(npts);
+        let mut last_line = 4;
+        for (i, line) in lines.iter().enumerate().skip(4) {
+            for token in line.split_whitespace() {
+                let v = parse_value(token).map_err(|m| parse_err(path, i + 1, m))?;
+                if acc_g.len() == npts {
+                    return Err(parse_err(
+                        path,
+                        i + 1,
+                        format!("more values than NPTS = {npts} given on line 4"),
+                    ));
+                }
+                acc_g.push(v);
+                last_line = i + 1;
+            }
+        }
+        if acc_g.len() < npts {
+            return Err(parse_err(
+                path,
+                last_line,
+                format!(
+                    "the file ends after {} values; NPTS = {npts} on line 4",
+                    acc_g.len()
+                ),
+            ));
+        }
+        Ok(At2 {
+            header: [lines[0], lines[1], lines[2]].map(|l| l.trim_end().to_string()),
+            dt,
+            acc_g,
+        })
+    }
+
+    /// Converts to a record in SI units (acc × `g`), integrating velocity and
+    /// displacement from rest by the linear rule.
+    pub fn to_record(&self, name: impl Into<String>, g: f64) -> Result<Record> {
+        Record::from_acc(name, self.dt, self.acc_g.iter().map(|a| a * g).collect())
+    }
+
+    /// Builds the AT2 content of a record (acc ÷ `g`).
+    pub fn from_record(record: &Record, g: f64) -> At2 {
+        At2 {
+            header: [
+                "rockfrag ground-motion record".to_string(),
+                record.name.replace(['\n', '\r'], " "),
+                "ACCELERATION TIME SERIES IN UNITS OF G".to_string(),
+            ],
+            dt: record.dt,
+            acc_g: record.acc.iter().map(|a| a / g).collect(),
+        }
+    }
+
+    /// Writes the text of the file (five values per line, shortest
+    /// round-trip form).
+    pub fn write_to<W: Write>(&self, mut w: W) -> std::io::Result<()> {
+        for h in &self.header {
+            writeln!(w, "{}", h.replace(['\n', '\r'], " "))?;
+        }
+        writeln!(w, "NPTS= {}, DT= {} SEC", self.acc_g.len(), self.dt)?;
+        for chunk in self.acc_g.chunks(5) {
+            for v in chunk {
+                write!(w, " {v:>24E}")?;
+            }
+            writeln!(w)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the file atomically (temporary file in the same directory,
+    /// then rename).
+    pub fn write(&self, path: impl AsRef<Path>) -> Result<()> {
+        write_atomic(path.as_ref(), |w| self.write_to(w))
+    }
+}
+
+/// The file name of `path`, for record names.
+fn file_label(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// Reads a PEER NGA `.AT2` file as a record in SI units (acc × `g`, usually
+/// [`super::G_STANDARD`]); velocity and displacement are integrated from rest
+/// by the linear rule. The record is named after the file.
+pub fn read_at2(path: impl AsRef<Path>, g: f64) -> Result<Record> {
+    let path = path.as_ref();
+    At2::read(path)?.to_record(file_label(path), g)
+}
+
+/// Reads a CSV record with header `t,acc` or `t,acc,vel,disp` (s, m/s², m/s,
+/// m), as written by [`write_csv`]. The time step must be uniform (relative
+/// tolerance [`DT_REL_TOL`]); sample k is taken at k·Δt from the first row.
+/// Without `vel`/`disp` columns they are integrated from rest by the linear
+/// rule. Blank lines are skipped.
+pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
+    let path = path.as_ref();
+    let text = read_text(path)?;
+    let mut rows = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty());
+    let Some((header_line, header)) = rows.next() else {
+        return Err(parse_err(
+            path,
+            1,
+            "empty file: expected the header 't,acc' or 't,acc,vel,disp'",
+        ));
+    };
+    let names: Vec<String> = header
+        .split(',')
+        .map(|s| s.trim().to_ascii_lowercase())
+        .collect();
+    let ncol = match names.iter().map(String::as_str).collect::<Vec<_>>()[..] {
+        ["t", "acc"] => 2,
+        ["t", "acc", "vel", "disp"] => 4,
+        _ => {
+            let what = if names.first().is_some_and(|n| n.parse::<f64>().is_ok()) {
+                "missing header"
+            } else {
+                "unrecognised header"
+            };
+            return Err(parse_err(
+                path,
+                header_line,
+                format!("{what} '{header}': expected 't,acc' or 't,acc,vel,disp'"),
+            ));
+        }
+    };
+    let mut cols: [Vec<f64>; 4] = Default::default();
+    let mut lines = Vec::new();
+    for (line_no, line) in rows {
+        let fields: Vec<&str> = line.split(',').collect();
+        if fields.len() != ncol {
+            return Err(parse_err(
+                path,
+                line_no,
+                format!("{} fields, expected {ncol} ({header})", fields.len()),
+            ));
+        }
+        for (c, f) in fields.iter().enumerate() {
+            let v = parse_value(f.trim())
+                .map_err(|m| parse_err(path, line_no, format!("column '{}': {m}", names[c])))?;
+            cols[c].push(v);
+        }
+        lines.push(line_no);
+    }
+    let [t, acc, vel, disp] = cols;
+    let last = lines.last().copied().unwrap_or(header_line);
+    if t.len() < 2 {
+        return Err(parse_err(
+            path,
+            last,
+            format!("{} samples: at least 2 are needed", t.len()),
+        ));
+    }
+    let dt = t[1] - t[0];
+    if !(dt > 0.0) {
+        return Err(parse_err(
+            path,
+            lines[1],
+            format!("time step t = {} after {} is not positive", t[1], t[0]),
+        ));
+    }
+    for k in 2..t.len() {
+        let step = t[k] - t[k - 1];
+        if (step - dt).abs() > DT_REL_TOL * dt {
+            return Err(parse_err(
+                path,
+                lines[k],
+                format!(
+                    "non-uniform time step: t = {} follows {} (step {step}, but the first step is {dt})",
+                    t[k],
+                    t[k - 1]
+                ),
+            ));
+        }
+    }
+    let name = file_label(path);
+    let record = if ncol == 4 {
+        let r = Record {
+            name,
+            dt,
+            acc,
+            vel,
+            disp,
+            acc_v: None,
+        };
+        r.validate()?;
+        r
+    } else {
+        let (vel, disp) = integrate_linear(dt, &acc, 0.0, 0.0);
+        let r = Record {
+            name,
+            dt,
+            acc,
+            vel,
+            disp,
+            acc_v: None,
+        };
+        r.validate()?;
+        r
+    };
+    Ok(record)
+}
+
+/// Reads a record by extension: `.at2` (any case) with [`read_at2`] and
+/// gravity `g`, `.csv` with [`read_csv`].
+pub fn read_record(path: impl AsRef<Path>, g: f64) -> Result<Record> {
+    let path = path.as_ref();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("at2") => read_at2(path, g),
+        Some("csv") => read_csv(path),
+        _ => Err(parse_err(
+            path,
+            0,
+            "unknown record format: expected a .AT2 or .csv file",
+        )),
+    }
+}
+
+/// Writes a record as CSV with header exactly `t,acc,vel,disp` (s, m/s², m/s,
+/// m), t = k·Δt, every value in shortest round-trip form.
+pub fn write_csv_to<W: Write>(mut w: W, record: &Record) -> std::io::Result<()> {
+    writeln!(w, "t,acc,vel,disp")?;
+    for k in 0..record.len() {
+        writeln!(
+            w,
+            "{},{},{},{}",
+            k as f64 * record.dt,
+            record.acc[k],
+            record.vel[k],
+            record.disp[k]
+        )?;
+    }
+    Ok(())
+}
+
+/// Writes a record as CSV (see [`write_csv_to`]) atomically: to a temporary
+/// file in the same directory, then renamed onto `path`.
+///
+/// ```
+/// use rockfrag::motion::{Record, read_csv, write_csv};
+/// let dir = std::env::temp_dir().join(format!("rockfrag-doc-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let r = Record::from_acc("x", 0.01, vec![0.0, 0.1, -0.3]).unwrap();
+/// let path = dir.join("x.csv");
+/// write_csv(&path, &r).unwrap();
+/// let back = read_csv(&path).unwrap();
+/// assert_eq!((back.acc, back.vel, back.disp), (r.acc, r.vel, r.disp));
+/// std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+pub fn write_csv(path: impl AsRef<Path>, record: &Record) -> Result<()> {
+    write_atomic(path.as_ref(), |w| write_csv_to(w, record))
+}
+
+/// Writes through `f` into a temporary file beside `path`, syncs it and
+/// renames it onto `path`; removes the temporary file on failure.
+fn write_atomic(
+    path: &Path,
+    f: impl FnOnce(&mut BufWriter<fs::File>) -> std::io::Result<()>,
+) -> Result<()> {
+    let Some(file_name) = path.file_name() else {
+        return Err(io_err(
+            path,
+            std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file path"),
+        ));
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let tmp = dir.join(format!(
+        ".{}.{}.tmp",
+        file_name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let mut w = BufWriter::new(fs::File::create(&tmp)?);
+        f(&mut w)?;
+        let file = w.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        drop(file);
+        fs::rename(&tmp, path)
+    })();
+    result.map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        io_err(path, e)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn both_npts_dt_forms() {
+        assert_eq!(
+            parse_npts_dt("NPTS=  5590, DT=   .0050 SEC").unwrap(),
+            (5590, 0.005)
+        );
+        assert_eq!(
+            parse_npts_dt("npts=5590,dt=.005sec").unwrap(),
+            (5590, 0.005)
+        );
+        assert_eq!(
+            parse_npts_dt("NPTS = 10 , DT = 0.01 s").unwrap(),
+            (10, 0.01)
+        );
+        assert_eq!(
+            parse_npts_dt("  5590   .0050   NPTS, DT").unwrap(),
+            (5590, 0.005)
+        );
+        assert_eq!(parse_npts_dt("DT= .01 SEC, NPTS= 7").unwrap(), (7, 0.01));
+        assert!(parse_npts_dt("5590 .0050").is_err());
+        assert!(parse_npts_dt("NPTS= 55.5, DT= .01").is_err());
+    }
+
+    #[test]
+    fn fortran_exponents() {
+        assert_eq!(parse_value(".1234E-02").unwrap(), 0.001234);
+        assert_eq!(parse_value("-.5D+01").unwrap(), -5.0);
+        assert!(parse_value("NaN").is_err());
+    }
+}

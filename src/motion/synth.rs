@@ -1,0 +1,471 @@
+//! Stochastic ground motions by the spectral representation method
+//! (paper section 4).
+//!
+//! The stationary process is a sum of cosines at the frequencies f_k = k·Δf
+//! in [f_min, f_max], with amplitudes A_k = sqrt(2·S(f_k)·Δf) (S one-sided,
+//! in Hz, [`CloughPenzien`]) and independent phases φ_k uniform on [0, 2π):
+//!
+//! ```text
+//! a(t) = Σ_k A_k cos(2π f_k t + φ_k),   E[a²] = Σ_k A_k²/2 ≈ ∫ S(f) df
+//! ```
+//!
+//! It is periodic with period 1/Δf (20 s at the defaults). One period is
+//! synthesised exactly on the DFT grid, N = 1/(Δf·Δt) samples, by one inverse
+//! real FFT, and repeated for longer records. Components at or above the
+//! Nyquist frequency 1/(2Δt) cannot be represented (a cosine at Nyquist keeps
+//! only A·cos φ·(−1)ⁿ, its phase is lost) and are left out: at the defaults,
+//! the single 25 Hz component, 0.3 % of the variance.
+//!
+//! The record is then modulated by the [`Envelope`] c(t), baseline-processed
+//! ([`Baseline`]: zero-phase high-pass, drift-free consistent integration)
+//! and scaled to the target PGA.
+//!
+//! Record i of an ensemble is a pure function of (seed, i): its phases come
+//! from a Xoshiro256++ stream seeded with [`record_seed`]`(seed, i)`, drawn
+//! in increasing frequency order. Nothing depends on thread count or on
+//! which records were generated before.
+
+use std::sync::Arc;
+
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use realfft::num_complex::Complex;
+use realfft::{ComplexToReal, RealFftPlanner};
+
+use super::baseline::{Baseline, Processor};
+use super::envelope::Envelope;
+use super::psd::CloughPenzien;
+use super::record::{G_STANDARD, Record};
+use crate::error::{Error, Result};
+
+/// Settings of the stochastic ground-motion generator. Defaults reproduce
+/// the paper's section 4.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SynthesisSettings {
+    /// Target power spectral density, eq. (6) (default: "firm soil").
+    pub psd: CloughPenzien,
+    /// Frequency step Δf of the components, Hz (default: 0.05). The process
+    /// repeats every 1/Δf seconds; 1/(Δf·Δt) must be an integer.
+    pub df: f64,
+    /// Lowest component frequency, Hz (default: 0.05).
+    pub f_min: f64,
+    /// Highest component frequency, Hz (default: 25.0); components at or
+    /// above the Nyquist frequency 1/(2Δt) are left out.
+    pub f_max: f64,
+    /// Sample interval Δt, s (default: 0.02).
+    pub dt: f64,
+    /// Record duration, s (default: 30.0): samples at t = 0, Δt, …, duration.
+    pub duration: f64,
+    /// Time envelope c(t) (default: the paper's eq. (7)).
+    pub envelope: Envelope,
+    /// High-pass filter and integration (default: 0.07 Hz, order 4).
+    pub baseline: Baseline,
+    /// Gravity used to convert intensities given in g, m/s² (default: 9.81).
+    pub g: f64,
+}
+
+impl Default for SynthesisSettings {
+    fn default() -> Self {
+        SynthesisSettings {
+            psd: CloughPenzien::default(),
+            df: 0.05,
+            f_min: 0.05,
+            f_max: 25.0,
+            dt: 0.02,
+            duration: 30.0,
+            envelope: Envelope::default(),
+            baseline: Baseline::default(),
+            g: G_STANDARD,
+        }
+    }
+}
+
+/// Relative tolerance for "is an integer" tests on ratios of user inputs.
+const INTEGER_TOL: f64 = 1e-9;
+
+impl SynthesisSettings {
+    /// Checks every field; errors name the field.
+    pub fn validate(&self) -> Result<()> {
+        self.psd.validate()?;
+        for (name, v) in [
+            ("df", self.df),
+            ("f_min", self.f_min),
+            ("f_max", self.f_max),
+            ("dt", self.dt),
+            ("duration", self.duration),
+            ("g", self.g),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::invalid(name, v, "a positive finite number"));
+            }
+        }
+        if self.f_max < self.f_min {
+            return Err(Error::invalid("f_max", self.f_max, "≥ f_min"));
+        }
+        if self.duration < self.dt {
+            return Err(Error::invalid("duration", self.duration, "≥ dt"));
+        }
+        self.period_len()?;
+        self.components()?;
+        self.envelope.validate()?;
+        self.baseline.validate(self.dt)?;
+        Ok(())
+    }
+
+    /// Number of samples per record: duration/Δt + 1.
+    pub fn samples(&self) -> usize {
+        (self.duration / self.dt * (1.0 + INTEGER_TOL)).floor() as usize + 1
+    }
+
+    /// Converts an intensity in g to m/s² with this setting's `g`.
+    pub fn pga_from_g(&self, pga_g: f64) -> f64 {
+        pga_g * self.g
+    }
+
+    /// N = 1/(Δf·Δt), the number of samples in one period of the process;
+    /// an error if it is not an integer.
+    pub fn period_len(&self) -> Result<usize> {
+        let x = 1.0 / (self.df * self.dt);
+        let n = x.round();
+        if !(x.is_finite() && n >= 2.0 && (x - n).abs() <= INTEGER_TOL * x) {
+            return Err(Error::invalid(
+                "df",
+                self.df,
+                &format!(
+                    "a frequency step such that 1/(df·dt) is an integer ≥ 2 \
+                     (one period of the process on the time grid); with dt = {} it is {x}",
+                    self.dt
+                ),
+            ));
+        }
+        Ok(n as usize)
+    }
+
+    /// The component indices k (f_k = k·Δf), an inclusive range: f_min ≤ f_k
+    /// ≤ f_max and f_k below Nyquist.
+    fn components(&self) -> Result<(usize, usize)> {
+        let n = self.period_len()?;
+        let k_min = ((self.f_min / self.df) * (1.0 - INTEGER_TOL))
+            .ceil()
+            .max(1.0) as usize;
+        let k_top = ((self.f_max / self.df) * (1.0 + INTEGER_TOL)).floor() as usize;
+        let k_max = k_top.min((n - 1) / 2);
+        if k_min > k_max {
+            return Err(Error::invalid(
+                "f_min",
+                self.f_min,
+                &format!(
+                    "a band [f_min, f_max] holding at least one multiple of df = {} below \
+                     the Nyquist frequency {} Hz",
+                    self.df,
+                    0.5 / self.dt
+                ),
+            ));
+        }
+        Ok((k_min, k_max))
+    }
+}
+
+/// The 64-bit seed of record `index` of the ensemble `seed`: the splitmix64
+/// finaliser of `seed ^ index·φ64 + φ64` (φ64 = 0x9E3779B97F4A7C15). A
+/// bijection in `seed` for fixed `index` and in `index` for fixed `seed`.
+///
+/// ```
+/// use rockfrag::motion::record_seed;
+/// assert_ne!(record_seed(1, 0), record_seed(1, 1));
+/// assert_ne!(record_seed(1, 0), record_seed(2, 0));
+/// ```
+pub fn record_seed(seed: u64, index: u64) -> u64 {
+    const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut z = (seed ^ index.wrapping_mul(GOLDEN)).wrapping_add(GOLDEN);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// A ground-motion generator built once from [`SynthesisSettings`]: holds the
+/// FFT plans, component amplitudes, envelope samples, filter gains and
+/// scratch buffers. `Clone` is cheap (plans are shared); give each thread its
+/// own clone.
+///
+/// ```
+/// use rockfrag::motion::{SynthesisSettings, Synthesizer};
+/// let mut s = Synthesizer::new(&SynthesisSettings::default()).unwrap();
+/// let r = s.generate(7, 0, 0.3 * 9.81).unwrap();
+/// assert_eq!(r.len(), 1501);
+/// assert_eq!(r.pga(), 0.3 * 9.81);
+/// ```
+#[derive(Clone)]
+pub struct Synthesizer {
+    settings: SynthesisSettings,
+    /// First component index (f = k_min·Δf).
+    k_min: usize,
+    /// A_k/2 for k = k_min..=k_max.
+    half_amp: Vec<f64>,
+    /// c(t_n), n = 0..samples.
+    envelope: Vec<f64>,
+    inverse: Arc<dyn ComplexToReal<f64>>,
+    spectrum: Vec<Complex<f64>>,
+    period: Vec<f64>,
+    scratch: Vec<Complex<f64>>,
+    processor: Processor,
+}
+
+impl std::fmt::Debug for Synthesizer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Synthesizer")
+            .field("settings", &self.settings)
+            .field("period_len", &self.period.len())
+            .field("components", &self.half_amp.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Synthesizer {
+    /// Validates the settings and precomputes everything that does not depend
+    /// on the seed.
+    pub fn new(settings: &SynthesisSettings) -> Result<Self> {
+        settings.validate()?;
+        let n = settings.period_len()?;
+        let (k_min, k_max) = settings.components()?;
+        let half_amp = (k_min..=k_max)
+            .map(|k| {
+                let f = k as f64 * settings.df;
+                0.5 * (2.0 * settings.psd.density(f) * settings.df).sqrt()
+            })
+            .collect();
+        let len = settings.samples();
+        let envelope = settings.envelope.sample(settings.dt, len);
+        let inverse = RealFftPlanner::<f64>::new().plan_fft_inverse(n);
+        Ok(Synthesizer {
+            settings: settings.clone(),
+            k_min,
+            half_amp,
+            envelope,
+            spectrum: inverse.make_input_vec(),
+            period: inverse.make_output_vec(),
+            scratch: inverse.make_scratch_vec(),
+            inverse,
+            processor: Processor::new(&settings.baseline, settings.dt, len)?,
+        })
+    }
+
+    /// The settings this generator was built from.
+    pub fn settings(&self) -> &SynthesisSettings {
+        &self.settings
+    }
+
+    /// Number of samples per record.
+    pub fn samples(&self) -> usize {
+        self.envelope.len()
+    }
+
+    /// Number of samples N in one period of the stationary process.
+    pub fn period_len(&self) -> usize {
+        self.period.len()
+    }
+
+    /// Component frequencies f_k (Hz), in the order their phases are drawn.
+    pub fn frequencies(&self) -> Vec<f64> {
+        (0..self.half_amp.len())
+            .map(|i| (self.k_min + i) as f64 * self.settings.df)
+            .collect()
+    }
+
+    /// Component amplitudes A_k = sqrt(2·S(f_k)·Δf) (m/s², before PGA
+    /// scaling), matching [`Synthesizer::frequencies`].
+    pub fn amplitudes(&self) -> Vec<f64> {
+        self.half_amp.iter().map(|h| 2.0 * h).collect()
+    }
+
+    /// One period (N samples at t = n·Δt) of the stationary process of record
+    /// (`seed`, `index`): no envelope, no filter, no scaling.
+    pub fn stationary(&mut self, seed: u64, index: u64) -> &[f64] {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(record_seed(seed, index));
+        self.spectrum.fill(Complex::default());
+        let bins = &mut self.spectrum[self.k_min..self.k_min + self.half_amp.len()];
+        for (x, &h) in bins.iter_mut().zip(&self.half_amp) {
+            let phase = std::f64::consts::TAU * rng.random::<f64>();
+            let (s, c) = phase.sin_cos();
+            *x = Complex::new(h * c, h * s);
+        }
+        // With X_k = (A_k/2)·e^{iφ_k} the unnormalised inverse real FFT gives
+        // x_n = Σ_k A_k cos(2π k n/N + φ_k) = a(n·Δt), since f_k·t_n = k n/N.
+        self.inverse
+            .process_with_scratch(&mut self.spectrum, &mut self.period, &mut self.scratch)
+            .expect("buffers sized by the plan");
+        &self.period
+    }
+
+    /// Generates record (`seed`, `index`) scaled to peak |acc| = `pga_m_s2`.
+    pub fn generate(&mut self, seed: u64, index: u64, pga_m_s2: f64) -> Result<Record> {
+        let mut r = Record {
+            name: String::new(),
+            dt: self.settings.dt,
+            acc: Vec::new(),
+            vel: Vec::new(),
+            disp: Vec::new(),
+            acc_v: None,
+        };
+        self.generate_into(seed, index, pga_m_s2, &mut r)?;
+        Ok(r)
+    }
+
+    /// As [`Synthesizer::generate`], reusing `out`'s buffers (no allocation
+    /// once they have grown to the record length).
+    ///
+    /// The peak |acc| equals `pga_m_s2` exactly (bitwise): the record is
+    /// scaled by pga/max|acc| and the peak sample is then set to ±pga, a
+    /// change of at most one ulp. Velocity and displacement are integrated
+    /// from the scaled acceleration by the linear rule (the same arithmetic
+    /// as [`super::integrate_linear`]), from the scaled initial velocity and
+    /// `disp[0] = 0`.
+    pub fn generate_into(
+        &mut self,
+        seed: u64,
+        index: u64,
+        pga_m_s2: f64,
+        out: &mut Record,
+    ) -> Result<()> {
+        if !(pga_m_s2.is_finite() && pga_m_s2 > 0.0) {
+            return Err(Error::invalid(
+                "pga",
+                pga_m_s2,
+                "a positive finite peak ground acceleration",
+            ));
+        }
+        let len = self.samples();
+        self.stationary(seed, index);
+        let n = self.period.len();
+        out.acc.clear();
+        out.acc.extend(
+            self.envelope
+                .iter()
+                .enumerate()
+                .map(|(i, c)| c * self.period[i % n]),
+        );
+        let v0 = self.processor.process(&mut out.acc);
+        let (i_peak, peak) = out
+            .acc
+            .iter()
+            .enumerate()
+            .fold((0, 0.0_f64), |(im, m), (i, a)| {
+                if a.abs() > m { (i, a.abs()) } else { (im, m) }
+            });
+        if !(peak > 0.0 && peak.is_finite()) {
+            return Err(Error::InvalidRecord {
+                name: format!("synthetic seed={seed} index={index}"),
+                message: format!("peak acceleration before scaling is {peak}"),
+            });
+        }
+        let scale = pga_m_s2 / peak;
+        for a in out.acc.iter_mut() {
+            *a = (*a * scale).clamp(-pga_m_s2, pga_m_s2);
+        }
+        out.acc[i_peak] = pga_m_s2.copysign(out.acc[i_peak]);
+        integrate_into(
+            self.settings.dt,
+            &out.acc,
+            v0 * scale,
+            0.0,
+            &mut out.vel,
+            &mut out.disp,
+        );
+        out.name.clear();
+        use std::fmt::Write;
+        write!(out.name, "synthetic seed={seed} index={index}").expect("writing to a String");
+        out.dt = self.settings.dt;
+        out.acc_v = None;
+        debug_assert_eq!(out.acc.len(), len);
+        Ok(())
+    }
+}
+
+/// [`super::integrate_linear`] into reused buffers (identical arithmetic).
+fn integrate_into(dt: f64, acc: &[f64], v0: f64, d0: f64, vel: &mut Vec<f64>, disp: &mut Vec<f64>) {
+    vel.clear();
+    disp.clear();
+    let (mut v, mut d) = (v0, d0);
+    for k in 0..acc.len() {
+        vel.push(v);
+        disp.push(d);
+        if k + 1 < acc.len() {
+            let (a0, a1) = (acc[k], acc[k + 1]);
+            d += dt * v + dt * dt * (2.0 * a0 + a1) / 6.0;
+            v += dt * (a0 + a1) / 2.0;
+        }
+    }
+}
+
+/// Generates record (`seed`, `index`) with peak |acc| = `pga_m_s2` (m/s²).
+/// Builds a [`Synthesizer`] each call: for ensembles, build one and reuse it.
+///
+/// ```
+/// use rockfrag::motion::{SynthesisSettings, synthesize};
+/// let s = SynthesisSettings::default();
+/// let r = synthesize(&s, 42, 3, s.pga_from_g(0.5)).unwrap();
+/// assert_eq!(r.name, "synthetic seed=42 index=3");
+/// assert_eq!(r.pga(), 0.5 * 9.81);
+/// ```
+pub fn synthesize(
+    settings: &SynthesisSettings,
+    seed: u64,
+    index: u64,
+    pga_m_s2: f64,
+) -> Result<Record> {
+    Synthesizer::new(settings)?.generate(seed, index, pga_m_s2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fft_synthesis_equals_the_sum_of_cosines() {
+        // Direct evaluation of a(t_n) = Σ A_k cos(2π f_k t_n + φ_k) with the
+        // same phases; differences are rounding only.
+        let settings = SynthesisSettings::default();
+        let mut s = Synthesizer::new(&settings).unwrap();
+        let x = s.stationary(3, 4).to_vec();
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(record_seed(3, 4));
+        let phases: Vec<f64> = s
+            .frequencies()
+            .iter()
+            .map(|_| std::f64::consts::TAU * rng.random::<f64>())
+            .collect();
+        let amps = s.amplitudes();
+        let freqs = s.frequencies();
+        let scale = amps.iter().map(|a| a * a).sum::<f64>().sqrt();
+        for n in [0, 1, 17, 500, 999] {
+            let t = n as f64 * settings.dt;
+            let direct: f64 = (0..amps.len())
+                .map(|i| amps[i] * (std::f64::consts::TAU * freqs[i] * t + phases[i]).cos())
+                .sum();
+            assert!(
+                (x[n] - direct).abs() < 1e-12 * scale,
+                "n={n}: {} vs {direct}",
+                x[n]
+            );
+        }
+    }
+
+    #[test]
+    fn default_grid() {
+        let s = SynthesisSettings::default();
+        assert_eq!(s.period_len().unwrap(), 1000);
+        assert_eq!(s.samples(), 1501);
+        // 0.05 … 24.95 Hz: the 25 Hz component sits on Nyquist and is dropped.
+        assert_eq!(s.components().unwrap(), (1, 499));
+    }
+
+    #[test]
+    fn non_integer_period_is_an_error() {
+        let s = SynthesisSettings {
+            dt: 0.03,
+            ..Default::default()
+        };
+        let e = s.validate().unwrap_err().to_string();
+        assert!(e.contains("df") && e.contains("integer"), "{e}");
+    }
+}
