@@ -42,8 +42,8 @@
 pub mod error;
 mod io_util;
 pub mod motion;
-pub mod solver;
 pub mod outcome;
 pub mod reference;
+pub mod solver;
 
 pub use error::{Error, Result};

@@ -10,7 +10,18 @@ fn main() {
         Err(err) => cli::exit_on_parse_error(err),
     };
     if let Err(err) = cli::run(args) {
-        eprintln!("error: {err:#}");
+        // One line: the context chain, skipping causes already quoted by their parent.
+        let mut line = String::new();
+        for cause in err.chain() {
+            let text = cause.to_string();
+            if !line.contains(&text) {
+                if !line.is_empty() {
+                    line.push_str(": ");
+                }
+                line.push_str(&text);
+            }
+        }
+        eprintln!("error: {line}");
         std::process::exit(1);
     }
 }

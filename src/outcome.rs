@@ -20,7 +20,13 @@ pub enum Mode {
 
 impl Mode {
     /// All modes, in the order of [`Outcome::time_in_mode`].
-    pub const ALL: [Mode; 5] = [Mode::Rest, Mode::Slide, Mode::Rock, Mode::SlideRock, Mode::Flight];
+    pub const ALL: [Mode; 5] = [
+        Mode::Rest,
+        Mode::Slide,
+        Mode::Rock,
+        Mode::SlideRock,
+        Mode::Flight,
+    ];
 
     /// Lower-case name used in CSV and JSON.
     pub fn name(self) -> &'static str {

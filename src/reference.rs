@@ -49,13 +49,18 @@ pub fn next_amplitude(block: &Block, theta_n: f64) -> f64 {
 /// left corner (ω1 < 0 brings θ > 0 back to 0): v = ω × r_G with
 /// r_G = (B, H) from the pivot, so v_x = −H ω1, v_y = B ω1.
 pub fn rock_impact_velocity(block: &Block, omega1: f64) -> Velocity {
-    Velocity { vx: -block.h * omega1, vy: block.b * omega1, omega: omega1 }
+    Velocity {
+        vx: -block.h * omega1,
+        vy: block.b * omega1,
+        omega: omega1,
+    }
 }
 
 /// A record of constant ground acceleration `acc` (m/s²) lasting `duration` s.
 pub fn constant_record(acc: f64, dt: f64, duration: f64) -> Record {
     let n = (duration / dt).round() as usize + 1;
-    Record::from_acc(format!("constant {acc} m/s²"), dt, vec![acc; n]).expect("valid constant record")
+    Record::from_acc(format!("constant {acc} m/s²"), dt, vec![acc; n])
+        .expect("valid constant record")
 }
 
 /// A quiet record (no ground motion) lasting `duration` s.

@@ -4,7 +4,8 @@
 use rockfrag::motion::Record;
 use rockfrag::outcome::Mode;
 use rockfrag::reference::{
-    constant_record, free_rocking_first_impact_time, next_amplitude, quiet_record, rock_impact_velocity,
+    constant_record, free_rocking_first_impact_time, next_amplitude, quiet_record,
+    rock_impact_velocity,
 };
 use rockfrag::solver::impact::{ImpactLaw, corner_impact, rock_impact_mu, rock_impact_ratio};
 use rockfrag::solver::{Analysis, Block, History, Initial, SolverSettings, simulate};
@@ -31,9 +32,15 @@ fn rock_impact_matches_housner_ratio_and_eq8() {
                 let r = corner_impact(&bl, &v, bl.b, -bl.h, e, law);
                 let ratio = r.after.omega / omega1;
                 let delta = rock_impact_ratio(&bl, e);
-                assert!((ratio - delta).abs() < 1e-12, "H/B {aspect} e {e}: {ratio} vs {delta}");
+                assert!(
+                    (ratio - delta).abs() < 1e-12,
+                    "H/B {aspect} e {e}: {ratio} vs {delta}"
+                );
                 let mu = (r.p_t / r.p_n).abs();
-                assert!((mu - rock_impact_mu(&bl)).abs() < 1e-12, "H/B {aspect} e {e}: mu {mu}");
+                assert!(
+                    (mu - rock_impact_mu(&bl)).abs() < 1e-12,
+                    "H/B {aspect} e {e}: mu {mu}"
+                );
             }
         }
     }
@@ -51,14 +58,26 @@ fn rock_impact_matches_housner_ratio_and_eq8() {
 fn solver_applies_rock_impact_exactly() {
     let bl = block(4.0);
     let mut an = Analysis::new(bl, 0.0);
-    an.initial = Initial { theta: 0.5 * bl.theta_c, ..Initial::default() };
+    an.initial = Initial {
+        theta: 0.5 * bl.theta_c,
+        ..Initial::default()
+    };
     let mut hist = History::default();
-    let out = simulate(&an, &quiet_record(0.01, 1.0), &SolverSettings::default(), Some(&mut hist)).unwrap();
+    let out = simulate(
+        &an,
+        &quiet_record(0.01, 1.0),
+        &SolverSettings::default(),
+        Some(&mut hist),
+    )
+    .unwrap();
     let t1 = out.first_impact_time.expect("an impact within 1 s");
     let at: Vec<_> = hist.rows.iter().filter(|r| r.event && r.t == t1).collect();
     assert_eq!(at.len(), 2, "one row before and one after the impact");
     let ratio = at[1].theta_dot / at[0].theta_dot;
-    assert!((ratio - rock_impact_ratio(&bl, 0.0)).abs() < 1e-12, "{ratio}");
+    assert!(
+        (ratio - rock_impact_ratio(&bl, 0.0)).abs() < 1e-12,
+        "{ratio}"
+    );
     assert!((out.mu_impact - rock_impact_mu(&bl)).abs() < 1e-12);
 }
 
@@ -73,24 +92,45 @@ fn free_rocking_matches_energy_quadrature_and_amplitude_decay() {
         let bl = block(aspect);
         let theta0 = 0.5 * bl.theta_c;
         let mut an = Analysis::new(bl, 0.0);
-        an.initial = Initial { theta: theta0, ..Initial::default() };
+        an.initial = Initial {
+            theta: theta0,
+            ..Initial::default()
+        };
         let mut hist = History::default();
-        let out = simulate(&an, &quiet_record(0.02, 8.0), &SolverSettings::default(), Some(&mut hist)).unwrap();
+        let out = simulate(
+            &an,
+            &quiet_record(0.02, 8.0),
+            &SolverSettings::default(),
+            Some(&mut hist),
+        )
+        .unwrap();
         let expected = free_rocking_first_impact_time(&bl, theta0);
         let t1 = out.first_impact_time.unwrap();
-        assert!(((t1 - expected) / expected).abs() < 1e-8, "H/B {aspect}: {t1} vs {expected}");
+        assert!(
+            ((t1 - expected) / expected).abs() < 1e-8,
+            "H/B {aspect}: {t1} vs {expected}"
+        );
         // amplitudes: turning points (event rows with θ̇ ≈ 0 in rock), in order
         let peaks: Vec<f64> = hist
             .rows
             .iter()
-            .filter(|r| r.event && r.mode == Mode::Rock && r.theta_dot.abs() < 1e-6 && r.theta != 0.0)
+            .filter(|r| {
+                r.event && r.mode == Mode::Rock && r.theta_dot.abs() < 1e-6 && r.theta != 0.0
+            })
             .map(|r| r.theta.abs())
             .collect();
-        assert!(peaks.len() >= 3, "H/B {aspect}: only {} turning points", peaks.len());
+        assert!(
+            peaks.len() >= 3,
+            "H/B {aspect}: only {} turning points",
+            peaks.len()
+        );
         let mut prev = theta0;
         for (n, &p) in peaks.iter().take(4).enumerate() {
             let want = next_amplitude(&bl, prev);
-            assert!(((p - want) / want).abs() < 1e-8, "H/B {aspect} amplitude {n}: {p} vs {want}");
+            assert!(
+                ((p - want) / want).abs() < 1e-8,
+                "H/B {aspect} amplitude {n}: {p} vs {want}"
+            );
             prev = p;
         }
     }
@@ -109,7 +149,10 @@ fn static_threshold_of_rocking() {
         assert!(!below.moved && below.theta_max_over_theta_c == 0.0);
         assert_eq!(below.time_in_mode[Mode::Rest.index()], below.end_time);
         let above = simulate(&an, &constant_record(1.01 * a_c, 0.02, 2.0), &set, None).unwrap();
-        assert!(above.moved && above.theta_max_over_theta_c > 0.0, "H/B {aspect}");
+        assert!(
+            above.moved && above.theta_max_over_theta_c > 0.0,
+            "H/B {aspect}"
+        );
         assert_eq!(above.time_in_mode[Mode::Rest.index()], 0.0);
     }
 }
@@ -124,7 +167,13 @@ fn start_of_rocking_is_exact_on_a_ramp() {
     let dt = 0.02;
     let acc: Vec<f64> = (0..=100).map(|k| c * k as f64 * dt).collect();
     let rec = Record::from_acc("ramp", dt, acc).unwrap();
-    let out = simulate(&Analysis::new(bl, 0.0), &rec, &SolverSettings::default(), None).unwrap();
+    let out = simulate(
+        &Analysis::new(bl, 0.0),
+        &rec,
+        &SolverSettings::default(),
+        None,
+    )
+    .unwrap();
     let t_star = G / 4.0 / c;
     assert!((out.time_in_mode[Mode::Rest.index()] - t_star).abs() < 1e-12);
 }
@@ -138,8 +187,17 @@ fn thrown_block_lands_at_the_analytical_time() {
     for v in [0.05, 0.5, 2.0] {
         for e in [0.0, 0.5] {
             let mut an = Analysis::new(bl, e);
-            an.initial = Initial { y_dot: v, ..Initial::default() };
-            let out = simulate(&an, &quiet_record(0.01, 1.0), &SolverSettings::default(), None).unwrap();
+            an.initial = Initial {
+                y_dot: v,
+                ..Initial::default()
+            };
+            let out = simulate(
+                &an,
+                &quiet_record(0.01, 1.0),
+                &SolverSettings::default(),
+                None,
+            )
+            .unwrap();
             let t = out.first_impact_time.unwrap();
             assert!((t - 2.0 * v / G).abs() < 1e-10, "v {v} e {e}: {t}");
             // a flat landing strikes both corners (two-contact rule)
@@ -156,8 +214,18 @@ fn thrown_block_lands_at_the_analytical_time() {
 fn fast_spin_lifts_off_into_flight() {
     let bl = Block::new(0.5, 1.0, G).unwrap();
     let mut an = Analysis::new(bl, 0.0);
-    an.initial = Initial { theta: 0.2 * bl.theta_c, theta_dot: 9.0, ..Initial::default() };
-    let out = simulate(&an, &quiet_record(0.01, 0.5), &SolverSettings::default(), None).unwrap();
+    an.initial = Initial {
+        theta: 0.2 * bl.theta_c,
+        theta_dot: 9.0,
+        ..Initial::default()
+    };
+    let out = simulate(
+        &an,
+        &quiet_record(0.01, 0.5),
+        &SolverSettings::default(),
+        None,
+    )
+    .unwrap();
     assert!(out.uplifted && out.uplifts >= 1, "{out:?}");
     assert!(out.time_in_mode[Mode::Flight.index()] > 0.0);
 }
@@ -170,7 +238,10 @@ fn fast_spin_lifts_off_into_flight() {
 fn inconsistent_liftoff_holds_the_pivot() {
     let bl = Block::new(1.0, 1.0, G).unwrap();
     let mut an = Analysis::new(bl, 0.0);
-    an.initial = Initial { theta: 0.5 * bl.theta_c, ..Initial::default() };
+    an.initial = Initial {
+        theta: 0.5 * bl.theta_c,
+        ..Initial::default()
+    };
     // ramp from 0 to −6 g in 0.5 s: N falls through zero while θ̇ is still small
     let rec = Record::from_acc("pull", 0.5, vec![0.0, -6.0 * G, -6.0 * G]).unwrap();
     let mut hist = History::default();
@@ -186,5 +257,10 @@ fn inconsistent_liftoff_holds_the_pivot() {
     assert_eq!(hist.rows[i + 1].mode, Mode::Rock);
     assert!(hist.rows[..i].iter().all(|r| r.mode != Mode::Flight));
     // while held, the contact is in tension (N < 0) at the next sample
-    assert!(hist.rows[i + 2..].iter().take(1).all(|r| r.n < 0.0 || r.event));
+    assert!(
+        hist.rows[i + 2..]
+            .iter()
+            .take(1)
+            .all(|r| r.n < 0.0 || r.event)
+    );
 }

@@ -1,7 +1,9 @@
 //! Command-line interface: one module per subcommand, each turning raw flags
 //! into validated library types once and then calling the library.
 
+mod args;
 mod motion;
+mod simulate;
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};
@@ -20,12 +22,15 @@ pub struct Cli {
 pub enum Command {
     /// Generate one synthetic ground motion (CSV `t,acc,vel,disp`, optional SVG plot).
     Motion(motion::MotionArgs),
+    /// Solve one block under one record and print the outcome.
+    Simulate(Box<simulate::SimulateArgs>),
 }
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Motion(args) => motion::run(args),
+        Command::Simulate(args) => simulate::run(*args),
     }
 }
 
@@ -54,20 +59,27 @@ fn one_line(err: &clap::Error) -> String {
     let mut line = match (&arg, &value) {
         (Some(a), Some(v)) => format!("error: invalid value '{v}' for {a}"),
         (Some(a), None) => match err.kind() {
-            ErrorKind::MissingRequiredArgument => format!("error: missing required argument {a}"),
+            ErrorKind::MissingRequiredArgument => format!(
+                "error: missing required argument {}",
+                a.replace('|', " or ")
+            ),
             ErrorKind::UnknownArgument => format!("error: unknown argument {a}"),
             _ => format!("error: problem with argument {a}"),
         },
         _ => {
             // Fall back to clap's own first line.
             let rendered = err.render().to_string();
-            rendered.lines().next().unwrap_or("error: invalid arguments").to_string()
+            rendered
+                .lines()
+                .next()
+                .unwrap_or("error: invalid arguments")
+                .to_string()
         }
     };
     if let Some(v) = valid {
         line.push_str(&format!(" (accepted: {v})"));
     }
-    if let Some(reason) = text(ContextKind::Custom).filter(|_| value.is_some()) {
+    if let Some(reason) = std::error::Error::source(err).filter(|_| value.is_some()) {
         line.push_str(&format!(": {reason}"));
     }
     line.push_str("; see 'rockfrag --help'");

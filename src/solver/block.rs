@@ -36,10 +36,18 @@ impl Block {
     /// ```
     pub fn new(width: f64, aspect: f64, g: f64) -> Result<Self> {
         if !(width.is_finite() && width > 0.0) {
-            return Err(Error::invalid("width", width, "a positive base width 2B in m"));
+            return Err(Error::invalid(
+                "width",
+                width,
+                "a positive base width 2B in m",
+            ));
         }
         if !(aspect.is_finite() && aspect > 0.0) {
-            return Err(Error::invalid("aspect", aspect, "a positive aspect ratio H/B"));
+            return Err(Error::invalid(
+                "aspect",
+                aspect,
+                "a positive aspect ratio H/B",
+            ));
         }
         if !(g.is_finite() && g > 0.0) {
             return Err(Error::invalid("g", g, "a positive gravity in m/s²"));
@@ -67,7 +75,10 @@ impl Block {
     pub fn corner_offset(&self, side: f64, theta: f64) -> (f64, f64) {
         let (s, c) = theta.sin_cos();
         // body vector (side·B, −H) rotated by θ
-        (side * self.b * c + self.h * s, side * self.b * s - self.h * c)
+        (
+            side * self.b * c + self.h * s,
+            side * self.b * s - self.h * c,
+        )
     }
 
     /// Height above the ground of corner `side` given the centre of mass's

@@ -171,7 +171,10 @@ mod tests {
     fn integrates_exponential_to_fifth_order() {
         // ẏ = y from y(0) = 1 over [0, 1] with 50 fixed steps: global error of a
         // 5th-order method ~ C·h⁵ ≈ 1e-10; we require 1e-9.
-        let tol = Tolerance { rtol: 1.0, atol: [1.0] };
+        let tol = Tolerance {
+            rtol: 1.0,
+            atol: [1.0],
+        };
         let mut f = |_t: f64, y: &[f64; 1]| [y[0]];
         let (mut t, mut y) = (0.0, [1.0]);
         let mut f0 = f(t, &y);

@@ -188,7 +188,12 @@ struct Run<'a> {
 }
 
 impl<'a> Run<'a> {
-    fn new(an: &Analysis, rec: &'a Record, set: &'a SolverSettings, hist: Option<&'a mut History>) -> Self {
+    fn new(
+        an: &Analysis,
+        rec: &'a Record,
+        set: &'a SolverSettings,
+        hist: Option<&'a mut History>,
+    ) -> Self {
         let bl = an.block;
         Run {
             bl,
@@ -227,12 +232,24 @@ impl<'a> Run<'a> {
         let (th, om) = (self.init.theta, self.init.theta_dot);
         if self.init.y_dot > 0.0 {
             let i = self.init;
-            State::Flight(FlightState { x: 0.0, vx: i.x_dot, y: 0.0, vy: i.y_dot, theta: 0.0, omega: om })
+            State::Flight(FlightState {
+                x: 0.0,
+                vx: i.x_dot,
+                y: 0.0,
+                vy: i.y_dot,
+                theta: 0.0,
+                omega: om,
+            })
         } else if th == 0.0 && om == 0.0 {
             State::Rest
         } else {
             let s = if th != 0.0 { th.signum() } else { om.signum() };
-            State::Rock(RockState { s, theta: th, omega: om, hold: false })
+            State::Rock(RockState {
+                s,
+                theta: th,
+                omega: om,
+                hold: false,
+            })
         }
     }
 
@@ -261,7 +278,9 @@ impl<'a> Run<'a> {
             let event = match &mut state {
                 State::Rest => self.rest(&seg, &mut t, t_end),
                 State::Rock(rs) => match self.set.model {
-                    Model::Nonlinear if self.set.audit_energy => self.rock_nonlinear::<3>(rs, &seg, &mut t, t_end)?,
+                    Model::Nonlinear if self.set.audit_energy => {
+                        self.rock_nonlinear::<3>(rs, &seg, &mut t, t_end)?
+                    }
                     Model::Nonlinear => self.rock_nonlinear::<2>(rs, &seg, &mut t, t_end)?,
                     Model::Linear => self.rock_linear(rs, &seg, &mut t, t_end),
                 },
@@ -272,7 +291,11 @@ impl<'a> Run<'a> {
                 None => {
                     t = t_end;
                     k += 1;
-                    let seg_end = if k + 1 < n { self.segment(k) } else { Segment { t0: t, ..seg } };
+                    let seg_end = if k + 1 < n {
+                        self.segment(k)
+                    } else {
+                        Segment { t0: t, ..seg }
+                    };
                     self.push_row(t, &state, &seg_end, false);
                     self.audit(&state);
                 }
@@ -281,7 +304,10 @@ impl<'a> Run<'a> {
                     if self.out.stats.events > self.set.max_events {
                         return Err(Error::Solver {
                             time: t,
-                            message: format!("more than {} events (max_events)", self.set.max_events),
+                            message: format!(
+                                "more than {} events (max_events)",
+                                self.set.max_events
+                            ),
                         });
                     }
                     self.audit(&state);
@@ -373,7 +399,10 @@ impl<'a> Run<'a> {
         if let Some(a) = atol.get_mut(2) {
             *a = self.set.atol * self.escale;
         }
-        let tol = Tolerance { rtol: self.set.rtol, atol };
+        let tol = Tolerance {
+            rtol: self.set.rtol,
+            atol,
+        };
         let mut y = [0.0; N];
         y[0] = rs.theta;
         y[1] = rs.omega;
@@ -391,10 +420,17 @@ impl<'a> Run<'a> {
             self.out.stats.rhs_calls += 6;
             if !(step.err <= 1.0) {
                 self.out.stats.steps_rejected += 1;
-                let fac = if step.err.is_finite() { dopri::step_factor(step.err).min(0.9) } else { 0.2 };
+                let fac = if step.err.is_finite() {
+                    dopri::step_factor(step.err).min(0.9)
+                } else {
+                    0.2
+                };
                 self.h = h * fac;
                 if self.h < h_min {
-                    return Err(Error::Solver { time: *t, message: format!("step size {} s too small in rock", self.h) });
+                    return Err(Error::Solver {
+                        time: *t,
+                        message: format!("step size {} s too small in rock", self.h),
+                    });
                 }
                 continue;
             }
@@ -437,7 +473,13 @@ impl<'a> Run<'a> {
 
     /// Linearised rock over [t, t_end], in closed form:
     /// θ(τ) = A cosh λτ + B sinh λτ − (c0 + c1τ)/λ².
-    fn rock_linear(&mut self, rs: &mut RockState, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
+    fn rock_linear(
+        &mut self,
+        rs: &mut RockState,
+        seg: &Segment,
+        t: &mut f64,
+        t_end: f64,
+    ) -> Option<Event> {
         let (ax0, _) = seg.at(*t);
         let (l2, c0, c1) = ph::linear_coeffs(&self.bl, rs.s, ax0, seg.a1);
         let lam = l2.sqrt();
@@ -487,13 +529,21 @@ impl<'a> Run<'a> {
             let (th, om, ..) = path(tt);
             (s * th, s * om)
         };
-        earliest(&mut best, first_descent(psi, ta, tb, n, xtol), Event::RockImpact);
+        earliest(
+            &mut best,
+            first_descent(psi, ta, tb, n, xtol),
+            Event::RockImpact,
+        );
         // Overturning: π/2 − ψ reaches 0.
         let over = |tt: f64| {
             let (th, om, ..) = path(tt);
             (FRAC_PI_2 - s * th, -s * om)
         };
-        earliest(&mut best, first_descent(over, ta, tb, n, xtol), Event::Overturn);
+        earliest(
+            &mut best,
+            first_descent(over, ta, tb, n, xtol),
+            Event::Overturn,
+        );
         // Normal force and release condition (checked at the ends of each piece).
         let normal = |tt: f64| {
             let (th, om, al, ax, ay) = path(tt);
@@ -509,7 +559,11 @@ impl<'a> Run<'a> {
         if !rs.hold && n0 < 0.0 {
             // Entered rock with the pivot already in tension (after an impact
             // or from initial conditions): decide at once.
-            let ev = if q0 < 0.0 { Event::Uplift } else { Event::HoldStart };
+            let ev = if q0 < 0.0 {
+                Event::Uplift
+            } else {
+                Event::HoldStart
+            };
             return Some((ta, ev));
         }
         for i in 1..=n {
@@ -517,16 +571,28 @@ impl<'a> Run<'a> {
             let (n1, q1) = (normal(t1), release(t1));
             if !rs.hold && n0 >= 0.0 && n1 < 0.0 {
                 let te = brent(normal, t0, t1, n0, n1, xtol);
-                let ev = if release(te) < 0.0 { Event::Uplift } else { Event::HoldStart };
+                let ev = if release(te) < 0.0 {
+                    Event::Uplift
+                } else {
+                    Event::HoldStart
+                };
                 earliest(&mut best, Some(te), ev);
                 break;
             }
             if rs.hold {
                 if n0 <= 0.0 && n1 > 0.0 {
-                    earliest(&mut best, Some(brent(normal, t0, t1, n0, n1, xtol)), Event::HoldEnd);
+                    earliest(
+                        &mut best,
+                        Some(brent(normal, t0, t1, n0, n1, xtol)),
+                        Event::HoldEnd,
+                    );
                 }
                 if q0 >= 0.0 && q1 < 0.0 {
-                    earliest(&mut best, Some(brent(release, t0, t1, q0, q1, xtol)), Event::Release);
+                    earliest(
+                        &mut best,
+                        Some(brent(release, t0, t1, q0, q1, xtol)),
+                        Event::Release,
+                    );
                 }
                 if best.is_some() {
                     break;
@@ -547,8 +613,18 @@ impl<'a> Run<'a> {
             peak = peak.max(th_m.abs());
             if self.hist.is_some() {
                 // turning points are part of the history: they are the amplitudes
-                let st = State::Rock(RockState { theta: th_m, omega: om_m, ..*rs });
-                let seg = Segment { t0: tm, a0: ax_m, a1: 0.0, v0: ay_m, v1: 0.0 };
+                let st = State::Rock(RockState {
+                    theta: th_m,
+                    omega: om_m,
+                    ..*rs
+                });
+                let seg = Segment {
+                    t0: tm,
+                    a0: ax_m,
+                    a1: 0.0,
+                    v0: ay_m,
+                    v1: 0.0,
+                };
                 self.push_row(tm, &st, &seg, true);
             }
         }
@@ -568,7 +644,13 @@ impl<'a> Run<'a> {
 
     /// Free flight over [t, t_end] in closed form; locates landings of either
     /// corner and overturning.
-    fn flight(&mut self, fs: &mut FlightState, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
+    fn flight(
+        &mut self,
+        fs: &mut FlightState,
+        seg: &Segment,
+        t: &mut f64,
+        t_end: f64,
+    ) -> Option<Event> {
         let bl = self.bl;
         let t0 = *t;
         let (a0, b0) = seg.at(t0);
@@ -596,7 +678,11 @@ impl<'a> Run<'a> {
                 let (rx, ry) = bl.corner_offset(side, p.theta);
                 (bl.h + p.y + ry, p.vy + p.omega * rx)
             };
-            earliest(&mut best, first_descent(height, 0.0, span, n, xtol), Event::Landing(side));
+            earliest(
+                &mut best,
+                first_descent(height, 0.0, span, n, xtol),
+                Event::Landing(side),
+            );
         }
         if f.omega != 0.0 {
             let te = (FRAC_PI_2.copysign(f.omega) - f.theta) / f.omega;
@@ -608,7 +694,11 @@ impl<'a> Run<'a> {
         if self.set.audit_energy {
             // ∫ (−ẍg ẋ − ÿg ẏ) dτ, exact by 3-point Gauss–Legendre (integrand is cubic)
             let (half, mid) = (0.5 * tau_end, 0.5 * tau_end);
-            let nodes = [(-0.6f64.sqrt(), 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.6f64.sqrt(), 5.0 / 9.0)];
+            let nodes = [
+                (-0.6f64.sqrt(), 5.0 / 9.0),
+                (0.0, 8.0 / 9.0),
+                (0.6f64.sqrt(), 5.0 / 9.0),
+            ];
             for (xi, w) in nodes {
                 let tau = mid + half * xi;
                 let p = pos(tau);
@@ -618,7 +708,10 @@ impl<'a> Run<'a> {
         *fs = pos(tau_end);
         *t = t0 + tau_end;
         let ratio = fs.theta.abs() / bl.theta_c;
-        self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio.min(FRAC_PI_2 / bl.theta_c));
+        self.out.theta_max_over_theta_c = self
+            .out
+            .theta_max_over_theta_c
+            .max(ratio.min(FRAC_PI_2 / bl.theta_c));
         match best {
             Some((_, ev)) => Some(ev),
             None => {
@@ -641,7 +734,12 @@ impl<'a> Run<'a> {
             (Event::StartRock(s), _) => {
                 self.out.moved = true;
                 self.h = self.h.min(0.25 * self.dt);
-                State::Rock(RockState { s, theta: 0.0, omega: 0.0, hold: false })
+                State::Rock(RockState {
+                    s,
+                    theta: 0.0,
+                    omega: 0.0,
+                    hold: false,
+                })
             }
             (Event::HoldStart, State::Rock(mut rs)) => {
                 self.out.liftoff_holds += 1;
@@ -676,14 +774,25 @@ impl<'a> Run<'a> {
     /// Rock state → rigid-body pose and velocity in the flight representation.
     fn rock_to_flight(&self, rs: &RockState) -> FlightState {
         let [x, vx, y, vy] = ph::rock_kinematics(&self.bl, rs.s, rs.theta, rs.omega);
-        FlightState { x: self.x_base + x, vx, y, vy, theta: rs.theta, omega: rs.omega }
+        FlightState {
+            x: self.x_base + x,
+            vx,
+            y,
+            vy,
+            theta: rs.theta,
+            omega: rs.omega,
+        }
     }
 
     /// Sequential corner impacts starting with corner `side`, then the choice
     /// of the next mode (rest, rock or flight).
     fn impacts(&mut self, t: f64, pose: FlightState, side: f64) -> State {
         let bl = self.bl;
-        let mut vel = Velocity { vx: pose.vx, vy: pose.vy, omega: pose.omega };
+        let mut vel = Velocity {
+            vx: pose.vx,
+            vy: pose.vy,
+            omega: pose.omega,
+        };
         let touching: [bool; 2] =
             [-1.0, 1.0].map(|sd| bl.corner_height(sd, pose.y, pose.theta) <= self.h_touch);
         let mut next = Some(side);
@@ -745,14 +854,24 @@ impl<'a> Run<'a> {
             [true, false] | [false, true] => {
                 let pivot = if staying[0] { -1.0 } else { 1.0 };
                 let s = -pivot;
-                let rs = RockState { s, theta: pose.theta, omega: vel.omega, hold: false };
+                let rs = RockState {
+                    s,
+                    theta: pose.theta,
+                    omega: vel.omega,
+                    hold: false,
+                };
                 let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
                 self.x_base = pose.x - x;
                 State::Rock(rs)
             }
             [false, false] => {
                 self.out.flights += 1;
-                State::Flight(FlightState { vx: vel.vx, vy: vel.vy, omega: vel.omega, ..pose })
+                State::Flight(FlightState {
+                    vx: vel.vx,
+                    vy: vel.vy,
+                    omega: vel.omega,
+                    ..pose
+                })
             }
         }
     }
@@ -797,7 +916,9 @@ impl<'a> Run<'a> {
     }
 
     fn push_row(&mut self, t: f64, state: &State, seg: &Segment, event: bool) {
-        let Some(hist) = self.hist.as_deref_mut() else { return };
+        let Some(hist) = self.hist.as_deref_mut() else {
+            return;
+        };
         let bl = &self.bl;
         let (ax, ay) = seg.at(t);
         let row = match state {

@@ -64,6 +64,9 @@ impl History {
             }
             Ok(())
         })
-        .map_err(|source| Error::Io { path: path.to_path_buf(), source })
+        .map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })
     }
 }

@@ -64,7 +64,14 @@ pub fn point_velocity(v: &Velocity, rx: f64, ry: f64) -> (f64, f64) {
 
 /// Applies a no-slip corner impact with restitution `e` at the corner with
 /// offset (rx, ry) from G.
-pub fn corner_impact(block: &Block, v: &Velocity, rx: f64, ry: f64, e: f64, law: ImpactLaw) -> ImpactResult {
+pub fn corner_impact(
+    block: &Block,
+    v: &Velocity,
+    rx: f64,
+    ry: f64,
+    e: f64,
+    law: ImpactLaw,
+) -> ImpactResult {
     let i = block.inertia;
     // K⁻¹ = [[a, b], [b, c]] (impulse-momentum at the corner)
     let a = 1.0 + ry * ry / i;
@@ -72,7 +79,7 @@ pub fn corner_impact(block: &Block, v: &Velocity, rx: f64, ry: f64, e: f64, law:
     let c = 1.0 + rx * rx / i;
     let (ut, un) = point_velocity(v, rx, ry);
     let (dut, dun) = match law {
-        ImpactLaw::Newton => (-ut, -(1.0 + e) * un),         // u_t⁺ = 0, u_n⁺ = −e u_n⁻
+        ImpactLaw::Newton => (-ut, -(1.0 + e) * un), // u_t⁺ = 0, u_n⁺ = −e u_n⁻
         ImpactLaw::Energetic => (-(1.0 + e) * ut, -(1.0 + e) * un), // u⁺ = −e u⁻
     };
     // P = K Δu, K = (K⁻¹)⁻¹
@@ -86,7 +93,12 @@ pub fn corner_impact(block: &Block, v: &Velocity, rx: f64, ry: f64, e: f64, law:
     };
     // Kelvin: ΔT = P · (u⁻ + u⁺)/2
     let delta_kinetic = 0.5 * (p_t * (2.0 * ut + dut) + p_n * (2.0 * un + dun));
-    ImpactResult { after, p_t, p_n, delta_kinetic }
+    ImpactResult {
+        after,
+        p_t,
+        p_n,
+        delta_kinetic,
+    }
 }
 
 /// Housner's angular velocity ratio at a rock impact with no slip:

@@ -15,7 +15,15 @@ pub fn rock_accel(bl: &Block, s: f64, theta: f64, ax: f64, ay: f64) -> f64 {
 /// Contact reactions (F, N) per unit mass during rock (physics.md, checked):
 /// F = ẍg − R cosφ θ̈ − S R sinφ θ̇², N = g + ÿg − R cosφ θ̇² + S R sinφ θ̈, φ = θc − |θ|.
 #[inline]
-pub fn rock_reactions(bl: &Block, s: f64, theta: f64, omega: f64, alpha: f64, ax: f64, ay: f64) -> (f64, f64) {
+pub fn rock_reactions(
+    bl: &Block,
+    s: f64,
+    theta: f64,
+    omega: f64,
+    alpha: f64,
+    ax: f64,
+    ay: f64,
+) -> (f64, f64) {
     let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
     let f = ax - bl.r * cp * alpha - s * bl.r * sp * omega * omega;
     let n = bl.g + ay - bl.r * cp * omega * omega + s * bl.r * sp * alpha;
@@ -63,5 +71,9 @@ pub fn ground_power(ax: f64, ay: f64, vx: f64, vy: f64) -> f64 {
 #[inline]
 pub fn linear_coeffs(bl: &Block, s: f64, a0: f64, a1: f64) -> (f64, f64, f64) {
     let k = 0.75 / bl.r;
-    (bl.p * bl.p * bl.cos_c, k * (bl.cos_c * a0 - s * bl.g * bl.sin_c), k * bl.cos_c * a1)
+    (
+        bl.p * bl.p * bl.cos_c,
+        k * (bl.cos_c * a0 - s * bl.g * bl.sin_c),
+        k * bl.cos_c * a1,
+    )
 }

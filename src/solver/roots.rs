@@ -73,7 +73,11 @@ pub fn brent(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, fa: f64, fb: f64, xt
         fb = f(b);
     }
     // b and c bracket the root; return whichever lies on the "after" side.
-    if fb == 0.0 || fb.signum() == sign_after { b } else { c }
+    if fb == 0.0 || fb.signum() == sign_after {
+        b
+    } else {
+        c
+    }
 }
 
 #[cfg(test)]

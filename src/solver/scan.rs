@@ -10,7 +10,13 @@ use super::roots::brent;
 /// pieces; inside each piece an interior minimum is found from f′ and checked,
 /// so a dip below zero between the ends is not missed as long as f′ changes
 /// sign at most once per piece. Returns the time on the "after" side.
-pub fn first_descent(fd: impl Fn(f64) -> (f64, f64), a: f64, b: f64, n: usize, xtol: f64) -> Option<f64> {
+pub fn first_descent(
+    fd: impl Fn(f64) -> (f64, f64),
+    a: f64,
+    b: f64,
+    n: usize,
+    xtol: f64,
+) -> Option<f64> {
     let n = n.max(1);
     let width = (b - a) / n as f64;
     let (mut ta, (mut fa, mut da)) = (a, fd(a));

@@ -77,13 +77,25 @@ impl SolverSettings {
     /// Checks every field's range; errors name the field and the accepted range.
     pub fn validate(&self) -> Result<()> {
         if !(self.rtol > 0.0 && self.rtol < 1.0) {
-            return Err(Error::invalid("rtol", self.rtol, "a relative tolerance in (0, 1)"));
+            return Err(Error::invalid(
+                "rtol",
+                self.rtol,
+                "a relative tolerance in (0, 1)",
+            ));
         }
         if !(self.atol > 0.0 && self.atol < 1.0) {
-            return Err(Error::invalid("atol", self.atol, "an absolute tolerance in (0, 1)"));
+            return Err(Error::invalid(
+                "atol",
+                self.atol,
+                "an absolute tolerance in (0, 1)",
+            ));
         }
         if !(self.settle_tol > 0.0 && self.settle_tol < 1.0) {
-            return Err(Error::invalid("settle_tol", self.settle_tol, "a threshold in (0, 1)"));
+            return Err(Error::invalid(
+                "settle_tol",
+                self.settle_tol,
+                "a threshold in (0, 1)",
+            ));
         }
         if self.max_events == 0 {
             return Err(Error::invalid("max_events", 0, "a positive count"));
@@ -124,35 +136,68 @@ pub struct Analysis {
 impl Analysis {
     /// A block starting at rest, with infinite friction.
     pub fn new(block: Block, restitution: f64) -> Self {
-        Analysis { block, restitution, friction: Friction::Infinite, initial: Initial::default() }
+        Analysis {
+            block,
+            restitution,
+            friction: Friction::Infinite,
+            initial: Initial::default(),
+        }
     }
 
     /// Checks the restitution, friction and initial conditions.
     pub fn validate(&self) -> Result<()> {
         if !(0.0..=1.0).contains(&self.restitution) {
-            return Err(Error::invalid("restitution", self.restitution, "a coefficient of restitution in [0, 1]"));
+            return Err(Error::invalid(
+                "restitution",
+                self.restitution,
+                "a coefficient of restitution in [0, 1]",
+            ));
         }
         if let Friction::Coulomb { mu_s, mu_k } = self.friction {
             if !(mu_s.is_finite() && mu_s >= 0.0) {
-                return Err(Error::invalid("mu_s", mu_s, "a static friction coefficient ≥ 0"));
+                return Err(Error::invalid(
+                    "mu_s",
+                    mu_s,
+                    "a static friction coefficient ≥ 0",
+                ));
             }
             if !(mu_k.is_finite() && mu_k >= 0.0 && mu_k <= mu_s) {
-                return Err(Error::invalid("mu_k", mu_k, "a kinetic friction coefficient in [0, mu_s]"));
+                return Err(Error::invalid(
+                    "mu_k",
+                    mu_k,
+                    "a kinetic friction coefficient in [0, mu_s]",
+                ));
             }
         }
         let th = self.initial.theta;
         if !(th.is_finite() && th.abs() < std::f64::consts::FRAC_PI_2) {
-            return Err(Error::invalid("theta0", th, "an initial rotation with |θ0| < π/2 rad"));
+            return Err(Error::invalid(
+                "theta0",
+                th,
+                "an initial rotation with |θ0| < π/2 rad",
+            ));
         }
         let i = &self.initial;
         if !(i.y_dot.is_finite() && i.y_dot >= 0.0 && i.x_dot.is_finite()) {
-            return Err(Error::invalid("y_dot0", i.y_dot, "a finite upward velocity ≥ 0 in m/s"));
+            return Err(Error::invalid(
+                "y_dot0",
+                i.y_dot,
+                "a finite upward velocity ≥ 0 in m/s",
+            ));
         }
         if i.y_dot > 0.0 && i.theta != 0.0 {
-            return Err(Error::invalid("theta0", i.theta, "0 when the block is thrown (y_dot0 > 0)"));
+            return Err(Error::invalid(
+                "theta0",
+                i.theta,
+                "0 when the block is thrown (y_dot0 > 0)",
+            ));
         }
         if !self.initial.theta_dot.is_finite() {
-            return Err(Error::invalid("theta_dot0", self.initial.theta_dot, "a finite angular velocity in rad/s"));
+            return Err(Error::invalid(
+                "theta_dot0",
+                self.initial.theta_dot,
+                "a finite angular velocity in rad/s",
+            ));
         }
         Ok(())
     }

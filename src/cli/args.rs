@@ -1,0 +1,38 @@
+//! Value parsers shared by the subcommands: each says what it accepts.
+
+/// A finite number > 0.
+pub fn positive(s: &str) -> Result<f64, String> {
+    let x = number(s)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err("expected a number > 0".into())
+    }
+}
+
+/// A number in [0, 1].
+pub fn unit_interval(s: &str) -> Result<f64, String> {
+    let x = number(s)?;
+    if (0.0..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err("expected a number in [0, 1]".into())
+    }
+}
+
+/// A number in (0, 1).
+pub fn open_unit_interval(s: &str) -> Result<f64, String> {
+    let x = number(s)?;
+    if x > 0.0 && x < 1.0 {
+        Ok(x)
+    } else {
+        Err("expected a number in (0, 1)".into())
+    }
+}
+
+fn number(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err("expected a finite number".into()),
+    }
+}

@@ -1,0 +1,226 @@
+//! `rockfrag simulate`: one block under one record, printing the outcome.
+
+use super::args::{open_unit_interval, positive, unit_interval};
+use anyhow::Context;
+use clap::ValueEnum;
+use rockfrag::motion::{self, G_STANDARD, Record, SynthesisSettings};
+use rockfrag::outcome::{Mode, Outcome};
+use rockfrag::solver::{
+    Analysis, Block, History, ImpactLaw, Initial, Model, SolverSettings, simulate,
+};
+use std::path::PathBuf;
+
+/// Rock equation, as a CLI value.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ModelArg {
+    /// Nonlinear eq. (1) by Dormand–Prince 5(4).
+    Nonlinear,
+    /// Linearised in θ, piecewise exact.
+    Linear,
+}
+
+/// Impact law, as a CLI value.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ImpactArg {
+    /// Newton restitution, no slip (the paper's).
+    Newton,
+    /// Energy-consistent (never adds kinetic energy).
+    Energetic,
+}
+
+/// Friction model, as a CLI value.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FrictionArg {
+    /// Contacts never slip.
+    Inf,
+}
+
+/// Flags of `rockfrag simulate`.
+#[derive(Debug, clap::Args)]
+#[command(group = clap::ArgGroup::new("source").args(["motion", "seed"]).required(true))]
+pub struct SimulateArgs {
+    /// Base width 2B of the block (m).
+    #[arg(long, value_name = "M", default_value_t = 0.5, value_parser = positive, allow_negative_numbers = true)]
+    pub width: f64,
+    /// Aspect ratio H/B of the block.
+    #[arg(long, value_name = "H/B", default_value_t = 4.0, value_parser = positive, allow_negative_numbers = true)]
+    pub aspect: f64,
+    /// Coefficient of restitution e in [0, 1].
+    #[arg(long, value_name = "E", default_value_t = 0.0, value_parser = unit_interval, allow_negative_numbers = true)]
+    pub restitution: f64,
+    /// Friction model.
+    #[arg(long, value_enum, default_value_t = FrictionArg::Inf)]
+    pub friction: FrictionArg,
+    /// Ground-motion record: CSV `t,acc[,vel,disp]` (s, m/s²) or PEER `.AT2` (g).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["seed", "pga"])]
+    pub motion: Option<PathBuf>,
+    /// Ensemble seed of a synthetic record (with --pga).
+    #[arg(long, value_name = "N", requires = "pga")]
+    pub seed: Option<u64>,
+    /// Index of the synthetic record within the ensemble.
+    #[arg(long, value_name = "I", default_value_t = 0)]
+    pub index: u64,
+    /// Peak ground acceleration of the synthetic record (g).
+    #[arg(long, value_name = "G", value_parser = positive, requires = "seed", allow_negative_numbers = true)]
+    pub pga: Option<f64>,
+    /// Initial rotation θ0 (rad).
+    #[arg(
+        long = "theta0",
+        value_name = "RAD",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub theta0: f64,
+    /// Initial angular velocity θ̇0 (rad/s).
+    #[arg(
+        long = "theta-dot0",
+        value_name = "RAD/S",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub theta_dot0: f64,
+    /// Relative tolerance of the integrator.
+    #[arg(long, value_name = "X", default_value_t = SolverSettings::default().rtol, value_parser = open_unit_interval)]
+    pub rtol: f64,
+    /// Ring-down settle threshold ε (rebounds below ε·√(gR) are plastic).
+    #[arg(long, value_name = "X", default_value_t = SolverSettings::default().settle_tol, value_parser = open_unit_interval)]
+    pub settle_tol: f64,
+    /// Rock equation.
+    #[arg(long, value_enum, default_value_t = ModelArg::Nonlinear)]
+    pub model: ModelArg,
+    /// Impact law.
+    #[arg(long, value_enum, default_value_t = ImpactArg::Newton)]
+    pub impact: ImpactArg,
+    /// Gravity (m/s²), also used to convert accelerations given in g.
+    #[arg(long, value_name = "M/S2", default_value_t = G_STANDARD, value_parser = positive)]
+    pub g: f64,
+    /// Track the ground's work and report the energy residual.
+    #[arg(long)]
+    pub audit_energy: bool,
+    /// Write the time history (CSV `t,mode,theta,theta_dot,x,x_dot,y,y_dot,N,F`).
+    #[arg(long, value_name = "FILE")]
+    pub history: Option<PathBuf>,
+    /// Print the outcome as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `rockfrag simulate`.
+pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
+    let record = load_record(&args)?;
+    let block = Block::new(args.width, args.aspect, args.g)?;
+    let mut analysis = Analysis::new(block, args.restitution);
+    analysis.initial = Initial {
+        theta: args.theta0,
+        theta_dot: args.theta_dot0,
+        ..Initial::default()
+    };
+    let settings = SolverSettings {
+        model: match args.model {
+            ModelArg::Nonlinear => Model::Nonlinear,
+            ModelArg::Linear => Model::Linear,
+        },
+        impact: match args.impact {
+            ImpactArg::Newton => ImpactLaw::Newton,
+            ImpactArg::Energetic => ImpactLaw::Energetic,
+        },
+        rtol: args.rtol,
+        settle_tol: args.settle_tol,
+        audit_energy: args.audit_energy,
+        ..SolverSettings::default()
+    };
+    let mut history = args.history.as_ref().map(|_| History::default());
+    let outcome = simulate(&analysis, &record, &settings, history.as_mut())
+        .with_context(|| format!("solving record {}", record.name))?;
+    if let (Some(path), Some(h)) = (&args.history, &history) {
+        h.write_csv(path)?;
+    }
+    if args.json {
+        println!("{}", outcome_json(&outcome));
+    } else {
+        print_summary(&args, &block, &record, &outcome);
+    }
+    Ok(())
+}
+
+fn load_record(args: &SimulateArgs) -> anyhow::Result<Record> {
+    match (&args.motion, args.seed, args.pga) {
+        (Some(path), _, _) => Ok(motion::read_record(path, args.g)?),
+        (None, Some(seed), Some(pga)) => {
+            let settings = SynthesisSettings {
+                g: args.g,
+                ..SynthesisSettings::default()
+            };
+            Ok(motion::synthesize(
+                &settings,
+                seed,
+                args.index,
+                pga * args.g,
+            )?)
+        }
+        _ => anyhow::bail!("give either --motion FILE or both --seed N and --pga G"),
+    }
+}
+
+/// The outcome as a JSON object, with time in each mode keyed by mode name.
+pub fn outcome_json(outcome: &Outcome) -> serde_json::Value {
+    let mut v = serde_json::to_value(outcome).expect("outcome serialises");
+    let modes: serde_json::Map<String, serde_json::Value> = Mode::ALL
+        .iter()
+        .map(|m| {
+            (
+                m.name().to_string(),
+                serde_json::json!(outcome.time_in_mode[m.index()]),
+            )
+        })
+        .collect();
+    v["time_in_mode"] = serde_json::Value::Object(modes);
+    v
+}
+
+fn print_summary(args: &SimulateArgs, block: &Block, record: &Record, o: &Outcome) {
+    let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{t:.4} s"));
+    println!(
+        "record            {} ({} samples, dt {} s, PGA {:.3} g)",
+        record.name,
+        record.len(),
+        record.dt,
+        record.pga() / args.g
+    );
+    println!(
+        "block             2B = {} m, H/B = {}, θc = {:.4} rad, e = {}",
+        args.width, args.aspect, block.theta_c, args.restitution
+    );
+    println!(
+        "overturned        {}{}",
+        o.overturned,
+        o.overturn_time
+            .map_or(String::new(), |t| format!(" at {t:.4} s"))
+    );
+    println!(
+        "uplifted          {} ({} uplifts, {} held lift-offs)",
+        o.uplifted, o.uplifts, o.liftoff_holds
+    );
+    println!("θmax/θc           {:.6}", o.theta_max_over_theta_c);
+    println!("μ motion          {:.6}", o.mu_motion);
+    println!("μ impact          {:.6}", o.mu_impact);
+    println!(
+        "impacts           {} (first {}), flights {}, settles {}",
+        o.impacts,
+        opt(o.first_impact_time),
+        o.flights,
+        o.settles
+    );
+    println!("energy gains      {}", o.energy_gains);
+    let modes: Vec<String> = Mode::ALL
+        .iter()
+        .filter(|m| o.time_in_mode[m.index()] > 0.0)
+        .map(|m| format!("{} {:.3} s", m.name(), o.time_in_mode[m.index()]))
+        .collect();
+    println!("time in modes     {}", modes.join(", "));
+    println!("end time          {:.4} s", o.end_time);
+    println!(
+        "work              {} RHS calls, {} steps ({} rejected), {} events",
+        o.stats.rhs_calls, o.stats.steps_accepted, o.stats.steps_rejected, o.stats.events
+    );
+}
