@@ -56,14 +56,17 @@ impl Block {
         let h = aspect * b;
         let r = b.hypot(h);
         let theta_c = (b / h).atan();
+        // sin θc, cos θc from θc itself, so that the rest→rock test agrees to
+        // the last bit with eq. (1) evaluated at θ = 0
+        let (sin_c, cos_c) = theta_c.sin_cos();
         Ok(Block {
             b,
             h,
             g,
             r,
             theta_c,
-            sin_c: b / r,
-            cos_c: h / r,
+            sin_c,
+            cos_c,
             inertia: r * r / 3.0, // I = m R²/3 for a uniform rectangle of half-diagonal R
             p: (0.75 * g / r).sqrt(), // p² = m g R / I_O = 3g/(4R)
         })

@@ -335,14 +335,16 @@ impl<'a> Run<'a> {
     /// Rest: find the first time in [t, t_end] where |ẍg| > (g + ÿg)·B/H
     /// (exact on linear forcing: both sides of the inequality are linear in t).
     fn rest(&mut self, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
-        let tanc = self.bl.b / self.bl.h;
+        let (sc, cc) = (self.bl.sin_c, self.bl.cos_c);
         let (ax0, ay0) = seg.at(*t);
         let (ax1, ay1) = seg.at(t_end);
         let mut best: Option<(f64, f64)> = None;
         for s in [1.0, -1.0] {
-            // f = s·ẍg − (g + ÿg)·tanθc, linear on the interval
-            let f0 = s * ax0 - (self.bl.g + ay0) * tanc;
-            let f1 = s * ax1 - (self.bl.g + ay1) * tanc;
+            // f = cosθc·s·ẍg − sinθc·(g + ÿg) ∝ s·θ̈ of eq. (1) at θ = 0 (same
+            // floating-point operations, so f > 0 ⇔ the block departs);
+            // linear on the interval
+            let f0 = cc * (s * ax0) - sc * (self.bl.g + ay0);
+            let f1 = cc * (s * ax1) - sc * (self.bl.g + ay1);
             let tc = if f0 > 0.0 {
                 Some(*t)
             } else if f1 > 0.0 {
@@ -483,14 +485,18 @@ impl<'a> Run<'a> {
         let (ax0, _) = seg.at(*t);
         let (l2, c0, c1) = ph::linear_coeffs(&self.bl, rs.s, ax0, seg.a1);
         let lam = l2.sqrt();
-        let a = rs.theta + c0 / l2;
-        let b = (rs.omega + c1 / l2) / lam;
+        let (th0, om0) = (rs.theta, rs.omega);
         let t0 = *t;
+        // θ(τ) = θ0 cosh λτ + (ω0/λ) sinh λτ + (c0/λ²)(cosh λτ − 1) + (c1/λ³)(sinh λτ − λτ),
+        // written so that τ = 0 returns (θ0, ω0) exactly and small τ loses no digits
         let path = |tt: f64| {
             let tau = tt - t0;
-            let (sh, ch) = ((lam * tau).sinh(), (lam * tau).cosh());
-            let th = a * ch + b * sh - (c0 + c1 * tau) / l2;
-            let om = lam * (a * sh + b * ch) - c1 / l2;
+            let x = lam * tau;
+            let (sh, ch) = (x.sinh(), x.cosh());
+            let chm1 = 2.0 * (0.5 * x).sinh().powi(2); // cosh x − 1
+            let shmx = sinh_minus_x(x);
+            let th = th0 * ch + om0 / lam * sh + c0 / l2 * chm1 + c1 / (l2 * lam) * shmx;
+            let om = th0 * lam * sh + om0 * ch + c0 / lam * sh + c1 / l2 * chm1;
             let (ax, ay) = seg.at(tt);
             (th, om, l2 * th + c0 + c1 * tau, ax, ay)
         };
@@ -972,6 +978,21 @@ impl<'a> Run<'a> {
 }
 
 type Vec2 = [bool; 2];
+
+/// sinh x − x without cancellation (series for |x| < 0.5, error < 1e-15 relative).
+#[inline]
+fn sinh_minus_x(x: f64) -> f64 {
+    if x.abs() < 0.5 {
+        let x2 = x * x;
+        x * x2 / 6.0
+            * (1.0
+                + x2 / 20.0
+                    * (1.0
+                        + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
+    } else {
+        x.sinh() - x
+    }
+}
 
 /// Keeps the earliest of the located events.
 #[inline]

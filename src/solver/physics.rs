@@ -9,7 +9,7 @@ use super::block::Block;
 #[inline]
 pub fn rock_accel(bl: &Block, s: f64, theta: f64, ax: f64, ay: f64) -> f64 {
     let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
-    0.75 / bl.r * (cp * ax - s * sp * (bl.g + ay))
+    s * (0.75 / bl.r) * (cp * (s * ax) - sp * (bl.g + ay))
 }
 
 /// Contact reactions (F, N) per unit mass during rock (physics.md, checked):

@@ -27,15 +27,28 @@ pub fn first_descent(
             if fa > 0.0 {
                 return Some(brent(|t| fd(t).0, ta, tb, fa, fb, xtol));
             }
-            // Started touching: the function rose (f′ > 0) then came back.
-            if da > 0.0 && db < 0.0 {
-                let tm = brent(|t| fd(t).1, ta, tb, da, db, xtol);
-                let fm = fd(tm).0;
-                if fm > 0.0 {
-                    return Some(brent(|t| fd(t).0, tm, tb, fm, fb, xtol));
+            // Started touching and not approaching: the function may have
+            // risen and come back inside the piece. Find a point above zero
+            // (at the maximum, or by halving towards the start, which also
+            // covers a start with f′ = 0 and f″ > 0), then the descent after it.
+            if da >= 0.0 {
+                if da > 0.0 && db < 0.0 {
+                    let tm = brent(|t| fd(t).1, ta, tb, da, db, xtol);
+                    let fm = fd(tm).0;
+                    if fm > 0.0 {
+                        return Some(brent(|t| fd(t).0, tm, tb, fm, fb, xtol));
+                    }
+                }
+                let mut tm = tb;
+                for _ in 0..64 {
+                    tm = ta + 0.5 * (tm - ta);
+                    let fm = fd(tm).0;
+                    if fm > 0.0 {
+                        return Some(brent(|t| fd(t).0, tm, tb, fm, fb, xtol));
+                    }
                 }
             }
-            return Some(ta.max(a + f64::MIN_POSITIVE));
+            return Some(ta);
         }
         if da < 0.0 && db > 0.0 {
             // Interior minimum: grazing check.
@@ -66,6 +79,15 @@ mod tests {
         let fd = |t: f64| ((t - 0.5) * (t - 0.5) - 1e-6, 2.0 * (t - 0.5));
         let r = first_descent(fd, 0.0, 1.0, 1, 1e-15).unwrap();
         assert!((r - 0.499).abs() < 1e-12, "{r}");
+    }
+
+    #[test]
+    fn finds_the_return_of_a_start_with_zero_slope() {
+        // f = τ²/2 − τ³ (f(0) = f′(0) = 0, f″(0) > 0) returns to zero at τ = 1/2:
+        // the sliver of motion after a start exactly at a threshold.
+        let fd = |t: f64| (0.5 * t * t - t * t * t, t - 3.0 * t * t);
+        let r = first_descent(fd, 0.0, 1.0, 1, 1e-15).unwrap();
+        assert!((r - 0.5).abs() < 1e-14, "{r}");
     }
 
     #[test]
