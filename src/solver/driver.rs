@@ -33,7 +33,7 @@ use super::history::{History, HistoryRow};
 use super::impact::{self, Velocity};
 use super::physics as ph;
 use super::roots::brent;
-use super::scan::first_descent;
+use super::scan::{first_descent, first_descent_after_release};
 use super::settings::{Analysis, Friction, Model, SolverSettings};
 use crate::error::{Error, Result};
 use crate::motion::Record;
@@ -684,11 +684,15 @@ impl<'a> Run<'a> {
                 let (rx, ry) = bl.corner_offset(side, p.theta);
                 (bl.h + p.y + ry, p.vy + p.omega * rx)
             };
-            earliest(
-                &mut best,
-                first_descent(height, 0.0, span, n, xtol),
-                Event::Landing(side),
-            );
+            // a corner leaving the ground at the start of this piece of flight
+            // (just released by an impact or a lift-off) is departing
+            let (h0, u0) = height(0.0);
+            let found = if h0 <= self.h_touch && u0 >= -self.v_settle {
+                first_descent_after_release(height, 0.0, span, n, xtol)
+            } else {
+                first_descent(height, 0.0, span, n, xtol)
+            };
+            earliest(&mut best, found, Event::Landing(side));
         }
         if f.omega != 0.0 {
             let te = (FRAC_PI_2.copysign(f.omega) - f.theta) / f.omega;

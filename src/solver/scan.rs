@@ -17,9 +17,37 @@ pub fn first_descent(
     n: usize,
     xtol: f64,
 ) -> Option<f64> {
+    descent(fd, a, b, n, xtol, false)
+}
+
+/// As [`first_descent`], for a contact that has just been released: the start
+/// is taken as exactly touching and not approaching (f(a) = 0, f′(a) ≥ 0),
+/// so rounding in f(a) or f′(a) cannot register as an immediate descent.
+pub fn first_descent_after_release(
+    fd: impl Fn(f64) -> (f64, f64),
+    a: f64,
+    b: f64,
+    n: usize,
+    xtol: f64,
+) -> Option<f64> {
+    descent(fd, a, b, n, xtol, true)
+}
+
+fn descent(
+    fd: impl Fn(f64) -> (f64, f64),
+    a: f64,
+    b: f64,
+    n: usize,
+    xtol: f64,
+    released: bool,
+) -> Option<f64> {
     let n = n.max(1);
     let width = (b - a) / n as f64;
     let (mut ta, (mut fa, mut da)) = (a, fd(a));
+    if released {
+        fa = 0.0;
+        da = da.max(0.0);
+    }
     for i in 1..=n {
         let tb = if i == n { b } else { a + width * i as f64 };
         let (fb, db) = fd(tb);
