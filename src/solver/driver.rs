@@ -48,6 +48,9 @@ struct RockState {
     omega: f64,
     /// N reached 0 but releasing the pivot was inconsistent: the pivot is held.
     hold: bool,
+    /// Contact quantities at the end of the last step (time, values), reused
+    /// as the start of the next one.
+    last: Option<(f64, ph::RockContact)>,
 }
 
 /// Free flight, relative to the ground.
@@ -249,6 +252,7 @@ impl<'a> Run<'a> {
                 theta: th,
                 omega: om,
                 hold: false,
+                last: None,
             })
         }
     }
@@ -438,17 +442,12 @@ impl<'a> Run<'a> {
             }
             self.out.stats.steps_accepted += 1;
             let t1 = *t + h;
-            let path = |tt: f64| {
-                let th = step.component_at(0, tt);
-                let om = step.component_at(1, tt);
-                let (ax, ay) = seg.at(tt);
-                (th, om, ph::rock_accel(&bl, s, th, ax, ay), ax, ay)
-            };
+            let path = |tt: f64| (step.component_at(0, tt), step.component_at(1, tt));
             let fac = dopri::step_factor(step.err);
             if !(clipped && fac >= 1.0) {
                 self.h = h * fac;
             }
-            if let Some((te, ev)) = self.rock_events(rs, &path, *t, t1, 1) {
+            if let Some((te, ev)) = self.rock_events(rs, &path, &seg, *t, t1, 1) {
                 let ye = step.at(te);
                 if N == 3 {
                     self.work += step.component_at(N - 1, te) - y[N - 1];
@@ -497,31 +496,33 @@ impl<'a> Run<'a> {
             let shmx = sinh_minus_x(x);
             let th = th0 * ch + om0 / lam * sh + c0 / l2 * chm1 + c1 / (l2 * lam) * shmx;
             let om = th0 * lam * sh + om0 * ch + c0 / lam * sh + c1 / l2 * chm1;
-            let (ax, ay) = seg.at(tt);
-            (th, om, l2 * th + c0 + c1 * tau, ax, ay)
+            (th, om)
         };
         let n = 1 + (2.0 * lam * (t_end - t0)) as usize;
         self.out.stats.steps_accepted += 1;
-        if let Some((te, ev)) = self.rock_events(rs, &path, t0, t_end, n) {
-            let (th, om, ..) = path(te);
+        if let Some((te, ev)) = self.rock_events(rs, &path, seg, t0, t_end, n) {
+            let (th, om) = path(te);
             rs.theta = th;
             rs.omega = om;
             *t = te;
             return Some(ev);
         }
-        let (th, om, ..) = path(t_end);
+        let (th, om) = path(t_end);
         rs.theta = th;
         rs.omega = om;
         *t = t_end;
         None
     }
 
-    /// Locates the earliest rock event on (ta, tb] along `path(t) = (θ, θ̇, θ̈, ẍg, ÿg)`,
-    /// and updates the peak rotation and friction demand.
+    /// Locates the earliest rock event on (ta, tb] along `path(t) = (θ, θ̇)`,
+    /// and updates the peak rotation and friction demand. Contact forces are
+    /// those of eq. (1) at the path's state; the value at `ta` is reused from
+    /// the previous step's end when available.
     fn rock_events(
         &mut self,
-        rs: &RockState,
-        path: &impl Fn(f64) -> (f64, f64, f64, f64, f64),
+        rs: &mut RockState,
+        path: &impl Fn(f64) -> (f64, f64),
+        seg: &Segment,
         ta: f64,
         tb: f64,
         n: usize,
@@ -529,10 +530,15 @@ impl<'a> Run<'a> {
         let s = rs.s;
         let bl = self.bl;
         let xtol = 1e-15 * tb.abs().max(1.0);
+        let contact = |tt: f64| {
+            let (th, om) = path(tt);
+            let (ax, ay) = seg.at(tt);
+            ph::rock_contact(&bl, s, th, om, ax, ay)
+        };
         let mut best: Option<(f64, Event)> = None;
         // Impact: ψ = sθ reaches 0 (grazing dips included).
         let psi = |tt: f64| {
-            let (th, om, ..) = path(tt);
+            let (th, om) = path(tt);
             (s * th, s * om)
         };
         earliest(
@@ -542,7 +548,7 @@ impl<'a> Run<'a> {
         );
         // Overturning: π/2 − ψ reaches 0.
         let over = |tt: f64| {
-            let (th, om, ..) = path(tt);
+            let (th, om) = path(tt);
             (FRAC_PI_2 - s * th, -s * om)
         };
         earliest(
@@ -550,18 +556,14 @@ impl<'a> Run<'a> {
             first_descent(over, ta, tb, n, xtol),
             Event::Overturn,
         );
-        // Normal force and release condition (checked at the ends of each piece).
-        let normal = |tt: f64| {
-            let (th, om, al, ax, ay) = path(tt);
-            ph::rock_reactions(&bl, s, th, om, al, ax, ay).1
+        // Normal force and release condition, checked at the ends of each piece.
+        let normal = |tt: f64| contact(tt).n;
+        let release = |tt: f64| contact(tt).q;
+        let c_a = match rs.last {
+            Some((t_last, c)) if t_last == ta => c,
+            _ => contact(ta),
         };
-        let release = |tt: f64| {
-            let (th, om, _, _, ay) = path(tt);
-            ph::rock_release_q(&bl, s, th, om, ay)
-        };
-        let width = (tb - ta) / n as f64;
-        let mut t0 = ta;
-        let (mut n0, mut q0) = (normal(ta), release(ta));
+        let (mut n0, mut q0) = (c_a.n, c_a.q);
         if !rs.hold && n0 < 0.0 {
             // Entered rock with the pivot already in tension (after an impact
             // or from initial conditions): decide at once.
@@ -572,9 +574,13 @@ impl<'a> Run<'a> {
             };
             return Some((ta, ev));
         }
+        let width = (tb - ta) / n as f64;
+        let mut t0 = ta;
+        let mut c_b = c_a;
         for i in 1..=n {
             let t1 = if i == n { tb } else { ta + width * i as f64 };
-            let (n1, q1) = (normal(t1), release(t1));
+            c_b = contact(t1);
+            let (n1, q1) = (c_b.n, c_b.q);
             if !rs.hold && n0 >= 0.0 && n1 < 0.0 {
                 let te = brent(normal, t0, t1, n0, n1, xtol);
                 let ev = if release(te) < 0.0 {
@@ -610,12 +616,16 @@ impl<'a> Run<'a> {
         }
         // Peak rotation: turning points (θ̇ = 0) inside, and the end point.
         let t_stop = best.map_or(tb, |(te, _)| te);
-        let (th_a, om_a, ..) = path(ta);
-        let (th_b, om_b, al_b, ax_b, ay_b) = path(t_stop);
+        if best.is_some() {
+            c_b = contact(t_stop);
+        }
+        rs.last = Some((t_stop, c_b));
+        let (th_a, om_a) = path(ta);
+        let (th_b, om_b) = path(t_stop);
         let mut peak = th_a.abs().max(th_b.abs());
         if om_a * om_b < 0.0 {
             let tm = brent(|tt| path(tt).1, ta, t_stop, om_a, om_b, xtol);
-            let (th_m, om_m, _, ax_m, ay_m) = path(tm);
+            let (th_m, om_m) = path(tm);
             peak = peak.max(th_m.abs());
             if self.hist.is_some() {
                 // turning points are part of the history: they are the amplitudes
@@ -624,14 +634,7 @@ impl<'a> Run<'a> {
                     omega: om_m,
                     ..*rs
                 });
-                let seg = Segment {
-                    t0: tm,
-                    a0: ax_m,
-                    a1: 0.0,
-                    v0: ay_m,
-                    v1: 0.0,
-                };
-                self.push_row(tm, &st, &seg, true);
+                self.push_row(tm, &st, seg, true);
             }
         }
         let ratio = peak / bl.theta_c;
@@ -639,9 +642,8 @@ impl<'a> Run<'a> {
             self.out.theta_max_over_theta_c = ratio.min(FRAC_PI_2 / bl.theta_c);
         }
         // Friction demand |F|/N at the end of the step (N > 0 only).
-        let (f, nn) = ph::rock_reactions(&bl, s, th_b, om_b, al_b, ax_b, ay_b);
-        if nn > 0.0 {
-            self.out.mu_motion = self.out.mu_motion.max(f.abs() / nn);
+        if c_b.n > 0.0 {
+            self.out.mu_motion = self.out.mu_motion.max(c_b.f.abs() / c_b.n);
         }
         best
     }
@@ -749,6 +751,7 @@ impl<'a> Run<'a> {
                     theta: 0.0,
                     omega: 0.0,
                     hold: false,
+                    last: None,
                 })
             }
             (Event::HoldStart, State::Rock(mut rs)) => {
@@ -869,6 +872,7 @@ impl<'a> Run<'a> {
                     theta: pose.theta,
                     omega: vel.omega,
                     hold: false,
+                    last: None,
                 };
                 let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
                 self.x_base = pose.x - x;

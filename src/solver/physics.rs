@@ -30,6 +30,35 @@ pub fn rock_reactions(
     (f, n)
 }
 
+/// Everything the rock events need at one state, from one sine and cosine:
+/// θ̈ (eq. 1), the reactions F and N, and the release indicator q.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RockContact {
+    /// Angular acceleration θ̈ (rad/s²).
+    pub alpha: f64,
+    /// Horizontal reaction per unit mass (m/s²).
+    pub f: f64,
+    /// Normal reaction per unit mass (m/s²).
+    pub n: f64,
+    /// N without its θ̈ term (see [`rock_release_q`]).
+    pub q: f64,
+}
+
+/// [`rock_accel`], [`rock_reactions`] and [`rock_release_q`] at once.
+#[inline]
+pub fn rock_contact(bl: &Block, s: f64, theta: f64, omega: f64, ax: f64, ay: f64) -> RockContact {
+    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
+    let alpha = s * (0.75 / bl.r) * (cp * (s * ax) - sp * (bl.g + ay)); // eq. (1)
+    let w2 = omega * omega;
+    let q = bl.g + ay - bl.r * cp * w2;
+    RockContact {
+        alpha,
+        f: ax - bl.r * cp * alpha - s * bl.r * sp * w2,
+        n: q + s * bl.r * sp * alpha,
+        q,
+    }
+}
+
 /// The part of N without θ̈: q = g + ÿg − R cosφ θ̇². If the pivot were
 /// released, its vertical acceleration in flight would be −q, so lift-off is
 /// consistent only when q < 0 (physics.md, "Lift-off under infinite friction").
