@@ -1,0 +1,44 @@
+//! Criterion benchmarks of one 30-s analysis (H/B = 4, 2B = 0.5 m, PGA 0.6 g),
+//! e = 0 and e = 0.9, nonlinear and linearised models, at the default
+//! settings. `solver/ensemble` solves 10 records per iteration (throughput in
+//! analyses per second); `solver/single` one record.
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use rockfrag::motion::{G_STANDARD as G, SynthesisSettings, Synthesizer};
+use rockfrag::solver::{Analysis, Block, Model, SolverSettings, simulate};
+use std::hint::black_box;
+
+fn bench_solver(c: &mut Criterion) {
+    let mut syn = Synthesizer::new(&SynthesisSettings::default()).unwrap();
+    let records: Vec<_> = (0..10).map(|i| syn.generate(1, i, 0.6 * G).unwrap()).collect();
+    let block = Block::new(0.5, 4.0, G).unwrap();
+    let mut single = c.benchmark_group("solver/single");
+    for (name, model) in [("nonlinear", Model::Nonlinear), ("linear", Model::Linear)] {
+        let set = SolverSettings { model, ..SolverSettings::default() };
+        for e in [0.0, 0.9] {
+            let an = Analysis::new(block, e);
+            single.bench_with_input(BenchmarkId::new(name, format!("e={e}")), &an, |b, an| {
+                b.iter(|| simulate(black_box(an), &records[0], &set, None).unwrap())
+            });
+        }
+    }
+    single.finish();
+    let mut ens = c.benchmark_group("solver/ensemble");
+    ens.throughput(Throughput::Elements(records.len() as u64));
+    ens.sample_size(20);
+    for e in [0.0, 0.9] {
+        let an = Analysis::new(block, e);
+        let set = SolverSettings::default();
+        ens.bench_with_input(BenchmarkId::new("nonlinear", format!("e={e}")), &an, |b, an| {
+            b.iter(|| {
+                for r in &records {
+                    black_box(simulate(an, r, &set, None).unwrap());
+                }
+            })
+        });
+    }
+    ens.finish();
+}
+
+criterion_group!(benches, bench_solver);
+criterion_main!(benches);
