@@ -85,6 +85,9 @@ pub struct Outcome {
     /// Number of times N reached 0 but releasing the pivot was inconsistent
     /// (the pivot was kept until N > 0 again or the release became consistent).
     pub liftoff_holds: u64,
+    /// Number of times under finite friction that neither sticking nor
+    /// slipping was consistent (Painlevé) and the pivot was held.
+    pub stick_holds: u64,
     /// Number of impacts that increased kinetic energy (possible under Newton's law).
     pub energy_gains: u64,
     /// Number of ring-down settles (an impact rebound below the settle threshold
@@ -96,6 +99,13 @@ pub struct Outcome {
     pub first_impact_time: Option<f64>,
     /// Time spent in each mode, in the order of [`Mode::ALL`].
     pub time_in_mode: [f64; 5],
+    /// Peak |slip| of the block relative to the ground (m): the largest offset
+    /// of its footprint (or of its slipping pivot) from where it started.
+    pub slip_max: f64,
+    /// Slip at the end of the analysis (m), signed (positive to the right).
+    pub slip_final: f64,
+    /// Counts of mode transitions: `transitions[from][to]`, indices as in [`Mode::ALL`].
+    pub transitions: [[u64; 5]; 5],
     /// Largest |energy residual| between events, relative to the run's energy
     /// scale, when the energy audit is on.
     pub energy_residual: Option<f64>,

@@ -64,10 +64,34 @@ struct FlightState {
     omega: f64,
 }
 
+/// Slide on both corners (θ = 0); `x` is the footprint's offset from its
+/// initial place (m), `v` its velocity relative to the ground (m/s).
+#[derive(Clone, Copy, Debug)]
+struct SlideState {
+    x: f64,
+    v: f64,
+    /// Slip direction σ = sign(v) (kept explicitly: v is 0 at the start).
+    sigma: f64,
+}
+
+/// Slide-rock: rock about the corner on side −s while it slips; `xp` is the
+/// pivot's offset from its rest position (m), `vp` its slip velocity (m/s).
+#[derive(Clone, Copy, Debug)]
+struct SlideRockState {
+    s: f64,
+    theta: f64,
+    omega: f64,
+    xp: f64,
+    vp: f64,
+    sigma: f64,
+}
+
 #[derive(Clone, Copy, Debug)]
 enum State {
     Rest,
+    Slide(SlideState),
     Rock(RockState),
+    SlideRock(SlideRockState),
     Flight(FlightState),
 }
 
@@ -75,7 +99,9 @@ impl State {
     fn mode(&self) -> Mode {
         match self {
             State::Rest => Mode::Rest,
+            State::Slide(_) => Mode::Slide,
             State::Rock(_) => Mode::Rock,
+            State::SlideRock(_) => Mode::SlideRock,
             State::Flight(_) => Mode::Flight,
         }
     }
@@ -100,6 +126,18 @@ enum Event {
     Landing(f64),
     /// |θ| reached π/2.
     Overturn,
+    /// Rest broken by friction: start sliding in direction σ.
+    StartSlide(f64),
+    /// Sliding on both corners stopped (v = 0).
+    SlideStop,
+    /// Rocking with a stuck pivot: the friction demand reached μs N.
+    SlipStart,
+    /// Slide-rock: the pivot's slip velocity reached 0.
+    SlipStop,
+    /// Slide-rock: N reached 0 (consistent lift-off with finite friction).
+    SlideRockLiftoff,
+    /// Slide-rock has no slipping solution (Painlevé): the pivot sticks.
+    Jam,
 }
 
 /// Ground acceleration on one sample interval: ẍg = a0 + a1 (t − t0),
@@ -142,11 +180,11 @@ pub fn simulate(
     analysis.validate()?;
     settings.validate()?;
     record.validate()?;
-    if let Friction::Coulomb { .. } = analysis.friction {
+    if settings.model == Model::Linear && analysis.friction != Friction::Infinite {
         return Err(Error::invalid(
-            "friction",
-            "coulomb",
-            "inf (finite friction is not implemented yet)",
+            "model",
+            "linear",
+            "nonlinear with finite friction (the linearised model is for rock with stuck corners)",
         ));
     }
     if settings.model == Model::Linear && record.acc_v.is_some() {
@@ -188,6 +226,8 @@ struct Run<'a> {
     v_settle: f64,
     /// Contact distance of the two-contact rule (m).
     h_touch: f64,
+    /// Coulomb friction (μs, μk), or `None` for infinite friction.
+    fric: Option<(f64, f64)>,
 }
 
 impl<'a> Run<'a> {
@@ -217,6 +257,10 @@ impl<'a> Run<'a> {
             escale: bl.g * bl.r * (1.0 - bl.cos_c),
             v_settle: set.settle_tol * (bl.g * bl.r).sqrt(),
             h_touch: 1e-9 * bl.b,
+            fric: match an.friction {
+                Friction::Infinite => None,
+                Friction::Coulomb { mu_s, mu_k } => Some((mu_s, mu_k)),
+            },
         }
     }
 
@@ -266,7 +310,7 @@ impl<'a> Run<'a> {
                 self.out.moved = true;
                 self.out.flights += 1;
             }
-            State::Rock(_) => self.out.moved = true,
+            State::Rock(_) | State::Slide(_) | State::SlideRock(_) => self.out.moved = true,
         }
         self.e0 = self.energy(&state);
         let mut k = 0usize;
@@ -280,7 +324,24 @@ impl<'a> Run<'a> {
             let t_start = t;
             let mode = state.mode();
             let event = match &mut state {
-                State::Rest => self.rest(&seg, &mut t, t_end),
+                State::Rest => match self.fric {
+                    // Shenton (1996): from rest a block slides if μs < B/H and rocks if
+                    // μs > B/H. At μs = B/H both thresholds coincide, and a block that
+                    // starts to tip needs F/N rising above B/H at once (d(F/N)/dẍg = 1/4g
+                    // > 0 at θ = 0), so it slips flat: the tie slides.
+                    Some((mu_s, _)) if mu_s <= self.bl.b / self.bl.h => {
+                        self.rest_slide(&seg, &mut t, t_end, mu_s)
+                    }
+                    _ => self.rest(&seg, &mut t, t_end),
+                },
+                State::Slide(ss) => self.slide(ss, &seg, &mut t, t_end),
+                State::SlideRock(sr) => {
+                    if self.set.audit_energy {
+                        self.slide_rock::<5>(sr, &seg, &mut t, t_end)?
+                    } else {
+                        self.slide_rock::<4>(sr, &seg, &mut t, t_end)?
+                    }
+                }
                 State::Rock(rs) => match self.set.model {
                     Model::Nonlinear if self.set.audit_energy => {
                         self.rock_nonlinear::<3>(rs, &seg, &mut t, t_end)?
@@ -302,6 +363,7 @@ impl<'a> Run<'a> {
                     };
                     self.push_row(t, &state, &seg_end, false);
                     self.audit(&state);
+                    self.note_slip(&state);
                 }
                 Some(ev) => {
                     self.out.stats.events += 1;
@@ -317,7 +379,13 @@ impl<'a> Run<'a> {
                     self.audit(&state);
                     self.push_row(t, &state, &seg, true);
                     let before = self.energy(&state);
+                    let from = state.mode();
                     state = self.handle(ev, state, t)?;
+                    let to = state.mode();
+                    if from != to {
+                        self.out.transitions[from.index()][to.index()] += 1;
+                    }
+                    self.note_slip(&state);
                     self.jumps += self.energy(&state) - before;
                     self.note_theta(&state);
                     self.push_row(t, &state, &seg, true);
@@ -372,6 +440,242 @@ impl<'a> Run<'a> {
                 None
             }
         }
+    }
+
+    /// Rest with μs < B/H: find the first time in [t, t_end] where
+    /// |ẍg| > μs (g + ÿg) (Shenton 1996), exact on the linear forcing. The
+    /// block then slides opposite to the ground's acceleration.
+    fn rest_slide(&mut self, seg: &Segment, t: &mut f64, t_end: f64, mu_s: f64) -> Option<Event> {
+        let (ax0, ay0) = seg.at(*t);
+        let (ax1, ay1) = seg.at(t_end);
+        let mut best: Option<(f64, f64)> = None;
+        for s in [1.0, -1.0] {
+            // f = s·ẍg − μs (g + ÿg), linear on the interval
+            let f0 = s * ax0 - mu_s * (self.bl.g + ay0);
+            let f1 = s * ax1 - mu_s * (self.bl.g + ay1);
+            let tc = if f0 > 0.0 {
+                Some(*t)
+            } else if f1 > 0.0 {
+                Some(*t + (t_end - *t) * (f0 / (f0 - f1)))
+            } else {
+                None
+            };
+            if let Some(tc) = tc
+                && best.is_none_or(|(tb, _)| tc < tb)
+            {
+                best = Some((tc, -s));
+            }
+        }
+        match best {
+            Some((tc, sigma)) => {
+                *t = tc;
+                Some(Event::StartSlide(sigma))
+            }
+            None => {
+                *t = t_end;
+                None
+            }
+        }
+    }
+
+    /// Slide on both corners over [t, t_end], in closed form: the relative
+    /// acceleration −ẍg − μk σ (g + ÿg) is linear in time.
+    fn slide(
+        &mut self,
+        ss: &mut SlideState,
+        seg: &Segment,
+        t: &mut f64,
+        t_end: f64,
+    ) -> Option<Event> {
+        let (_, mu_k) = self.fric.expect("slide needs finite friction");
+        let t0 = *t;
+        let (a0, b0) = seg.at(t0);
+        let sg = ss.sigma;
+        // ẍ = A + Bτ
+        let acc0 = -a0 - mu_k * sg * (self.bl.g + b0);
+        let acc1 = -seg.a1 - mu_k * sg * seg.v1;
+        let st = *ss;
+        let vel = move |tau: f64| st.v + acc0 * tau + 0.5 * acc1 * tau * tau;
+        let span = t_end - t0;
+        let xtol = 1e-15 * t_end.abs().max(1.0);
+        let fd = |tau: f64| (sg * vel(tau), sg * (acc0 + acc1 * tau));
+        let found = if st.v == 0.0 {
+            first_descent_after_release(fd, 0.0, span, 1, xtol)
+        } else {
+            first_descent(fd, 0.0, span, 1, xtol)
+        };
+        let tau_end = found.unwrap_or(span);
+        if self.set.audit_energy {
+            // ground and friction work: ∫ v·ẍ dτ (cubic integrand: 3-point Gauss is exact)
+            self.work += gauss3(tau_end, |tau| vel(tau) * (acc0 + acc1 * tau));
+        }
+        ss.x =
+            st.x + st.v * tau_end + 0.5 * acc0 * tau_end * tau_end + acc1 * tau_end.powi(3) / 6.0;
+        ss.v = if found.is_some() { 0.0 } else { vel(tau_end) };
+        *t = t0 + tau_end;
+        if found.is_some() {
+            Some(Event::SlideStop)
+        } else {
+            *t = t_end;
+            None
+        }
+    }
+
+    /// Slide-rock over [t, t_end] by DOPRI5 on (θ, θ̇, xp, ẋp); N = 5 also
+    /// integrates the work of the ground and of friction for the audit.
+    fn slide_rock<const N: usize>(
+        &mut self,
+        sr: &mut SlideRockState,
+        seg: &Segment,
+        t: &mut f64,
+        t_end: f64,
+    ) -> Result<Option<Event>> {
+        let (_, mu_k) = self.fric.expect("slide-rock needs finite friction");
+        let bl = self.bl;
+        let (s, sg) = (sr.s, sr.sigma);
+        let seg = *seg;
+        let mut rhs = |tt: f64, y: &[f64; N]| -> [f64; N] {
+            let (ax, ay) = seg.at(tt);
+            let a = ph::slide_rock_accel(&bl, s, sg, mu_k, y[0], y[1], ax, ay);
+            let mut out = [0.0; N];
+            out[0] = y[1];
+            out[1] = a.alpha;
+            out[2] = y[3];
+            out[3] = a.xp_acc;
+            if let Some(w) = out.get_mut(4) {
+                let k = ph::rock_kinematics(&bl, s, y[0], y[1]);
+                *w = ph::ground_power(ax, ay, y[3] + k[1], k[3]) + a.f * y[3];
+            }
+            out
+        };
+        let mut atol = [0.0; N];
+        atol[0] = self.set.atol * bl.theta_c;
+        atol[1] = self.set.atol * bl.p * bl.theta_c;
+        atol[2] = self.set.atol * bl.r * bl.theta_c;
+        atol[3] = self.set.atol * bl.p * bl.r * bl.theta_c;
+        if let Some(a) = atol.get_mut(4) {
+            *a = self.set.atol * self.escale;
+        }
+        let tol = Tolerance {
+            rtol: self.set.rtol,
+            atol,
+        };
+        let mut y = [0.0; N];
+        y[..4].copy_from_slice(&[sr.theta, sr.omega, sr.xp, sr.vp]);
+        let mut f0 = rhs(*t, &y);
+        self.out.stats.rhs_calls += 1;
+        let h_min = 1e-14 * self.dt.max(1.0);
+        let mut released = sr.vp == 0.0;
+        loop {
+            let remaining = t_end - *t;
+            if remaining <= 1e-12 * self.dt {
+                break;
+            }
+            let clipped = self.h >= remaining * 0.999;
+            let h = if clipped { remaining } else { self.h };
+            let step = dopri::attempt(&mut rhs, *t, &y, &f0, h, &tol);
+            self.out.stats.rhs_calls += 6;
+            if !(step.err <= 1.0) {
+                self.out.stats.steps_rejected += 1;
+                let fac = if step.err.is_finite() {
+                    dopri::step_factor(step.err).min(0.9)
+                } else {
+                    0.2
+                };
+                self.h = h * fac;
+                if self.h < h_min {
+                    return Err(Error::Solver {
+                        time: *t,
+                        message: format!("step size {} s too small in slide-rock", self.h),
+                    });
+                }
+                continue;
+            }
+            self.out.stats.steps_accepted += 1;
+            let (ta, t1) = (*t, *t + h);
+            let fac = dopri::step_factor(step.err);
+            if !(clipped && fac >= 1.0) {
+                self.h = h * fac;
+            }
+            let xtol = 1e-15 * t1.abs().max(1.0);
+            let comp = |i: usize, tt: f64| step.component_at(i, tt);
+            let mut best: Option<(f64, Event)> = None;
+            let psi = |tt: f64| (s * comp(0, tt), s * comp(1, tt));
+            earliest(
+                &mut best,
+                first_descent(psi, ta, t1, 1, xtol),
+                Event::RockImpact,
+            );
+            let over = |tt: f64| (FRAC_PI_2 - s * comp(0, tt), -s * comp(1, tt));
+            earliest(
+                &mut best,
+                first_descent(over, ta, t1, 1, xtol),
+                Event::Overturn,
+            );
+            let acc_at = |tt: f64| {
+                let (ax, ay) = seg.at(tt);
+                ph::slide_rock_accel(&bl, s, sg, mu_k, comp(0, tt), comp(1, tt), ax, ay)
+            };
+            // slip velocity σ ẋp reaching 0
+            let slip = |tt: f64| (sg * comp(3, tt), sg * acc_at(tt).xp_acc);
+            let found = if released {
+                first_descent_after_release(slip, ta, t1, 1, xtol)
+            } else {
+                first_descent(slip, ta, t1, 1, xtol)
+            };
+            earliest(&mut best, found, Event::SlipStop);
+            let (a0, a1) = (acc_at(ta), acc_at(t1));
+            if a0.den <= 0.0 {
+                earliest(&mut best, Some(ta), Event::Jam);
+            } else if a1.den <= 0.0 {
+                earliest(
+                    &mut best,
+                    Some(brent(|tt| acc_at(tt).den, ta, t1, a0.den, a1.den, xtol)),
+                    Event::Jam,
+                );
+            }
+            if a0.n < 0.0 {
+                earliest(&mut best, Some(ta), Event::SlideRockLiftoff);
+            } else if a1.n < 0.0 {
+                earliest(
+                    &mut best,
+                    Some(brent(|tt| acc_at(tt).n, ta, t1, a0.n, a1.n, xtol)),
+                    Event::SlideRockLiftoff,
+                );
+            }
+            let t_stop = best.map_or(t1, |(te, _)| te);
+            let ratio = (comp(0, t_stop).abs().max(comp(0, ta).abs()) / bl.theta_c)
+                .min(FRAC_PI_2 / bl.theta_c);
+            self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio);
+            if let Some((te, ev)) = best {
+                let ye = step.at(te);
+                if N == 5 {
+                    self.work += ye[4] - y[4];
+                }
+                sr.theta = ye[0];
+                sr.omega = ye[1];
+                sr.xp = ye[2];
+                sr.vp = if ev == Event::SlipStop { 0.0 } else { ye[3] };
+                *t = te;
+                return Ok(Some(ev));
+            }
+            if N == 5 {
+                self.work += step.y1[4] - y[4];
+            }
+            y = step.y1;
+            if N == 5 {
+                y[4] = 0.0;
+            }
+            f0 = step.f1;
+            *t = t1;
+            released = false;
+        }
+        sr.theta = y[0];
+        sr.omega = y[1];
+        sr.xp = y[2];
+        sr.vp = y[3];
+        *t = t_end;
+        Ok(None)
     }
 
     // ---------------------------------------------------------------- rock
@@ -564,7 +868,65 @@ impl<'a> Run<'a> {
             _ => contact(ta),
         };
         let (mut n0, mut q0) = (c_a.n, c_a.q);
-        if !rs.hold && n0 < 0.0 {
+        let mut c_end: Option<ph::RockContact> = None;
+        if let Some((mu_s, mu_k)) = self.fric {
+            // Stuck pivot under Coulomb friction: slip starts when |F| reaches
+            // μs N (this comes before N = 0, since |F| ≤ μs N fails first). If
+            // neither sticking nor slipping is consistent (Painlevé), the pivot
+            // is held until the friction demand is met again, slipping becomes
+            // consistent, or the pivot can be released into flight.
+            let margin = |c: &ph::RockContact| mu_s * c.n - c.f.abs();
+            let mut m0 = margin(&c_a);
+            let mut q0 = c_a.q;
+            if !rs.hold && m0 < 0.0 {
+                return Some((ta, Event::SlipStart));
+            }
+            let width = (tb - ta) / n as f64;
+            let mut t0 = ta;
+            for i in 1..=n {
+                let t1 = if i == n { tb } else { ta + width * i as f64 };
+                let c1 = contact(t1);
+                if i == n {
+                    c_end = Some(c1);
+                }
+                let m1 = margin(&c1);
+                if !rs.hold && m1 < 0.0 {
+                    let te = brent(|tt| margin(&contact(tt)), t0, t1, m0, m1, xtol);
+                    earliest(&mut best, Some(te), Event::SlipStart);
+                    break;
+                }
+                if rs.hold {
+                    if m0 < 0.0 && m1 >= 0.0 {
+                        let te = brent(|tt| margin(&contact(tt)), t0, t1, m0, m1, xtol);
+                        earliest(&mut best, Some(te), Event::HoldEnd);
+                    }
+                    if q0 >= 0.0 && c1.q < 0.0 && c1.n < 0.0 {
+                        earliest(
+                            &mut best,
+                            Some(brent(release, t0, t1, q0, c1.q, xtol)),
+                            Event::Release,
+                        );
+                    }
+                    if best.is_none() && i == n {
+                        let (th, om) = path(t1);
+                        let (ax, ay) = seg.at(t1);
+                        let slips = [1.0, -1.0].into_iter().any(|sg| {
+                            let a = ph::slide_rock_accel(&bl, s, sg, mu_k, th, om, ax, ay);
+                            a.den > 0.0 && sg * a.xp_acc > 0.0
+                        });
+                        if slips {
+                            earliest(&mut best, Some(t1), Event::SlipStart);
+                        }
+                    }
+                    if best.is_some() {
+                        break;
+                    }
+                }
+                t0 = t1;
+                m0 = m1;
+                q0 = c1.q;
+            }
+        } else if !rs.hold && n0 < 0.0 {
             // Entered rock with the pivot already in tension (after an impact
             // or from initial conditions): decide at once.
             let ev = if q0 < 0.0 {
@@ -576,11 +938,16 @@ impl<'a> Run<'a> {
         }
         let width = (tb - ta) / n as f64;
         let mut t0 = ta;
-        let mut c_b = c_a;
         for i in 1..=n {
+            if self.fric.is_some() {
+                break;
+            }
             let t1 = if i == n { tb } else { ta + width * i as f64 };
-            c_b = contact(t1);
-            let (n1, q1) = (c_b.n, c_b.q);
+            let c1 = contact(t1);
+            if i == n {
+                c_end = Some(c1);
+            }
+            let (n1, q1) = (c1.n, c1.q);
             if !rs.hold && n0 >= 0.0 && n1 < 0.0 {
                 let te = brent(normal, t0, t1, n0, n1, xtol);
                 let ev = if release(te) < 0.0 {
@@ -616,9 +983,10 @@ impl<'a> Run<'a> {
         }
         // Peak rotation: turning points (θ̇ = 0) inside, and the end point.
         let t_stop = best.map_or(tb, |(te, _)| te);
-        if best.is_some() {
-            c_b = contact(t_stop);
-        }
+        let c_b = match (best, c_end) {
+            (None, Some(c)) => c,
+            _ => contact(t_stop),
+        };
         rs.last = Some((t_stop, c_b));
         let (th_a, om_a) = path(ta);
         let (th_b, om_b) = path(t_stop);
@@ -775,6 +1143,54 @@ impl<'a> Run<'a> {
                 self.impacts(t, fs, rs.s)
             }
             (Event::Landing(side), State::Flight(fs)) => self.impacts(t, fs, side),
+            (Event::StartSlide(sigma), State::Rest) => {
+                self.out.moved = true;
+                State::Slide(SlideState {
+                    x: self.x_base,
+                    v: 0.0,
+                    sigma,
+                })
+            }
+            (Event::SlideStop, State::Slide(ss)) => self.after_slide_stop(ss, t),
+            (Event::SlipStart, State::Rock(rs)) => {
+                match self.start_slide_rock(rs.s, rs.theta, rs.omega, self.x_base, 0.0, t) {
+                    State::Rock(mut held) => {
+                        // neither sticking nor slipping is consistent: hold the pivot
+                        self.out.stick_holds += 1;
+                        held.hold = true;
+                        State::Rock(held)
+                    }
+                    st => st,
+                }
+            }
+            (Event::SlipStop, State::SlideRock(sr)) => self.after_slip_stop(sr, t),
+            (Event::Jam, State::SlideRock(sr)) => {
+                // Painlevé: no slipping solution; the pivot sticks, held if the
+                // friction demand exceeds μs N
+                self.x_base = sr.xp;
+                self.out.stick_holds += 1;
+                let (ax, ay) = self.ground_at(t);
+                let c = ph::rock_contact(&self.bl, sr.s, sr.theta, sr.omega, ax, ay);
+                let hold = c.f.abs() > self.fric.map_or(f64::INFINITY, |f| f.0) * c.n;
+                State::Rock(RockState {
+                    s: sr.s,
+                    theta: sr.theta,
+                    omega: sr.omega,
+                    hold,
+                    last: None,
+                })
+            }
+            (Event::SlideRockLiftoff, State::SlideRock(sr)) => {
+                self.out.uplifted = true;
+                self.out.uplifts += 1;
+                self.out.flights += 1;
+                State::Flight(self.slide_rock_to_flight(&sr))
+            }
+            (Event::RockImpact, State::SlideRock(sr)) => {
+                let mut fs = self.slide_rock_to_flight(&sr);
+                fs.theta = 0.0;
+                self.impacts(t, fs, sr.s)
+            }
             (ev, st) => {
                 return Err(Error::Solver {
                     time: t,
@@ -782,6 +1198,113 @@ impl<'a> Run<'a> {
                 });
             }
         })
+    }
+
+    /// Enters slide-rock about the corner on side −s with the pivot at `xp`
+    /// slipping at `vp`. At vp = 0 the slip direction σ is the one whose
+    /// kinetic friction lets the pivot accelerate that way (σ ẍp > 0); if
+    /// neither direction is consistent the pivot sticks (rock).
+    fn start_slide_rock(
+        &mut self,
+        s: f64,
+        theta: f64,
+        omega: f64,
+        xp: f64,
+        vp: f64,
+        t: f64,
+    ) -> State {
+        let (_, mu_k) = self.fric.expect("finite friction");
+        let (ax, ay) = self.ground_at(t);
+        let accel = |sg: f64| ph::slide_rock_accel(&self.bl, s, sg, mu_k, theta, omega, ax, ay);
+        let sigma = if vp != 0.0 {
+            // Slipping with no slipping solution (Painlevé, den ≤ 0): the slip is
+            // stopped by a tangential impulse (dynamic jamming) and the pivot sticks.
+            Some(vp.signum()).filter(|&sg| accel(sg).den > 0.0)
+        } else {
+            [1.0, -1.0].into_iter().find(|&sg| {
+                let a = accel(sg);
+                a.den > 0.0 && sg * a.xp_acc > 0.0
+            })
+        };
+        if vp != 0.0 && sigma.is_none() {
+            self.out.stick_holds += 1;
+        }
+        match sigma {
+            Some(sigma) => State::SlideRock(SlideRockState {
+                s,
+                theta,
+                omega,
+                xp,
+                vp,
+                sigma,
+            }),
+            None => {
+                self.x_base = xp;
+                State::Rock(RockState {
+                    s,
+                    theta,
+                    omega,
+                    hold: false,
+                    last: None,
+                })
+            }
+        }
+    }
+
+    /// Slide-rock's slip stopped: stick (rock) if the sticking friction demand
+    /// is within μs N, otherwise slip on in the consistent direction.
+    fn after_slip_stop(&mut self, sr: SlideRockState, t: f64) -> State {
+        let (mu_s, _) = self.fric.expect("finite friction");
+        let (ax, ay) = self.ground_at(t);
+        let c = ph::rock_contact(&self.bl, sr.s, sr.theta, sr.omega, ax, ay);
+        if c.f.abs() <= mu_s * c.n {
+            self.x_base = sr.xp;
+            State::Rock(RockState {
+                s: sr.s,
+                theta: sr.theta,
+                omega: sr.omega,
+                hold: false,
+                last: None,
+            })
+        } else {
+            self.start_slide_rock(sr.s, sr.theta, sr.omega, sr.xp, 0.0, t)
+        }
+    }
+
+    /// Sliding on both corners stopped: rest if |ẍg| ≤ μs (g + ÿg), otherwise
+    /// slide on, opposite to the ground's acceleration.
+    fn after_slide_stop(&mut self, ss: SlideState, t: f64) -> State {
+        let (mu_s, _) = self.fric.expect("finite friction");
+        let (ax, ay) = self.ground_at(t);
+        self.x_base = ss.x;
+        if ax.abs() <= mu_s * (self.bl.g + ay) {
+            State::Rest
+        } else {
+            State::Slide(SlideState {
+                x: ss.x,
+                v: 0.0,
+                sigma: -ax.signum(),
+            })
+        }
+    }
+
+    /// Ground acceleration (ẍg, ÿg) at time t.
+    fn ground_at(&self, t: f64) -> (f64, f64) {
+        let k = ((t / self.dt) as usize).min(self.acc.len() - 2);
+        self.segment(k).at(t)
+    }
+
+    /// Slide-rock state → flight representation.
+    fn slide_rock_to_flight(&self, sr: &SlideRockState) -> FlightState {
+        let [x, vx, y, vy] = ph::rock_kinematics(&self.bl, sr.s, sr.theta, sr.omega);
+        FlightState {
+            x: sr.xp + x,
+            vx: sr.vp + vx,
+            y,
+            vy,
+            theta: sr.theta,
+            omega: sr.omega,
+        }
     }
 
     /// Rock state → rigid-body pose and velocity in the flight representation.
@@ -812,18 +1335,32 @@ impl<'a> Run<'a> {
         let mut count = 0;
         while let Some(sd) = next {
             let (rx, ry) = bl.corner_offset(sd, pose.theta);
-            let mut r = impact::corner_impact(&bl, &vel, rx, ry, self.e, self.set.impact);
+            let law = self.set.impact;
+            let hit = |e: f64| match self.fric {
+                None => {
+                    let r = impact::corner_impact(&bl, &vel, rx, ry, e, law);
+                    let demand = if r.p_n > 0.0 {
+                        (r.p_t / r.p_n).abs()
+                    } else {
+                        0.0
+                    };
+                    (r, demand)
+                }
+                Some((mu_s, mu_k)) => {
+                    impact::corner_impact_friction(&bl, &vel, rx, ry, e, law, mu_s, mu_k)
+                }
+            };
+            let (mut r, mut demand) = hit(self.e);
             let un_after = impact::point_velocity(&r.after, rx, ry).1;
             if self.e > 0.0 && un_after > 0.0 && un_after <= self.v_settle {
                 // ring-down: a rebound below the threshold is plastic
-                r = impact::corner_impact(&bl, &vel, rx, ry, 0.0, self.set.impact);
+                (r, demand) = hit(0.0);
                 self.out.settles += 1;
             }
             self.out.impacts += 1;
             self.out.first_impact_time.get_or_insert(t);
-            if r.p_n > 0.0 {
-                self.out.mu_impact = self.out.mu_impact.max(r.p_t.abs() / r.p_n);
-            }
+            // friction needed to prevent sliding during this impact
+            self.out.mu_impact = self.out.mu_impact.max(demand);
             let t_before = bl.kinetic(vel.vx, vel.vy, vel.omega);
             if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
                 self.out.energy_gains += 1;
@@ -859,6 +1396,21 @@ impl<'a> Run<'a> {
         });
         match staying {
             [true, true] => {
+                if let Some((_, mu_k)) = self.fric
+                    && vel.vx.abs() > self.v_settle
+                {
+                    // flat on both corners, still moving sideways: slide
+                    let sigma = vel.vx.signum();
+                    if mu_k > bl.b / bl.h {
+                        // kinetic friction tips the block: N on the trailing corner < 0
+                        return self.start_slide_rock(-sigma, pose.theta, 0.0, pose.x, vel.vx, t);
+                    }
+                    return State::Slide(SlideState {
+                        x: pose.x,
+                        v: vel.vx,
+                        sigma,
+                    });
+                }
                 if vel.vx != 0.0 || vel.vy != 0.0 || vel.omega != 0.0 {
                     self.out.settles += 1;
                 }
@@ -867,6 +1419,14 @@ impl<'a> Run<'a> {
             [true, false] | [false, true] => {
                 let pivot = if staying[0] { -1.0 } else { 1.0 };
                 let s = -pivot;
+                if self.fric.is_some() {
+                    let (rx, ry) = bl.corner_offset(pivot, pose.theta);
+                    let ut = impact::point_velocity(&vel, rx, ry).0;
+                    if ut.abs() > self.v_settle {
+                        let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
+                        return self.start_slide_rock(s, pose.theta, vel.omega, pose.x - x, ut, t);
+                    }
+                }
                 let rs = RockState {
                     s,
                     theta: pose.theta,
@@ -900,21 +1460,40 @@ impl<'a> Run<'a> {
 
     fn note_theta(&mut self, state: &State) {
         let th = match state {
-            State::Rest => 0.0,
+            State::Rest | State::Slide(_) => 0.0,
             State::Rock(r) => r.theta,
+            State::SlideRock(r) => r.theta,
             State::Flight(f) => f.theta,
         };
         let ratio = (th.abs() / self.bl.theta_c).min(FRAC_PI_2 / self.bl.theta_c);
         self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio);
     }
 
+    /// Tracks the block's slip: the offset of its footprint (or of the
+    /// slipping pivot) from its initial place.
+    fn note_slip(&mut self, state: &State) {
+        let x = match state {
+            State::Rest | State::Rock(_) => self.x_base,
+            State::Slide(ss) => ss.x,
+            State::SlideRock(sr) => sr.xp,
+            State::Flight(_) => return,
+        };
+        self.out.slip_max = self.out.slip_max.max(x.abs());
+        self.out.slip_final = x;
+    }
+
     /// Mechanical energy per unit mass in the ground frame.
     fn energy(&self, state: &State) -> f64 {
         match state {
             State::Rest => 0.0,
+            State::Slide(ss) => 0.5 * ss.v * ss.v,
             State::Rock(r) => {
                 let [_, vx, y, vy] = ph::rock_kinematics(&self.bl, r.s, r.theta, r.omega);
                 ph::energy(&self.bl, vx, vy, r.omega, y)
+            }
+            State::SlideRock(r) => {
+                let [_, vx, y, vy] = ph::rock_kinematics(&self.bl, r.s, r.theta, r.omega);
+                ph::energy(&self.bl, r.vp + vx, vy, r.omega, y)
             }
             State::Flight(f) => ph::energy(&self.bl, f.vx, f.vy, f.omega, f.y),
         }
@@ -967,6 +1546,37 @@ impl<'a> Run<'a> {
                     event,
                 }
             }
+            State::Slide(ss) => HistoryRow {
+                t,
+                mode: Mode::Slide,
+                theta: 0.0,
+                theta_dot: 0.0,
+                x: ss.x,
+                x_dot: ss.v,
+                y: 0.0,
+                y_dot: 0.0,
+                n: bl.g + ay,
+                f: -self.fric.map_or(0.0, |f| f.1) * ss.sigma * (bl.g + ay),
+                event,
+            },
+            State::SlideRock(r) => {
+                let [x, vx, y, vy] = ph::rock_kinematics(bl, r.s, r.theta, r.omega);
+                let mu_k = self.fric.map_or(0.0, |f| f.1);
+                let a = ph::slide_rock_accel(bl, r.s, r.sigma, mu_k, r.theta, r.omega, ax, ay);
+                HistoryRow {
+                    t,
+                    mode: Mode::SlideRock,
+                    theta: r.theta,
+                    theta_dot: r.omega,
+                    x: r.xp + x,
+                    x_dot: r.vp + vx,
+                    y,
+                    y_dot: vy,
+                    n: a.n,
+                    f: a.f,
+                    event,
+                }
+            }
             State::Flight(f) => HistoryRow {
                 t,
                 mode: Mode::Flight,
@@ -1000,6 +1610,14 @@ fn sinh_minus_x(x: f64) -> f64 {
     } else {
         x.sinh() - x
     }
+}
+
+/// ∫₀^T f(τ) dτ by 3-point Gauss–Legendre (exact for polynomials of degree ≤ 5).
+#[inline]
+fn gauss3(span: f64, f: impl Fn(f64) -> f64) -> f64 {
+    let half = 0.5 * span;
+    let x = 0.6f64.sqrt();
+    half * (5.0 / 9.0 * f(half * (1.0 - x)) + 8.0 / 9.0 * f(half) + 5.0 / 9.0 * f(half * (1.0 + x)))
 }
 
 /// Keeps the earliest of the located events.

@@ -106,3 +106,62 @@ pub fn linear_coeffs(bl: &Block, s: f64, a0: f64, a1: f64) -> (f64, f64, f64) {
         k * bl.cos_c * a1,
     )
 }
+
+/// Slide-rock: rocking about the corner on side −s while it slips with
+/// direction σ = sign(ẋp) under kinetic friction μk. With φ = θc − sθ,
+/// q = g + ÿg − R cosφ θ̇² and c = s sinφ + μk σ cosφ, the two force
+/// equations and the moment equation about G,
+///
+/// ```text
+/// ẍp − R cosφ θ̈ − S R sinφ θ̇² = −ẍg + F       (horizontal, F = −μk σ N)
+/// S R sinφ θ̈ − R cosφ θ̇²       = −(g + ÿg) + N  (vertical)
+/// I θ̈ = −S R sinφ N + R cosφ F                 (moment about G, I = R²/3)
+/// ```
+///
+/// give θ̈ = −R c q / (I + S c R² sinφ), N = q + S R sinφ θ̈ = q·I/(I + S c R² sinφ),
+/// and the pivot's slip acceleration ẍp = −ẍg + F + R cosφ θ̈ + S R sinφ θ̇².
+/// A non-positive denominator is Painlevé's inconsistency (no slipping solution).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SlideRockAccel {
+    /// Angular acceleration θ̈ (rad/s²).
+    pub alpha: f64,
+    /// Slip acceleration of the pivot ẍp (m/s²).
+    pub xp_acc: f64,
+    /// Normal reaction per unit mass (m/s²).
+    pub n: f64,
+    /// Friction per unit mass (m/s²), −μk σ N.
+    pub f: f64,
+    /// The denominator I + S c R² sinφ (m²); ≤ 0 means no slipping solution.
+    pub den: f64,
+}
+
+/// Accelerations of slide-rock (see [`SlideRockAccel`]).
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn slide_rock_accel(
+    bl: &Block,
+    s: f64,
+    sigma: f64,
+    mu_k: f64,
+    theta: f64,
+    omega: f64,
+    ax: f64,
+    ay: f64,
+) -> SlideRockAccel {
+    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
+    let r = bl.r;
+    let w2 = omega * omega;
+    let q = bl.g + ay - r * cp * w2;
+    let c = s * sp + mu_k * sigma * cp;
+    let den = bl.inertia + s * c * r * r * sp;
+    let alpha = -r * c * q / den;
+    let n = q + s * r * sp * alpha;
+    let f = -mu_k * sigma * n;
+    SlideRockAccel {
+        alpha,
+        xp_acc: -ax + f + r * cp * alpha + s * r * sp * w2,
+        n,
+        f,
+        den,
+    }
+}
