@@ -311,7 +311,8 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
         ));
     }
     let dt = t[1] - t[0];
-    if !(dt > 0.0) {
+    // Both times are finite, so dt is not NaN.
+    if dt <= 0.0 {
         return Err(parse_err(
             path,
             lines[1],
