@@ -220,8 +220,10 @@ impl Processor {
             None => -mean_velocity(dt, acc),
             Some(f) => {
                 let (pad, len) = (self.pad, self.len);
-                f.padded.fill(0.0);
+                // The forward FFT uses its input as scratch: re-zero the pads.
+                f.padded[..pad].fill(0.0);
                 f.padded[pad..pad + len].copy_from_slice(acc);
+                f.padded[pad + len..].fill(0.0);
                 f.forward
                     .process_with_scratch(&mut f.padded, &mut f.spectrum, &mut f.scratch)
                     .expect("buffers sized by the plan");

@@ -477,6 +477,23 @@ mod tests {
     }
 
     #[test]
+    fn at2_layout() {
+        let at2 = At2 {
+            header: ["a".into(), "b".into(), "c".into()],
+            dt: 0.005,
+            acc_g: vec![0.1, -2.5e-7, 3.0],
+        };
+        let mut out = Vec::new();
+        at2.write_to(&mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[3], "NPTS= 3, DT= 0.005 SEC");
+        let values: Vec<&str> = lines[4].split_whitespace().collect();
+        assert_eq!(values, ["1E-1", "-2.5E-7", "3E0"]);
+        assert_eq!(At2::parse(&text, Path::new("x.at2")).unwrap(), at2);
+    }
+
+    #[test]
     fn fortran_exponents() {
         assert_eq!(parse_value(".1234E-02").unwrap(), 0.001234);
         assert_eq!(parse_value("-.5D+01").unwrap(), -5.0);
