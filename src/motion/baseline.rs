@@ -123,10 +123,10 @@ impl Baseline {
 pub(crate) fn fast_len(n: usize) -> usize {
     let mut m = n.max(2);
     loop {
-        if m % 2 == 0 {
+        if m.is_multiple_of(2) {
             let mut r = m;
             for p in [2, 3, 5, 7] {
-                while r % p == 0 {
+                while r.is_multiple_of(p) {
                     r /= p;
                 }
             }
@@ -220,8 +220,10 @@ impl Processor {
             None => -mean_velocity(dt, acc),
             Some(f) => {
                 let (pad, len) = (self.pad, self.len);
-                f.padded.fill(0.0);
+                // The forward FFT uses its input as scratch: re-zero the pads.
+                f.padded[..pad].fill(0.0);
                 f.padded[pad..pad + len].copy_from_slice(acc);
+                f.padded[pad + len..].fill(0.0);
                 f.forward
                     .process_with_scratch(&mut f.padded, &mut f.spectrum, &mut f.scratch)
                     .expect("buffers sized by the plan");

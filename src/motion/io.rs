@@ -311,7 +311,8 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
         ));
     }
     let dt = t[1] - t[0];
-    if !(dt > 0.0) {
+    // Both times are finite, so dt is not NaN.
+    if dt <= 0.0 {
         return Err(parse_err(
             path,
             lines[1],
@@ -473,6 +474,23 @@ mod tests {
         assert_eq!(parse_npts_dt("DT= .01 SEC, NPTS= 7").unwrap(), (7, 0.01));
         assert!(parse_npts_dt("5590 .0050").is_err());
         assert!(parse_npts_dt("NPTS= 55.5, DT= .01").is_err());
+    }
+
+    #[test]
+    fn at2_layout() {
+        let at2 = At2 {
+            header: ["a".into(), "b".into(), "c".into()],
+            dt: 0.005,
+            acc_g: vec![0.1, -2.5e-7, 3.0],
+        };
+        let mut out = Vec::new();
+        at2.write_to(&mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[3], "NPTS= 3, DT= 0.005 SEC");
+        let values: Vec<&str> = lines[4].split_whitespace().collect();
+        assert_eq!(values, ["1E-1", "-2.5E-7", "3E0"]);
+        assert_eq!(At2::parse(&text, Path::new("x.at2")).unwrap(), at2);
     }
 
     #[test]

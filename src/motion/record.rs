@@ -97,10 +97,10 @@ impl Record {
         if self.vel.len() != self.acc.len() || self.disp.len() != self.acc.len() {
             return Err(bad("acc, vel and disp have different lengths".into()));
         }
-        if let Some(v) = &self.acc_v {
-            if v.len() != self.acc.len() {
-                return Err(bad("vertical acceleration has a different length".into()));
-            }
+        if let Some(v) = &self.acc_v
+            && v.len() != self.acc.len()
+        {
+            return Err(bad("vertical acceleration has a different length".into()));
         }
         let series = [
             Some(&self.acc),
@@ -109,10 +109,10 @@ impl Record {
             self.acc_v.as_ref(),
         ];
         for (label, s) in ["acc", "vel", "disp", "acc_v"].iter().zip(series) {
-            if let Some(s) = s {
-                if let Some(k) = s.iter().position(|x| !x.is_finite()) {
-                    return Err(bad(format!("{label} sample {k} is {}", s[k])));
-                }
+            if let Some(s) = s
+                && let Some(k) = s.iter().position(|x| !x.is_finite())
+            {
+                return Err(bad(format!("{label} sample {k} is {}", s[k])));
             }
         }
         Ok(())

@@ -21,7 +21,8 @@
 //! and scaled to the target PGA.
 //!
 //! Record i of an ensemble is a pure function of (seed, i): its phases come
-//! from a Xoshiro256++ stream seeded with [`record_seed`]`(seed, i)`, drawn
+//! from a Xoshiro256++ stream seeded with [`record_seed`]`(seed, i)`:
+//! φ_k = 2π·u_k with u_k the stream's f64 draws on [0, 1), one per component
 //! in increasing frequency order. Nothing depends on thread count or on
 //! which records were generated before.
 
