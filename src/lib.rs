@@ -42,4 +42,6 @@
 pub mod error;
 pub mod motion;
 
+pub mod figures;
+
 pub use error::{Error, Result};
