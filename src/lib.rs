@@ -46,4 +46,6 @@ pub mod outcome;
 pub mod reference;
 pub mod solver;
 
+pub mod figures;
+
 pub use error::{Error, Result};
