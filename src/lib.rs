@@ -39,13 +39,13 @@
 //! - Dormand, J. R. and Prince, P. J. (1980). A family of embedded Runge–Kutta
 //!   formulae. *J. Comput. Appl. Math.* 6(1), 19–26.
 
+// Declared in data-flow order: motion → solver → outcome → figures.
 pub mod error;
 mod io_util;
 pub mod motion;
-pub mod outcome;
-pub mod reference;
 pub mod solver;
-
+pub mod outcome;
 pub mod figures;
+pub mod reference;
 
 pub use error::{Error, Result};

@@ -16,7 +16,7 @@ fn block(aspect: f64) -> Block {
     Block::new(0.5, aspect, G).unwrap()
 }
 
-/// 1. Rock impact, no slip: ω₂/ω₁ = 1 − 1.5(1+e)sin²θc and |P_t/P_n| =
+/// Check 1: Rock impact, no slip: ω₂/ω₁ = 1 − 1.5(1+e)sin²θc and |P_t/P_n| =
 /// 3cosθc sinθc/(1+3cos²θc) (the paper's eq. 8), for both impact laws (they
 /// coincide when the striking corner has no tangential velocity, as here).
 /// Tolerance 1e-12: a 2×2 linear solve in double precision.
@@ -50,7 +50,7 @@ fn rock_impact_matches_housner_ratio_and_eq8() {
     assert!((rock_impact_mu(&block(6.0)) - 0.124).abs() < 5e-4);
 }
 
-/// 1b. The same through the whole solver: free rocking with e = 0, the
+/// Check 1b: The same through the whole solver: free rocking with e = 0, the
 /// angular velocity across the first impact drops by δ and the recorded
 /// mu_impact is eq. (8). Tolerance 1e-12 (the impact map is applied exactly
 /// to the located state).
@@ -81,7 +81,7 @@ fn solver_applies_rock_impact_exactly() {
     assert!((out.mu_impact - rock_impact_mu(&bl)).abs() < 1e-12);
 }
 
-/// 2. Free rocking from θ0 = 0.5θc, no ground motion, e = 0: the time to the
+/// Check 2: Free rocking from θ0 = 0.5θc, no ground motion, e = 0: the time to the
 /// first impact equals the energy quadrature, and successive amplitudes follow
 /// cos(θc−θn+1) − cosθc = δ²[cos(θc−θn) − cosθc]. Tolerance 1e-8 relative at
 /// the default rtol = 1e-8 (the requirement; the quadrature itself is
@@ -136,7 +136,7 @@ fn free_rocking_matches_energy_quadrature_and_amplitude_decay() {
     }
 }
 
-/// 3. Static threshold: a constant ẍg just below g·B/H never starts rocking;
+/// Check 3: Static threshold: a constant ẍg just below g·B/H never starts rocking;
 /// just above it does (and the rocking starts at t = 0).
 #[test]
 fn static_threshold_of_rocking() {
@@ -157,7 +157,7 @@ fn static_threshold_of_rocking() {
     }
 }
 
-/// 3b. The start of rocking is located exactly on a linear ramp: ẍg = c·t
+/// Check 3b: The start of rocking is located exactly on a linear ramp: ẍg = c·t
 /// crosses g·B/H at t* = g/(H/B·c); the block stays at rest exactly until t*.
 /// Tolerance 1e-12 s (a linear equation solved in double precision).
 #[test]
@@ -178,7 +178,7 @@ fn start_of_rocking_is_exact_on_a_ramp() {
     assert!((out.time_in_mode[Mode::Rest.index()] - t_star).abs() < 1e-12);
 }
 
-/// 4. Free flight: a block thrown straight up, flat, with speed v lands flat at
+/// Check 4: Free flight: a block thrown straight up, flat, with speed v lands flat at
 /// t = 2v/g (G follows a parabola, θ̇ = 0). Tolerance 1e-10 s: the landing is
 /// located by root finding on the exact closed form.
 #[test]
@@ -207,7 +207,7 @@ fn thrown_block_lands_at_the_analytical_time() {
     }
 }
 
-/// 8a. Lift-off with a consistent release: a block spinning fast enough that
+/// Check 8a: Lift-off with a consistent release: a block spinning fast enough that
 /// the centripetal demand exceeds gravity (R cosφ θ̇² > g) loses contact at
 /// once: counted as an uplift, then flies.
 #[test]
@@ -230,7 +230,7 @@ fn fast_spin_lifts_off_into_flight() {
     assert!(out.time_in_mode[Mode::Flight.index()] > 0.0);
 }
 
-/// 8b. Lift-off without a consistent release: a strong ground pull back
+/// Check 8b: Lift-off without a consistent release: a strong ground pull back
 /// towards θ = 0 drives N to zero while the released pivot would not rise
 /// (q > 0). The documented rule holds the pivot (counted in liftoff_holds)
 /// rather than entering flight.

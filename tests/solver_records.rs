@@ -36,7 +36,7 @@ fn assert_sane(o: &Outcome, what: &str) {
     );
 }
 
-/// 5. Energy: between events the mechanical energy (ground frame) changes
+/// Check 5: Energy: between events the mechanical energy (ground frame) changes
 /// only by the work of the ground's inertial forces. The audit integrates that
 /// work alongside the motion (exactly in flight); the residual must stay
 /// below 1e-8 of the run's energy scale. The residual is an accumulated
@@ -60,7 +60,7 @@ fn energy_changes_only_by_ground_work_between_events() {
     }
 }
 
-/// 5b. Through impacts: under the energy-consistent law kinetic energy never
+/// Check 5b: Through impacts: under the energy-consistent law kinetic energy never
 /// increases (no gains counted, over 3 aspect ratios × 3 e × 10 records);
 /// Newton's law with no slip can add energy at landings once e² > 1 − b²/(ac)
 /// (≈ e > 0.86 for H/B = 2), and the solver counts those gains.
@@ -87,7 +87,7 @@ fn energetic_law_never_gains_energy_newton_gains_are_counted() {
     );
 }
 
-/// 6. Hard cases finish without panic, NaN or stall (bounded events), with
+/// Check 6: Hard cases finish without panic, NaN or stall (bounded events), with
 /// |θ| ≤ π/2 unless overturned.
 #[test]
 fn hard_cases_finish_with_finite_results() {
@@ -133,7 +133,7 @@ fn hard_cases_finish_with_finite_results() {
     }
 }
 
-/// 7. The linearised model agrees with the nonlinear one within 1 % of θmax
+/// Check 7: The linearised model agrees with the nonlinear one within 1 % of θmax
 /// when the rocking stays small (θmax < 0.05 θc): the dropped terms are of
 /// relative size θ·tanθc and θ². Records at PGA just above the threshold.
 #[test]

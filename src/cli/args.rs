@@ -10,6 +10,16 @@ pub fn positive(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A finite number ≥ 0.
+pub fn non_negative(s: &str) -> Result<f64, String> {
+    let x = number(s)?;
+    if x >= 0.0 {
+        Ok(x)
+    } else {
+        Err("expected a number ≥ 0".into())
+    }
+}
+
 /// A number in [0, 1].
 pub fn unit_interval(s: &str) -> Result<f64, String> {
     let x = number(s)?;

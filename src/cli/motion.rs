@@ -1,4 +1,4 @@
-//! `rockfrag motion`: one synthetic ground motion to CSV.
+//! `rockfrag motion`: one synthetic ground motion to CSV (and a figure).
 //!
 //! The flags are checked by clap's value parsers (bad values exit with status
 //! 2 and a one-line message naming the flag); the settings they build are
@@ -7,6 +7,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
+use super::args::{non_negative, positive};
 use anyhow::Context;
 use rockfrag::motion::{SynthesisSettings, Synthesizer, write_csv, write_csv_to};
 
@@ -17,7 +18,7 @@ pub struct MotionArgs {
     #[arg(long, value_name = "N")]
     pub seed: u64,
     /// Peak ground acceleration, in g (converted with g = 9.81 m/s²).
-    #[arg(long, value_name = "G", value_parser = POSITIVE, allow_negative_numbers = true)]
+    #[arg(long, value_name = "G", value_parser = positive, allow_negative_numbers = true)]
     pub pga: f64,
     /// Index of the record within the ensemble.
     #[arg(long, value_name = "I", default_value_t = 0)]
@@ -27,60 +28,18 @@ pub struct MotionArgs {
     #[arg(long, value_name = "FILE.csv")]
     pub out: Option<PathBuf>,
     /// Sample interval, s [default: 0.02]; 1/(0.05·dt) must be an integer.
-    #[arg(long, value_name = "S", value_parser = POSITIVE, allow_negative_numbers = true)]
+    #[arg(long, value_name = "S", value_parser = positive, allow_negative_numbers = true)]
     pub dt: Option<f64>,
     /// Record duration, s [default: 30].
-    #[arg(long, value_name = "S", value_parser = POSITIVE, allow_negative_numbers = true)]
+    #[arg(long, value_name = "S", value_parser = positive, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// High-pass corner frequency, Hz [default: 0.07]; 0 disables the filter.
-    #[arg(long, value_name = "HZ", value_parser = NON_NEGATIVE, allow_negative_numbers = true)]
+    #[arg(long, value_name = "HZ", value_parser = non_negative, allow_negative_numbers = true)]
     pub highpass: Option<f64>,
-}
-
-/// A finite number > 0 (or ≥ 0 with `allow_zero`). Its errors carry the
-/// reason as clap context, so the one-line message says what was expected.
-#[derive(Clone, Copy, Debug)]
-struct Bounded {
-    allow_zero: bool,
-}
-
-const POSITIVE: Bounded = Bounded { allow_zero: false };
-const NON_NEGATIVE: Bounded = Bounded { allow_zero: true };
-
-impl clap::builder::TypedValueParser for Bounded {
-    type Value = f64;
-
-    fn parse_ref(
-        &self,
-        cmd: &clap::Command,
-        arg: Option<&clap::Arg>,
-        value: &std::ffi::OsStr,
-    ) -> Result<f64, clap::Error> {
-        use clap::error::{ContextKind, ContextValue, ErrorKind};
-        let text = value.to_string_lossy();
-        let checked = match text.trim().parse::<f64>() {
-            Err(_) => Err("not a number"),
-            Ok(v) if !v.is_finite() => Err("must be finite"),
-            Ok(v) if self.allow_zero && v < 0.0 => Err("must be ≥ 0"),
-            Ok(v) if !self.allow_zero && v <= 0.0 => Err("must be > 0"),
-            Ok(v) => Ok(v),
-        };
-        checked.map_err(|reason| {
-            let mut e = clap::Error::new(ErrorKind::ValueValidation).with_cmd(cmd);
-            if let Some(a) = arg {
-                e.insert(ContextKind::InvalidArg, ContextValue::String(a.to_string()));
-            }
-            e.insert(
-                ContextKind::InvalidValue,
-                ContextValue::String(text.into_owned()),
-            );
-            e.insert(
-                ContextKind::Custom,
-                ContextValue::String(reason.to_string()),
-            );
-            e
-        })
-    }
+    /// Also draw acceleration, velocity and displacement, stacked (SVG, or
+    /// PNG by extension), like the paper's Figure 2.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
 }
 
 impl MotionArgs {
@@ -112,6 +71,9 @@ pub fn run(args: MotionArgs) -> anyhow::Result<()> {
         }
     })?;
     let record = synth.generate(args.seed, args.index, settings.pga_from_g(args.pga))?;
+    if let Some(path) = &args.plot {
+        rockfrag::figures::plot_record(&record, path)?;
+    }
     match &args.out {
         Some(path) => write_csv(path, &record)?,
         None => {

@@ -61,6 +61,9 @@ pub const GRID: RGBColor = RGBColor(0xDD, 0xDD, 0xDD);
 /// assert_eq!(tick_label(-0.0), "0");
 /// ```
 pub fn tick_label(v: f64) -> String {
+    // Tick positions computed as start + k·step carry rounding noise: a tick
+    // meant to be 0 arrives as ±5.6e-17. No axis of ours labels |v| < 1e-12.
+    let v = if v.abs() < 1e-12 { 0.0 } else { v };
     let rounded: f64 = format!("{v:.5e}").parse().unwrap_or(v);
     // Adding +0.0 turns -0.0 into 0.0.
     let text = format!("{}", rounded + 0.0);

@@ -575,7 +575,7 @@ impl<'a> Run<'a> {
             let h = if clipped { remaining } else { self.h };
             let step = dopri::attempt(&mut rhs, *t, &y, &f0, h, &tol);
             self.out.stats.rhs_calls += 6;
-            if !(step.err <= 1.0) {
+            if step.err.is_nan() || step.err > 1.0 {
                 self.out.stats.steps_rejected += 1;
                 let fac = if step.err.is_finite() {
                     dopri::step_factor(step.err).min(0.9)
@@ -728,7 +728,7 @@ impl<'a> Run<'a> {
             let h = if clipped { remaining } else { self.h };
             let step = dopri::attempt(&mut rhs, *t, &y, &f0, h, &tol);
             self.out.stats.rhs_calls += 6;
-            if !(step.err <= 1.0) {
+            if step.err.is_nan() || step.err > 1.0 {
                 self.out.stats.steps_rejected += 1;
                 let fac = if step.err.is_finite() {
                     dopri::step_factor(step.err).min(0.9)
