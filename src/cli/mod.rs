@@ -64,6 +64,10 @@ fn one_line(err: &clap::Error) -> String {
                 a.replace('|', " or ")
             ),
             ErrorKind::UnknownArgument => format!("error: unknown argument {a}"),
+            ErrorKind::ArgumentConflict => match text(ContextKind::PriorArg) {
+                Some(prior) => format!("error: {a} cannot be used with {prior}"),
+                None => format!("error: {a} conflicts with another argument"),
+            },
             _ => format!("error: problem with argument {a}"),
         },
         _ => {

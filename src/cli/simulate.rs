@@ -1,12 +1,12 @@
 //! `rockfrag simulate`: one block under one record, printing the outcome.
 
-use super::args::{open_unit_interval, positive, unit_interval};
+use super::args::{non_negative, open_unit_interval, positive, unit_interval};
 use anyhow::Context;
 use clap::ValueEnum;
 use rockfrag::motion::{self, G_STANDARD, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
-    Analysis, Block, History, ImpactLaw, Initial, Model, SolverSettings, simulate,
+    Analysis, Block, Friction, History, ImpactLaw, Initial, Model, SolverSettings, simulate,
 };
 use std::path::PathBuf;
 
@@ -48,9 +48,15 @@ pub struct SimulateArgs {
     /// Coefficient of restitution e in [0, 1].
     #[arg(long, value_name = "E", default_value_t = 0.0, value_parser = unit_interval, allow_negative_numbers = true)]
     pub restitution: f64,
-    /// Friction model.
+    /// Friction model: `inf` (contacts never slip); give --mu-s for Coulomb friction.
     #[arg(long, value_enum, default_value_t = FrictionArg::Inf)]
     pub friction: FrictionArg,
+    /// Static friction coefficient μs: selects finite (Coulomb) friction.
+    #[arg(long = "mu-s", value_name = "X", value_parser = non_negative, conflicts_with = "friction")]
+    pub mu_s: Option<f64>,
+    /// Kinetic friction coefficient μk ≤ μs [default: μs].
+    #[arg(long = "mu-k", value_name = "Y", value_parser = non_negative, requires = "mu_s")]
+    pub mu_k: Option<f64>,
     /// Ground-motion record: CSV `t,acc[,vel,disp]` (s, m/s²) or PEER `.AT2` (g).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["seed", "pga"])]
     pub motion: Option<PathBuf>,
@@ -110,6 +116,12 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     let record = load_record(&args)?;
     let block = Block::new(args.width, args.aspect, args.g)?;
     let mut analysis = Analysis::new(block, args.restitution);
+    if let Some(mu_s) = args.mu_s {
+        analysis.friction = Friction::Coulomb {
+            mu_s,
+            mu_k: args.mu_k.unwrap_or(mu_s),
+        };
+    }
     analysis.initial = Initial {
         theta: args.theta0,
         theta_dot: args.theta_dot0,
@@ -212,6 +224,12 @@ fn print_summary(args: &SimulateArgs, block: &Block, record: &Record, o: &Outcom
         o.settles
     );
     println!("energy gains      {}", o.energy_gains);
+    if args.mu_s.is_some() {
+        println!(
+            "slip              max {:.6} m, final {:.6} m, {} Painlevé holds",
+            o.slip_max, o.slip_final, o.stick_holds
+        );
+    }
     let modes: Vec<String> = Mode::ALL
         .iter()
         .filter(|m| o.time_in_mode[m.index()] > 0.0)
