@@ -795,9 +795,12 @@ impl<'a> Run<'a> {
         let path = |tt: f64| {
             let tau = tt - t0;
             let x = lam * tau;
-            let (sh, ch) = (x.sinh(), x.cosh());
-            let chm1 = 2.0 * (0.5 * x).sinh().powi(2); // cosh x − 1
-            let shmx = sinh_minus_x(x);
+            // one expm1 gives sinh, cosh and cosh − 1 without cancellation
+            let em = x.exp_m1();
+            let sh = 0.5 * (em + em / (1.0 + em));
+            let chm1 = 0.5 * em * em / (1.0 + em); // cosh x − 1
+            let ch = 1.0 + chm1;
+            let shmx = if x.abs() < 0.5 { sinh_minus_x(x) } else { sh - x };
             let th = th0 * ch + om0 / lam * sh + c0 / l2 * chm1 + c1 / (l2 * lam) * shmx;
             let om = th0 * lam * sh + om0 * ch + c0 / lam * sh + c1 / l2 * chm1;
             (th, om)
@@ -1597,19 +1600,12 @@ impl<'a> Run<'a> {
 
 type Vec2 = [bool; 2];
 
-/// sinh x − x without cancellation (series for |x| < 0.5, error < 1e-15 relative).
+/// sinh x − x for |x| < 0.5 by its series (error < 1e-15 relative).
 #[inline]
 fn sinh_minus_x(x: f64) -> f64 {
-    if x.abs() < 0.5 {
-        let x2 = x * x;
-        x * x2 / 6.0
-            * (1.0
-                + x2 / 20.0
-                    * (1.0
-                        + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
-    } else {
-        x.sinh() - x
-    }
+    let x2 = x * x;
+    x * x2 / 6.0
+        * (1.0 + x2 / 20.0 * (1.0 + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
 }
 
 /// ∫₀^T f(τ) dτ by 3-point Gauss–Legendre (exact for polynomials of degree ≤ 5).

@@ -80,6 +80,64 @@ pub fn brent(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, fa: f64, fb: f64, xt
     }
 }
 
+/// Finds a root of f in [a, b] given f(a)·f(b) ≤ 0 and the derivative:
+/// Newton steps kept inside a shrinking bracket, bisection when a step would
+/// leave it or converge too slowly (Press et al., *Numerical Recipes*,
+/// `rtsafe`). `fd(t)` returns (f, f′); f′ may be approximate (for instance
+/// the dense output of θ̇ for θ) since the bracket guarantees convergence.
+/// Returns the bracket end on the side of b's sign, like [`brent`].
+pub fn newton(fd: impl Fn(f64) -> (f64, f64), a: f64, b: f64, fa: f64, fb: f64, xtol: f64) -> f64 {
+    if fa == 0.0 {
+        return a;
+    }
+    if fb == 0.0 {
+        return b;
+    }
+    // Orient so that g = f·sign(fb) is < 0 at xl ("before") and > 0 at xh ("after").
+    let sg = fb.signum();
+    let (mut xl, mut xh) = (a, b);
+    let mut t = 0.5 * (a + b);
+    let mut dx_old = (b - a).abs();
+    let mut dx = dx_old;
+    let (f, d) = fd(t);
+    let (mut g, mut dg) = (sg * f, sg * d);
+    for _ in 0..100 {
+        if g == 0.0 {
+            return t;
+        }
+        if g < 0.0 {
+            xl = t;
+        } else {
+            xh = t;
+        }
+        let tol = 2.0 * f64::EPSILON * t.abs() + 0.5 * xtol;
+        let newton_leaves = ((t - xh) * dg - g) * ((t - xl) * dg - g) > 0.0;
+        if newton_leaves || (2.0 * g).abs() > (dx_old * dg).abs() {
+            dx_old = dx;
+            dx = 0.5 * (xh - xl);
+            t = xl + dx;
+        } else {
+            dx_old = dx;
+            dx = g / dg;
+            t -= dx;
+        }
+        if dx.abs() <= tol || (xh - xl).abs() <= 2.0 * tol {
+            break;
+        }
+        let (f, d) = fd(t);
+        g = sg * f;
+        dg = sg * d;
+    }
+    // Return a point on the after side (g ≥ 0) within tolerance of the root.
+    let g_t = sg * fd(t).0;
+    if g_t >= 0.0 {
+        return t;
+    }
+    let tol = 2.0 * f64::EPSILON * t.abs() + 0.5 * xtol;
+    let probe = t + tol.copysign(xh - xl);
+    if (probe - xh) * (probe - xl) <= 0.0 && sg * fd(probe).0 >= 0.0 { probe } else { xh }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -91,5 +149,21 @@ mod tests {
         let r = brent(f, 0.0, 2.0, f(0.0), f(2.0), 1e-15);
         assert!((r - 2f64.cbrt()).abs() < 1e-14);
         assert!(f(r) >= 0.0, "returned point must be on the after side");
+    }
+
+    #[test]
+    fn newton_finds_root_with_few_evaluations() {
+        // cos t − t has its root at 0.7390851332151607; with the derivative the
+        // bracketed Newton lands within 1e-15 and on the after side.
+        use std::cell::Cell;
+        let n = Cell::new(0);
+        let fd = |t: f64| {
+            n.set(n.get() + 1);
+            (t.cos() - t, -t.sin() - 1.0)
+        };
+        let r = newton(fd, 0.0, 1.0, 1.0, 1f64.cos() - 1.0, 1e-15);
+        assert!((r - 0.7390851332151607).abs() < 1e-15, "{r}");
+        assert!(r.cos() - r <= 0.0);
+        assert!(n.get() <= 10, "{} evaluations", n.get());
     }
 }

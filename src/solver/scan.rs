@@ -2,7 +2,7 @@
 //! interval, including grazing contacts where the function dips below zero
 //! and returns between the two ends.
 
-use super::roots::brent;
+use super::roots::{brent, newton};
 
 /// Finds the earliest τ ∈ (a, b] at which `f` reaches ≤ 0, where `fd(τ)`
 /// returns (f, f′). `f(a)` is taken as non-negative (a contact that starts at
@@ -53,7 +53,7 @@ fn descent(
         let (fb, db) = fd(tb);
         if fb <= 0.0 {
             if fa > 0.0 {
-                return Some(brent(|t| fd(t).0, ta, tb, fa, fb, xtol));
+                return Some(newton(&fd, ta, tb, fa, fb, xtol));
             }
             // Started touching and not approaching: the function may have
             // risen and come back inside the piece. Find a point above zero
@@ -64,7 +64,7 @@ fn descent(
                     let tm = brent(|t| fd(t).1, ta, tb, da, db, xtol);
                     let fm = fd(tm).0;
                     if fm > 0.0 {
-                        return Some(brent(|t| fd(t).0, tm, tb, fm, fb, xtol));
+                        return Some(newton(&fd, tm, tb, fm, fb, xtol));
                     }
                 }
                 let mut tm = tb;
@@ -72,7 +72,7 @@ fn descent(
                     tm = ta + 0.5 * (tm - ta);
                     let fm = fd(tm).0;
                     if fm > 0.0 {
-                        return Some(brent(|t| fd(t).0, tm, tb, fm, fb, xtol));
+                        return Some(newton(&fd, tm, tb, fm, fb, xtol));
                     }
                 }
             }
@@ -84,7 +84,7 @@ fn descent(
             let fm = fd(tm).0;
             if fm <= 0.0 {
                 if fa > 0.0 {
-                    return Some(brent(|t| fd(t).0, ta, tm, fa, fm, xtol));
+                    return Some(newton(&fd, ta, tm, fa, fm, xtol));
                 }
                 return Some(ta);
             }
