@@ -10,11 +10,16 @@ use std::hint::black_box;
 
 fn bench_solver(c: &mut Criterion) {
     let mut syn = Synthesizer::new(&SynthesisSettings::default()).unwrap();
-    let records: Vec<_> = (0..10).map(|i| syn.generate(1, i, 0.6 * G).unwrap()).collect();
+    let records: Vec<_> = (0..10)
+        .map(|i| syn.generate(1, i, 0.6 * G).unwrap())
+        .collect();
     let block = Block::new(0.5, 4.0, G).unwrap();
     let mut single = c.benchmark_group("solver/single");
     for (name, model) in [("nonlinear", Model::Nonlinear), ("linear", Model::Linear)] {
-        let set = SolverSettings { model, ..SolverSettings::default() };
+        let set = SolverSettings {
+            model,
+            ..SolverSettings::default()
+        };
         for e in [0.0, 0.9] {
             let an = Analysis::new(block, e);
             single.bench_with_input(BenchmarkId::new(name, format!("e={e}")), &an, |b, an| {
@@ -29,13 +34,17 @@ fn bench_solver(c: &mut Criterion) {
     for e in [0.0, 0.9] {
         let an = Analysis::new(block, e);
         let set = SolverSettings::default();
-        ens.bench_with_input(BenchmarkId::new("nonlinear", format!("e={e}")), &an, |b, an| {
-            b.iter(|| {
-                for r in &records {
-                    black_box(simulate(an, r, &set, None).unwrap());
-                }
-            })
-        });
+        ens.bench_with_input(
+            BenchmarkId::new("nonlinear", format!("e={e}")),
+            &an,
+            |b, an| {
+                b.iter(|| {
+                    for r in &records {
+                        black_box(simulate(an, r, &set, None).unwrap());
+                    }
+                })
+            },
+        );
     }
     ens.finish();
 }

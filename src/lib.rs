@@ -9,10 +9,13 @@
 //! spec ─▶ motion ─▶ solver ─▶ outcome ─▶ study ─▶ fragility ─▶ figures
 //! ```
 //!
+//! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
 //!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
 //! - [`solver`]: the event-driven block solver (rest, rock, flight, impacts);
 //! - [`outcome`]: what one analysis produces;
+//! - [`study`]: running a study (parallel, resumable, shardable) into
+//!   `outcomes.csv`, `summary.md` and `manifest.json`;
 //! - [`figures`]: publication figures drawn with an embedded font.
 //!
 //! ## Governing equations
@@ -45,5 +48,7 @@ pub mod motion;
 pub mod outcome;
 pub mod reference;
 pub mod solver;
+pub mod spec;
+pub mod study;
 
 pub use error::{Error, Result};

@@ -8,17 +8,32 @@ use std::io::Write;
 /// the run ending at the record's end or at overturning.
 #[test]
 fn json_outcome_has_the_documented_fields() {
-    let o = rockfrag(&["simulate", "--seed", "1", "--pga", "0.6", "--aspect", "4", "--json"]);
+    let o = rockfrag(&[
+        "simulate", "--seed", "1", "--pga", "0.6", "--aspect", "4", "--json",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
     for key in [
-        "overturned", "uplifted", "theta_max_over_theta_c", "mu_motion", "mu_impact", "impacts", "flights",
-        "uplifts", "end_time", "first_impact_time", "energy_gains", "time_in_mode",
+        "overturned",
+        "uplifted",
+        "theta_max_over_theta_c",
+        "mu_motion",
+        "mu_impact",
+        "impacts",
+        "flights",
+        "uplifts",
+        "end_time",
+        "first_impact_time",
+        "energy_gains",
+        "time_in_mode",
     ] {
         assert!(v.get(key).is_some(), "missing {key}");
     }
     let end = v["end_time"].as_f64().unwrap();
-    assert!(end == 30.0 || v["overturned"].as_bool().unwrap(), "end {end}");
+    assert!(
+        end == 30.0 || v["overturned"].as_bool().unwrap(),
+        "end {end}"
+    );
 }
 
 /// The history CSV has the documented header, one row per record sample at
@@ -27,14 +42,30 @@ fn json_outcome_has_the_documented_fields() {
 fn history_csv_has_header_and_ordered_rows() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("h.csv");
-    let o = rockfrag(&["simulate", "--seed", "2", "--pga", "0.8", "--history", path.to_str().unwrap()]);
+    let o = rockfrag(&[
+        "simulate",
+        "--seed",
+        "2",
+        "--pga",
+        "0.8",
+        "--history",
+        path.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&path).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next().unwrap(), "t,mode,theta,theta_dot,x,x_dot,y,y_dot,N,F");
-    let times: Vec<f64> = lines.map(|l| l.split(',').next().unwrap().parse().unwrap()).collect();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t,mode,theta,theta_dot,x,x_dot,y,y_dot,N,F"
+    );
+    let times: Vec<f64> = lines
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
     assert!(times.len() >= 1501, "{} rows", times.len());
-    assert!(times.windows(2).all(|w| w[0] <= w[1]), "history out of order");
+    assert!(
+        times.windows(2).all(|w| w[0] <= w[1]),
+        "history out of order"
+    );
 }
 
 /// A motion file written by `rockfrag motion` drives `simulate` to the same
@@ -43,7 +74,15 @@ fn history_csv_has_header_and_ordered_rows() {
 fn motion_file_and_seed_give_the_same_outcome() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("m.csv");
-    let o = rockfrag(&["motion", "--seed", "3", "--pga", "0.7", "--out", path.to_str().unwrap()]);
+    let o = rockfrag(&[
+        "motion",
+        "--seed",
+        "3",
+        "--pga",
+        "0.7",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let a = rockfrag(&["simulate", "--seed", "3", "--pga", "0.7", "--json"]);
     let b = rockfrag(&["simulate", "--motion", path.to_str().unwrap(), "--json"]);
@@ -59,10 +98,30 @@ fn motion_file_and_seed_give_the_same_outcome() {
 #[test]
 fn bad_arguments_exit_2_with_one_line() {
     for (args, needle) in [
-        (vec!["simulate", "--seed", "1", "--pga", "0.5", "--width", "-1"], "--width"),
-        (vec!["simulate", "--seed", "1", "--pga", "0.5", "--restitution", "1.5"], "[0, 1]"),
-        (vec!["simulate", "--seed", "1", "--pga", "0.5", "--model", "fast"], "nonlinear, linear"),
-        (vec!["simulate", "--seed", "1", "--pga", "0.5", "--impact", "x"], "newton, energetic"),
+        (
+            vec!["simulate", "--seed", "1", "--pga", "0.5", "--width", "-1"],
+            "--width",
+        ),
+        (
+            vec![
+                "simulate",
+                "--seed",
+                "1",
+                "--pga",
+                "0.5",
+                "--restitution",
+                "1.5",
+            ],
+            "[0, 1]",
+        ),
+        (
+            vec!["simulate", "--seed", "1", "--pga", "0.5", "--model", "fast"],
+            "nonlinear, linear",
+        ),
+        (
+            vec!["simulate", "--seed", "1", "--pga", "0.5", "--impact", "x"],
+            "newton, energetic",
+        ),
         (vec!["simulate", "--seed", "1"], "--pga"),
         (vec!["simulate", "--aspect", "3"], "--motion"),
     ] {
@@ -81,12 +140,18 @@ fn bad_motion_files_are_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
     let cases = [
         ("empty.csv", "t,acc\n".to_string()),
-        ("uneven.csv", "t,acc\n0,0\n0.01,0.1\n0.03,0.2\n0.04,0.1\n".to_string()),
+        (
+            "uneven.csv",
+            "t,acc\n0,0\n0.01,0.1\n0.03,0.2\n0.04,0.1\n".to_string(),
+        ),
         ("nan.csv", "t,acc\n0,0\n0.01,NaN\n0.02,0.1\n".to_string()),
     ];
     for (name, content) in cases {
         let path = dir.path().join(name);
-        std::fs::File::create(&path).unwrap().write_all(content.as_bytes()).unwrap();
+        std::fs::File::create(&path)
+            .unwrap()
+            .write_all(content.as_bytes())
+            .unwrap();
         let o = rockfrag(&["simulate", "--motion", path.to_str().unwrap(), "--json"]);
         assert_eq!(o.status.code(), Some(1), "{name}");
         let err = stderr(&o);

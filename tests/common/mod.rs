@@ -4,7 +4,10 @@ use std::process::{Command, Output};
 
 /// Runs `rockfrag` with the given arguments.
 pub fn rockfrag(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rockfrag")).args(args).output().expect("run rockfrag")
+    Command::new(env!("CARGO_BIN_EXE_rockfrag"))
+        .args(args)
+        .output()
+        .expect("run rockfrag")
 }
 
 /// Standard error as text.
