@@ -194,7 +194,7 @@ impl<'de> Deserialize<'de> for FrictionEntry {
                 self,
                 mut a: A,
             ) -> std::result::Result<Self::Value, A::Error> {
-                let short = || de::Error::custom(format!("expected two numbers [mu_s, mu_k]"));
+                let short = || de::Error::custom("expected two numbers [mu_s, mu_k]");
                 let mu_s: f64 = a.next_element()?.ok_or_else(short)?;
                 let mu_k: f64 = a.next_element()?.ok_or_else(short)?;
                 if a.next_element::<f64>()?.is_some() {

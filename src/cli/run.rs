@@ -44,6 +44,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         shard: args.shard.unwrap_or(Shard::WHOLE),
         progress: true,
         spec_file,
+        chunk_analyses: 0,
         stop_after_units: args.stop_after_units,
     };
     let report = study::run(&study, &opts)?;

@@ -79,6 +79,9 @@ pub struct RunOptions {
     pub progress: bool,
     /// The spec file as the user named it, for the manifest.
     pub spec_file: String,
+    /// Analyses per chunk: the unit of parallel work and of checkpointing
+    /// (0: 128 per thread, rounded up to whole units).
+    pub chunk_analyses: usize,
     /// Stop, as if killed, once this many units have been done by this
     /// invocation (the checkpoint is left for a later run to resume). For tests.
     pub stop_after_units: Option<usize>,
@@ -93,6 +96,7 @@ impl RunOptions {
             shard: Shard::WHOLE,
             progress: false,
             spec_file: String::new(),
+            chunk_analyses: 0,
             stop_after_units: None,
         }
     }
@@ -228,7 +232,11 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     bar.set_position((ckpt.units_done * cases.len()) as u64);
     bar.reset_eta();
 
-    let chunk_units = (threads * 128).div_ceil(cases.len()).max(1);
+    let chunk_analyses = match opts.chunk_analyses {
+        0 => threads * 128,
+        n => n,
+    };
+    let chunk_units = chunk_analyses.div_ceil(cases.len()).max(1);
     let limit = opts
         .stop_after_units
         .map_or(units.len(), |n| (ckpt.units_done + n).min(units.len()));
