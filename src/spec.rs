@@ -507,14 +507,17 @@ impl SpecFile {
             }
         } else {
             for (field, given) in [
-                ("seed", self.seed.is_some()),
-                ("records", self.records.is_some()),
-                ("motion", self.motion.is_some()),
+                ("seed", self.seed.map(|s| s.to_string())),
+                ("records", self.records.map(|r| r.to_string())),
+                (
+                    "motion",
+                    self.motion.as_ref().map(|_| "[motion]".to_string()),
+                ),
             ] {
-                if given {
+                if let Some(value) = given {
                     return Err(bad(
                         field,
-                        &"(given)",
+                        &value,
                         "to be left out when record_files is given (recorded motions replace \
                          the synthetic ensemble)",
                     ));

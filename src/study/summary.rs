@@ -276,7 +276,8 @@ impl Tally {
             "Conventions. *Strict*: a run overturned when |θ| reached π/2. *Paper*: a run that \
              lifted off from rock (N = 0) also counts as overturned, as in the paper, whose \
              program stopped there. Means are over the runs that did not overturn in the \
-             table's convention; failed analyses are left out.\n"
+             table's convention (a run that never left rest counts with θmax/θc = μ = 0); \
+             failed analyses are left out.\n"
         );
         let paper = is_papers(study);
         if paper {

@@ -4,7 +4,7 @@
 #
 #   sbatch --array=0-15 studies/slurm/run-shards.sh studies/fragility.toml
 #
-# The array size sets N (SLURM_ARRAY_TASK_COUNT). Then merge (see studies/README.md):
+# Create results/ first (SLURM opens the log there). The array size sets N (SLURM_ARRAY_TASK_COUNT). Then merge (see studies/README.md):
 #
 #   rockfrag merge results/shard-* --out results/fragility
 #
