@@ -37,6 +37,31 @@ pub enum Error {
         /// The accepted range or values.
         expected: String,
     },
+    /// A study spec holds a bad value: the file, the line where the field was
+    /// found (0 if it was left at its default), the field path
+    /// (e.g. `grid.aspect[2]`), the value and the accepted range.
+    #[error("{path}:{line}: invalid {field} = {value}: expected {expected}")]
+    Spec {
+        /// The spec file.
+        path: PathBuf,
+        /// 1-based line of the field, 0 if the field is not written in the file.
+        line: usize,
+        /// Path of the field in the spec, e.g. `grid.friction[1].mu_k`.
+        field: String,
+        /// The value given, as text.
+        value: String,
+        /// The accepted range or values.
+        expected: String,
+    },
+    /// An output folder holds a run that cannot be resumed or merged as asked
+    /// (another study, another shard, an incomplete shard).
+    #[error("{path}: {message}")]
+    Conflict {
+        /// The folder or file concerned.
+        path: PathBuf,
+        /// What does not match and what to do.
+        message: String,
+    },
     /// A ground-motion record is unusable (empty, non-uniform, non-finite).
     #[error("invalid record {name}: {message}")]
     InvalidRecord {

@@ -9,10 +9,13 @@
 //! spec ─▶ motion ─▶ solver ─▶ outcome ─▶ study ─▶ fragility ─▶ figures
 //! ```
 //!
+//! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
 //!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
 //! - [`solver`]: the event-driven block solver (rest, rock, flight, impacts);
 //! - [`outcome`]: what one analysis produces;
+//! - [`study`]: running a study (parallel, resumable, shardable) into
+//!   `outcomes.csv`, `summary.md` and `manifest.json`;
 //! - [`figures`]: publication figures drawn with an embedded font.
 //!
 //! ## Governing equations
@@ -39,12 +42,14 @@
 //! - Dormand, J. R. and Prince, P. J. (1980). A family of embedded Runge–Kutta
 //!   formulae. *J. Comput. Appl. Math.* 6(1), 19–26.
 
-// Declared in data-flow order: motion → solver → outcome → figures.
+// Declared in data-flow order: spec → motion → solver → outcome → study → figures.
 pub mod error;
 mod io_util;
+pub mod spec;
 pub mod motion;
 pub mod solver;
 pub mod outcome;
+pub mod study;
 pub mod figures;
 pub mod reference;
 

@@ -65,7 +65,8 @@ pub struct Outcome {
     pub overturned: bool,
     /// Time of overturning, if it happened.
     pub overturn_time: Option<f64>,
-    /// The block left the ground from rock at least once (N reached 0). The
+    /// The normal force reached 0 while rocking at least once (whether the
+    /// block then flew or, under infinite friction, the pivot was held). The
     /// paper's program stopped there and counted the run as overturned.
     pub uplifted: bool,
     /// The block moved at all (rest was broken).

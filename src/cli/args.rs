@@ -46,3 +46,17 @@ fn number(s: &str) -> Result<f64, String> {
         _ => Err("expected a finite number".into()),
     }
 }
+
+/// A thread count ≥ 1.
+pub fn threads(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err("expected a whole number of threads ≥ 1".into()),
+    }
+}
+
+/// A shard `K/N` with 1 ≤ K ≤ N.
+pub fn shard(s: &str) -> Result<rockfrag::study::Shard, String> {
+    s.parse()
+        .map_err(|_| "expected K/N with 1 ≤ K ≤ N, e.g. 2/8".to_string())
+}

@@ -2,7 +2,9 @@
 //! into validated library types once and then calling the library.
 
 mod args;
+mod merge;
 mod motion;
+mod run;
 mod simulate;
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
@@ -24,6 +26,11 @@ pub enum Command {
     Motion(motion::MotionArgs),
     /// Solve one block under one record and print the outcome.
     Simulate(Box<simulate::SimulateArgs>),
+    /// Run a study spec (default: the paper's study, built in) into
+    /// outcomes.csv, summary.md and manifest.json; resumable and shardable.
+    Run(run::RunArgs),
+    /// Merge the folders of shards 1/N..N/N of a study into one.
+    Merge(merge::MergeArgs),
 }
 
 /// Runs a parsed command line.
@@ -31,6 +38,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Motion(args) => motion::run(args),
         Command::Simulate(args) => simulate::run(*args),
+        Command::Run(args) => run::run(args),
+        Command::Merge(args) => merge::run(args),
     }
 }
 

@@ -800,7 +800,11 @@ impl<'a> Run<'a> {
             let sh = 0.5 * (em + em / (1.0 + em));
             let chm1 = 0.5 * em * em / (1.0 + em); // cosh x − 1
             let ch = 1.0 + chm1;
-            let shmx = if x.abs() < 0.5 { sinh_minus_x(x) } else { sh - x };
+            let shmx = if x.abs() < 0.5 {
+                sinh_minus_x(x)
+            } else {
+                sh - x
+            };
             let th = th0 * ch + om0 / lam * sh + c0 / l2 * chm1 + c1 / (l2 * lam) * shmx;
             let om = th0 * lam * sh + om0 * ch + c0 / lam * sh + c1 / l2 * chm1;
             (th, om)
@@ -1126,6 +1130,9 @@ impl<'a> Run<'a> {
                 })
             }
             (Event::HoldStart, State::Rock(mut rs)) => {
+                // N reached 0: the paper's program stopped here and counted the
+                // run as overturned, whether or not flight was consistent
+                self.out.uplifted = true;
                 self.out.liftoff_holds += 1;
                 rs.hold = true;
                 State::Rock(rs)
@@ -1605,7 +1612,9 @@ type Vec2 = [bool; 2];
 fn sinh_minus_x(x: f64) -> f64 {
     let x2 = x * x;
     x * x2 / 6.0
-        * (1.0 + x2 / 20.0 * (1.0 + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
+        * (1.0
+            + x2 / 20.0
+                * (1.0 + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
 }
 
 /// ∫₀^T f(τ) dτ by 3-point Gauss–Legendre (exact for polynomials of degree ≤ 5).

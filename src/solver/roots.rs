@@ -135,7 +135,11 @@ pub fn newton(fd: impl Fn(f64) -> (f64, f64), a: f64, b: f64, fa: f64, fb: f64, 
     }
     let tol = 2.0 * f64::EPSILON * t.abs() + 0.5 * xtol;
     let probe = t + tol.copysign(xh - xl);
-    if (probe - xh) * (probe - xl) <= 0.0 && sg * fd(probe).0 >= 0.0 { probe } else { xh }
+    if (probe - xh) * (probe - xl) <= 0.0 && sg * fd(probe).0 >= 0.0 {
+        probe
+    } else {
+        xh
+    }
 }
 
 #[cfg(test)]

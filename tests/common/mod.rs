@@ -1,4 +1,5 @@
 //! Helpers shared by the CLI tests: run the built binary, capture its output.
+#![allow(dead_code)] // each test binary uses a different subset of the helpers
 
 use std::process::{Command, Output};
 

@@ -1,0 +1,37 @@
+//! `rockfrag merge`: join the folders of shards 1/N..N/N into one.
+
+use rockfrag::study;
+use std::path::PathBuf;
+
+/// Flags of `rockfrag merge`.
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// The shard folders (each from `rockfrag run --shard K/N`), in any order.
+    #[arg(value_name = "DIR", required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Folder of the merged study.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+/// Runs `rockfrag merge`.
+pub fn run(args: MergeArgs) -> anyhow::Result<()> {
+    let m = study::merge(&args.dirs, &args.out)?;
+    eprintln!(
+        "merged {} shards of study {}: {} analyses ({} overturned, {} failed) into {}",
+        args.dirs.len(),
+        m.study,
+        m.counts.analyses,
+        m.counts.overturned,
+        m.counts.failed,
+        args.out.display()
+    );
+    if m.counts.failed > 0 {
+        anyhow::bail!(
+            "{} of {} analyses failed in the shards",
+            m.counts.failed,
+            m.counts.analyses
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! `rockfrag run`: run a study spec (default: the paper's, built in).
+
+use super::args::{shard, threads};
+use anyhow::bail;
+use rockfrag::spec::{SHENTON_JONES_ORIGIN, Study};
+use rockfrag::study::{self, RunOptions, Shard, files};
+use std::path::PathBuf;
+
+/// Flags of `rockfrag run`.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// Study spec (TOML). Default: the paper's study (studies/shenton-jones.toml, built in).
+    #[arg(value_name = "STUDY.toml")]
+    pub study: Option<PathBuf>,
+    /// Output folder (default: results/<study name>/). Rerunning into a folder
+    /// holding an interrupted run of the same study resumes it.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Worker threads (default: one per core). Results do not depend on it.
+    #[arg(long, value_name = "N", value_parser = threads)]
+    pub threads: Option<usize>,
+    /// Run only shard K of N of the work units (for job arrays; merge the
+    /// shard folders with `rockfrag merge`).
+    #[arg(long, value_name = "K/N", value_parser = shard)]
+    pub shard: Option<Shard>,
+    /// Stop as if killed after this many work units (for testing resumption).
+    #[arg(long, value_name = "UNITS", hide = true)]
+    pub stop_after_units: Option<usize>,
+}
+
+/// Runs `rockfrag run`.
+pub fn run(args: RunArgs) -> anyhow::Result<()> {
+    let (study, spec_file) = match &args.study {
+        Some(path) => (Study::load(path)?, path.display().to_string()),
+        None => (Study::shenton_jones(), SHENTON_JONES_ORIGIN.to_string()),
+    };
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(&study.name));
+    let opts = RunOptions {
+        out_dir: out.clone(),
+        threads: args.threads.unwrap_or(0),
+        shard: args.shard.unwrap_or(Shard::WHOLE),
+        progress: true,
+        spec_file,
+        chunk_analyses: 0,
+        stop_after_units: args.stop_after_units,
+    };
+    let report = study::run(&study, &opts)?;
+    let rate = report.analyses_run as f64 / report.wall_seconds.max(1e-9);
+    if report.resumed_at_unit > 0 {
+        eprintln!("resumed after {} work units", report.resumed_at_unit);
+    }
+    if !report.complete {
+        eprintln!(
+            "stopped: {} analyses in {:.1} s; run the same command again to resume",
+            report.analyses_run, report.wall_seconds
+        );
+        return Ok(());
+    }
+    let c = report.counts;
+    eprintln!(
+        "study {}{}: {} analyses ({} overturned, {} uplifted, {} failed); {} run in {:.1} s, \
+         {:.1} analyses/s on {} threads; wrote {}",
+        study.name,
+        if opts.shard == Shard::WHOLE {
+            String::new()
+        } else {
+            format!(" shard {}", opts.shard)
+        },
+        c.analyses,
+        c.overturned,
+        c.uplifted,
+        c.failed,
+        report.analyses_run,
+        report.wall_seconds,
+        rate,
+        report.threads,
+        out.display()
+    );
+    if c.failed > 0 {
+        bail!(
+            "{} of {} analyses failed (status 'failed' and the reason in {}); all results are written",
+            c.failed,
+            c.analyses,
+            out.join(files::OUTCOMES).display()
+        );
+    }
+    Ok(())
+}

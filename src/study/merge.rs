@@ -1,0 +1,197 @@
+//! Merging the folders of shards K/N (K = 1..N) into the folder of the whole
+//! study: `outcomes.csv` rows are interleaved back into canonical unit order
+//! (unit u comes from shard u mod N + 1) by copying their bytes, so the
+//! result is byte-identical to an unsharded run; `summary.md` and
+//! `manifest.json` are then made from the merged file.
+
+use super::manifest::{self, Manifest};
+use super::outcomes_csv::Columns;
+use super::plan::{self, Shard};
+use super::summary::Tally;
+use super::{files, io_err};
+use crate::error::{Error, Result};
+use crate::spec::Study;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+
+/// Merges complete shard folders `dirs` (in any order) into `out`; returns
+/// the merged manifest.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
+    let conflict = |path: &Path, message: String| Error::Conflict {
+        path: path.to_path_buf(),
+        message,
+    };
+    if dirs.is_empty() {
+        return Err(Error::invalid("DIR", "(none)", "at least one shard folder"));
+    }
+    let mut shards: Vec<(Manifest, &PathBuf)> = Vec::new();
+    for dir in dirs {
+        if dir.join(files::CHECKPOINT).exists() {
+            return Err(conflict(
+                dir,
+                "holds an unfinished run (checkpoint.json): rerun its shard to finish it first"
+                    .into(),
+            ));
+        }
+        let m = Manifest::read(&dir.join(files::MANIFEST))?;
+        if std::fs::canonicalize(dir).ok() == std::fs::canonicalize(out).ok() {
+            return Err(conflict(
+                out,
+                "the output folder must not be one of the shard folders".into(),
+            ));
+        }
+        shards.push((m, dir));
+    }
+    let (first, first_dir) = (&shards[0].0.clone(), shards[0].1.clone());
+    let n = first.shard.count;
+    for (m, dir) in &shards {
+        if m.spec_hash != first.spec_hash || m.records_hash != first.records_hash {
+            return Err(conflict(
+                dir,
+                format!(
+                    "is a run of spec {} but {} is of spec {}: shards of different studies cannot be merged",
+                    m.spec_hash,
+                    first_dir.display(),
+                    first.spec_hash
+                ),
+            ));
+        }
+        if m.shard.count != n {
+            return Err(conflict(
+                dir,
+                format!("is shard {} where the others are of {n}", m.shard),
+            ));
+        }
+    }
+    shards.sort_by_key(|(m, _)| m.shard.index);
+    for (k, (m, dir)) in shards.iter().enumerate() {
+        if m.shard.index != k + 1 {
+            let have: Vec<String> = shards.iter().map(|(m, _)| m.shard.to_string()).collect();
+            return Err(conflict(
+                dir,
+                format!(
+                    "the shards given are {} but all of 1/{n}..{n}/{n} are needed, once each",
+                    have.join(", ")
+                ),
+            ));
+        }
+    }
+    if shards.len() != n {
+        return Err(conflict(
+            first_dir.as_path(),
+            format!("{} shard folders given for {n} shards", shards.len()),
+        ));
+    }
+
+    let study = Study::from_toml_unchecked(&first.spec_toml, Path::new(&first.spec_file))?;
+    if manifest::hash_text(study.hash()) != first.spec_hash {
+        return Err(conflict(
+            &first_dir,
+            "its spec no longer hashes to its recorded hash (written by another rockfrag version?)"
+                .into(),
+        ));
+    }
+    let cols = Columns::of(&study);
+    let header = cols.header();
+    let cases = plan::cases(&study).len();
+    let total = plan::unit_count(&study);
+
+    let mut readers = Vec::with_capacity(n);
+    for (_, dir) in &shards {
+        let path = dir.join(files::OUTCOMES);
+        let mut r = BufReader::new(std::fs::File::open(&path).map_err(io_err(&path))?);
+        let mut first_line = Vec::new();
+        r.read_until(b'\n', &mut first_line)
+            .map_err(io_err(&path))?;
+        if first_line != header.as_bytes() {
+            return Err(Error::Parse {
+                path,
+                line: 1,
+                message: "header is not the study's".into(),
+            });
+        }
+        readers.push((r, path));
+    }
+    std::fs::create_dir_all(out).map_err(io_err(out))?;
+    let out_csv = out.join(files::OUTCOMES);
+    let mut row = Vec::new();
+    let mut short: Option<PathBuf> = None;
+    crate::io_util::write_atomic(&out_csv, |w| {
+        w.write_all(header.as_bytes())?;
+        for u in 0..total {
+            let (r, path) = &mut readers[u % n];
+            for _ in 0..cases {
+                row.clear();
+                if !read_row(r, &mut row)? {
+                    short = Some(path.clone());
+                    return Err(std::io::Error::other("fewer rows than the study has"));
+                }
+                w.write_all(&row)?;
+            }
+        }
+        Ok(())
+    })
+    .map_err(|e| match &short {
+        Some(path) => Error::Parse {
+            path: path.clone(),
+            line: 0,
+            message: "fewer rows than its shard of the study has".into(),
+        },
+        None => io_err(&out_csv)(e),
+    })?;
+    for (r, path) in &mut readers {
+        row.clear();
+        if read_row(r, &mut row).map_err(io_err(path))? {
+            return Err(Error::Parse {
+                path: path.clone(),
+                line: 0,
+                message: "more rows than its shard of the study has".into(),
+            });
+        }
+    }
+
+    let tally = Tally::read(&out_csv, &study, Shard::WHOLE)?;
+    if study.output.summary {
+        let path = out.join(files::SUMMARY);
+        let text = tally.markdown(&study, Shard::WHOLE);
+        crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes()))
+            .map_err(io_err(&path))?;
+    }
+    let mut m = Manifest::new(&study, &first.spec_file, None, Shard::WHOLE);
+    m.records_hash = first.records_hash.clone();
+    let started = shards
+        .iter()
+        .map(|(m, _)| m.started_unix)
+        .min()
+        .unwrap_or(0);
+    let finished = shards
+        .iter()
+        .map(|(m, _)| m.finished_unix)
+        .max()
+        .unwrap_or(0);
+    m.set_times(started, finished);
+    m.threads = shards.iter().map(|(m, _)| m.threads).max().unwrap_or(0);
+    m.analyses_run = shards.iter().map(|(m, _)| m.analyses_run).sum();
+    m.wall_seconds = shards.iter().map(|(m, _)| m.wall_seconds).sum();
+    m.counts = tally.counts();
+    m.merged_from = shards
+        .iter()
+        .map(|(_, d)| d.display().to_string())
+        .collect();
+    m.write(&out.join(files::MANIFEST))?;
+    Ok(m)
+}
+
+/// Reads one CSV row's bytes (a line break inside quotes does not end it);
+/// `false` at the end of the input.
+fn read_row(r: &mut impl BufRead, row: &mut Vec<u8>) -> std::io::Result<bool> {
+    loop {
+        let n = r.read_until(b'\n', row)?;
+        if n == 0 {
+            return Ok(!row.is_empty());
+        }
+        if row.iter().filter(|&&b| b == b'"').count() % 2 == 0 {
+            return Ok(true);
+        }
+    }
+}

@@ -1,0 +1,452 @@
+//! Running a study: every (case, record) pair of a [`Study`], on a local
+//! rayon pool, streamed to disk, resumable and shardable.
+//!
+//! ```text
+//! Study ─▶ plan: cases × units (level, record), shard K/N
+//!   ─▶ chunks of units: records made in parallel, then every (unit, case)
+//!      solved in parallel, rows formatted in canonical order
+//!   ─▶ outcomes.csv.partial (append, fsync) + checkpoint.json (atomic)
+//!   ─▶ summary.md, manifest.json (atomic) ─▶ rename to outcomes.csv
+//! ```
+//!
+//! Memory stays flat in the number of analyses: only one chunk of rows is
+//! held at a time. The rows of a chunk are put in canonical order before
+//! they are written, so `outcomes.csv` is byte-identical for any thread
+//! count, any interruption and resumption, and any shard split once merged
+//! ([`merge`]).
+//!
+//! **Resuming.** After each chunk the partial file is synced and
+//! `checkpoint.json` records how many units are done and the partial file's
+//! length. Running the same study into the same folder again truncates the
+//! partial file to that length and carries on; a checkpoint of another spec
+//! (different hash) or another shard is refused.
+//!
+//! **Failures.** An analysis the solver cannot finish (an error, or a panic)
+//! is written with status `failed` and its message, counted in the
+//! manifest, and the run carries on; the caller decides the exit status.
+
+pub mod manifest;
+mod merge;
+pub mod outcomes_csv;
+pub mod paper;
+pub mod plan;
+pub mod source;
+pub mod summary;
+
+pub use manifest::Manifest;
+pub use merge::merge;
+pub use plan::{Case, Shard, Unit};
+pub use summary::{Counts, Tally};
+
+use crate::error::{Error, Result};
+use crate::motion::Record;
+use crate::outcome::Outcome;
+use crate::solver::simulate;
+use crate::spec::{Intensity, Motions, Study, fnv1a64};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use outcomes_csv::{Columns, RecordInfo};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use source::Source;
+use std::io::{IsTerminal, Seek, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// File names inside a run's folder.
+pub mod files {
+    /// Final outcomes, one row per analysis.
+    pub const OUTCOMES: &str = "outcomes.csv";
+    /// Outcomes of a run in progress.
+    pub const PARTIAL: &str = "outcomes.csv.partial";
+    /// Progress of a run in progress.
+    pub const CHECKPOINT: &str = "checkpoint.json";
+    /// Paper-style tables.
+    pub const SUMMARY: &str = "summary.md";
+    /// Provenance and counts.
+    pub const MANIFEST: &str = "manifest.json";
+}
+
+/// Options of one invocation of a run (they do not change the results).
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Output folder.
+    pub out_dir: PathBuf,
+    /// Worker threads (0: one per available core).
+    pub threads: usize,
+    /// Which shard of the units to run.
+    pub shard: Shard,
+    /// Draw a progress bar on standard error (only if it is a terminal).
+    pub progress: bool,
+    /// The spec file as the user named it, for the manifest.
+    pub spec_file: String,
+    /// Analyses per chunk: the unit of parallel work and of checkpointing
+    /// (0: 128 per thread, rounded up to whole units).
+    pub chunk_analyses: usize,
+    /// Stop, as if killed, once this many units have been done by this
+    /// invocation (the checkpoint is left for a later run to resume). For tests.
+    pub stop_after_units: Option<usize>,
+}
+
+impl RunOptions {
+    /// Defaults: all cores, the whole study, no progress bar.
+    pub fn new(out_dir: impl Into<PathBuf>) -> RunOptions {
+        RunOptions {
+            out_dir: out_dir.into(),
+            threads: 0,
+            shard: Shard::WHOLE,
+            progress: false,
+            spec_file: String::new(),
+            chunk_analyses: 0,
+            stop_after_units: None,
+        }
+    }
+}
+
+/// What an invocation did.
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    /// Output folder.
+    pub out_dir: PathBuf,
+    /// Every unit of the shard is done and the final files are written.
+    pub complete: bool,
+    /// Counts over the whole `outcomes.csv` (zero unless complete).
+    pub counts: Counts,
+    /// Units found done by an earlier invocation.
+    pub resumed_at_unit: usize,
+    /// Analyses run by this invocation.
+    pub analyses_run: u64,
+    /// Wall time of this invocation, s.
+    pub wall_seconds: f64,
+    /// Worker threads used.
+    pub threads: usize,
+}
+
+/// Progress of a run in progress (`checkpoint.json`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct Checkpoint {
+    study: String,
+    spec_hash: String,
+    records_hash: Option<String>,
+    shard: Shard,
+    units_done: usize,
+    bytes: u64,
+    started_unix: u64,
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+    move |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// FNV-1a over every record file's bytes, in order (recorded motions only).
+fn records_hash(study: &Study) -> Result<Option<u64>> {
+    match &study.motions {
+        Motions::Synthetic { .. } => Ok(None),
+        Motions::Files(files) => {
+            let mut all = Vec::new();
+            for f in files {
+                let bytes = std::fs::read(&f.path).map_err(io_err(&f.path))?;
+                all.extend_from_slice(&fnv1a64(&bytes).to_le_bytes());
+            }
+            Ok(Some(fnv1a64(&all)))
+        }
+    }
+}
+
+/// Runs `study` (or its shard) into `opts.out_dir`, resuming from a
+/// checkpoint there if one matches.
+pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
+    let t0 = Instant::now();
+    let dir = &opts.out_dir;
+    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    let threads = if opts.threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        opts.threads
+    };
+    let records_hash = records_hash(study)?;
+    let mut manifest = Manifest::new(study, &opts.spec_file, records_hash, opts.shard);
+    let cols = Columns::of(study);
+    let cases = plan::cases(study);
+    let total = plan::unit_count(study);
+    let units: Vec<usize> = opts.shard.units(total).collect();
+
+    let partial_path = dir.join(files::PARTIAL);
+    let ckpt_path = dir.join(files::CHECKPOINT);
+    let fresh = Checkpoint {
+        study: study.name.clone(),
+        spec_hash: manifest.spec_hash.clone(),
+        records_hash: manifest.records_hash.clone(),
+        shard: opts.shard,
+        units_done: 0,
+        bytes: 0,
+        started_unix: manifest::now_unix(),
+    };
+    let (mut ckpt, mut file) = match read_checkpoint(&ckpt_path)? {
+        Some(old) => {
+            if old.spec_hash != fresh.spec_hash || old.records_hash != fresh.records_hash {
+                return Err(Error::Conflict {
+                    path: dir.clone(),
+                    message: format!(
+                        "holds an unfinished run of study '{}' with spec hash {} (records {}), \
+                         but this spec's hash is {} (records {}): refusing to resume it; \
+                         pass another --out, or delete {} to start over",
+                        old.study,
+                        old.spec_hash,
+                        old.records_hash.as_deref().unwrap_or("synthetic"),
+                        fresh.spec_hash,
+                        fresh.records_hash.as_deref().unwrap_or("synthetic"),
+                        ckpt_path.display()
+                    ),
+                });
+            }
+            if old.shard != fresh.shard {
+                return Err(Error::Conflict {
+                    path: dir.clone(),
+                    message: format!(
+                        "holds an unfinished run of shard {} but shard {} was asked for: \
+                         pass --shard {} to resume it, or another --out",
+                        old.shard, fresh.shard, old.shard
+                    ),
+                });
+            }
+            resume(dir, &old, &partial_path)?
+                .map(|f| (old.clone(), f))
+                .map_or_else(
+                    || start(&cols, fresh.clone(), &partial_path, &ckpt_path),
+                    Ok,
+                )?
+        }
+        None => start(&cols, fresh.clone(), &partial_path, &ckpt_path)?,
+    };
+    let resumed_at_unit = ckpt.units_done;
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::invalid("threads", threads, &format!("a usable thread count ({e})")))?;
+    let source = Source::new(study)?;
+    let bar = progress_bar(opts.progress, (units.len() * cases.len()) as u64);
+    bar.set_position((ckpt.units_done * cases.len()) as u64);
+    bar.reset_eta();
+
+    let chunk_analyses = match opts.chunk_analyses {
+        0 => threads * 128,
+        n => n,
+    };
+    let chunk_units = chunk_analyses.div_ceil(cases.len()).max(1);
+    let limit = opts
+        .stop_after_units
+        .map_or(units.len(), |n| (ckpt.units_done + n).min(units.len()));
+    let mut analyses_run = 0u64;
+    while ckpt.units_done < limit {
+        let chunk = &units[ckpt.units_done..(ckpt.units_done + chunk_units).min(limit)];
+        let text = pool.install(|| run_chunk(study, &cases, &cols, &source, chunk));
+        file.write_all(text.as_bytes())
+            .map_err(io_err(&partial_path))?;
+        file.sync_data().map_err(io_err(&partial_path))?;
+        ckpt.bytes += text.len() as u64;
+        ckpt.units_done += chunk.len();
+        write_checkpoint(&ckpt_path, &ckpt)?;
+        let n = (chunk.len() * cases.len()) as u64;
+        analyses_run += n;
+        bar.inc(n);
+    }
+    bar.finish_and_clear();
+    drop(file);
+
+    let mut report = RunReport {
+        out_dir: dir.clone(),
+        complete: false,
+        counts: Counts::default(),
+        resumed_at_unit,
+        analyses_run,
+        wall_seconds: 0.0,
+        threads,
+    };
+    if ckpt.units_done < units.len() {
+        report.wall_seconds = t0.elapsed().as_secs_f64();
+        return Ok(report);
+    }
+
+    // Every unit is done: the summary and counts come from the file itself.
+    let tally = Tally::read(&partial_path, study, opts.shard)?;
+    if study.output.summary {
+        let path = dir.join(files::SUMMARY);
+        let text = tally.markdown(study, opts.shard);
+        crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes()))
+            .map_err(io_err(&path))?;
+    }
+    report.wall_seconds = t0.elapsed().as_secs_f64();
+    manifest.threads = threads;
+    manifest.set_times(ckpt.started_unix, manifest::now_unix());
+    manifest.resumed_at_unit = resumed_at_unit;
+    manifest.analyses_run = analyses_run;
+    manifest.wall_seconds = report.wall_seconds;
+    manifest.counts = tally.counts();
+    manifest.write(&dir.join(files::MANIFEST))?;
+    let out = dir.join(files::OUTCOMES);
+    std::fs::rename(&partial_path, &out).map_err(io_err(&out))?;
+    std::fs::remove_file(&ckpt_path).map_err(io_err(&ckpt_path))?;
+    report.complete = true;
+    report.counts = tally.counts();
+    Ok(report)
+}
+
+/// Solves one chunk of units and returns its rows, in canonical order.
+fn run_chunk(
+    study: &Study,
+    cases: &[Case],
+    cols: &Columns,
+    source: &Source,
+    chunk: &[usize],
+) -> String {
+    let levels = study.intensity.levels();
+    let records: Vec<std::result::Result<Record, String>> = chunk
+        .par_iter()
+        .map_init(
+            || source.clone(),
+            |src, &u| {
+                let unit = plan::unit(study, u);
+                src.record(&study.intensity, levels[unit.level], unit.record, study.g)
+                    .map_err(|e| e.to_string())
+            },
+        )
+        .collect();
+    let file_names: Vec<Option<&str>> = (0..study.records())
+        .map(|i| match &study.motions {
+            Motions::Files(f) => Some(f[i].given.as_str()),
+            Motions::Synthetic { .. } => None,
+        })
+        .collect();
+    let rows: Vec<String> = (0..chunk.len() * cases.len())
+        .into_par_iter()
+        .map(|k| {
+            let (ui, ci) = (k / cases.len(), k % cases.len());
+            let unit = plan::unit(study, chunk[ui]);
+            let case = &cases[ci];
+            let record = &records[ui];
+            let info = RecordInfo {
+                index: unit.record,
+                level: levels[unit.level],
+                pga_g: match (&study.intensity, record) {
+                    (Intensity::Pgv(_), Ok(r)) => Some(r.pga() / study.g),
+                    _ => None,
+                },
+                file: file_names[unit.record],
+            };
+            let result = match record {
+                Ok(r) => solve(case, r, study),
+                Err(e) => Err(format!("record: {e}")),
+            };
+            let mut row = String::with_capacity(256);
+            cols.write_row(&mut row, case, &info, &result);
+            row
+        })
+        .collect();
+    rows.concat()
+}
+
+/// One analysis; a solver error or panic becomes a message.
+fn solve(case: &Case, record: &Record, study: &Study) -> std::result::Result<Outcome, String> {
+    let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        simulate(&case.analysis, record, &study.solver, None)
+    }));
+    match attempt {
+        Ok(Ok(o)) => Ok(o),
+        Ok(Err(e)) => Err(e.to_string()),
+        Err(panic) => Err(format!(
+            "solver panicked: {}",
+            panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_default()
+        )),
+    }
+}
+
+fn progress_bar(show: bool, len: u64) -> ProgressBar {
+    let target = if show && std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    };
+    let bar = ProgressBar::with_draw_target(Some(len), target);
+    if let Ok(style) = ProgressStyle::with_template(
+        "{elapsed_precise} [{wide_bar}] {human_pos}/{human_len} analyses, {per_sec}, ETA {eta}",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+fn read_checkpoint(path: &Path) -> Result<Option<Checkpoint>> {
+    match std::fs::read_to_string(path) {
+        Ok(text) => serde_json::from_str(&text)
+            .map(Some)
+            .map_err(|e| Error::Parse {
+                path: path.to_path_buf(),
+                line: e.line(),
+                message: format!("unreadable checkpoint ({e}); delete it to start over"),
+            }),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(io_err(path)(e)),
+    }
+}
+
+fn write_checkpoint(path: &Path, ckpt: &Checkpoint) -> Result<()> {
+    crate::io_util::write_atomic(path, |w| {
+        serde_json::to_writer(&mut *w, ckpt)?;
+        Ok(())
+    })
+    .map_err(io_err(path))
+}
+
+/// Starts a run from scratch: the partial file holds the header only.
+fn start(
+    cols: &Columns,
+    ckpt: Checkpoint,
+    partial: &Path,
+    ckpt_path: &Path,
+) -> Result<(Checkpoint, std::fs::File)> {
+    let mut file = std::fs::File::create(partial).map_err(io_err(partial))?;
+    let header = cols.header();
+    file.write_all(header.as_bytes()).map_err(io_err(partial))?;
+    file.sync_data().map_err(io_err(partial))?;
+    let ckpt = Checkpoint {
+        bytes: header.len() as u64,
+        ..ckpt
+    };
+    write_checkpoint(ckpt_path, &ckpt)?;
+    Ok((ckpt, file))
+}
+
+/// Reopens the partial file of a checkpoint, cut to its recorded length;
+/// `None` if it is missing or shorter (then the run starts over). A run
+/// killed between renaming the partial file and removing the checkpoint is
+/// picked up from `outcomes.csv`.
+fn resume(dir: &Path, ckpt: &Checkpoint, partial: &Path) -> Result<Option<std::fs::File>> {
+    if !partial.exists() {
+        let done = dir.join(files::OUTCOMES);
+        let len = std::fs::metadata(&done).map(|m| m.len()).ok();
+        if len != Some(ckpt.bytes) {
+            return Ok(None);
+        }
+        std::fs::rename(&done, partial).map_err(io_err(partial))?;
+    }
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .open(partial)
+        .map_err(io_err(partial))?;
+    let len = file.metadata().map_err(io_err(partial))?.len();
+    if len < ckpt.bytes {
+        return Ok(None);
+    }
+    file.set_len(ckpt.bytes).map_err(io_err(partial))?;
+    file.seek(std::io::SeekFrom::End(0))
+        .map_err(io_err(partial))?;
+    Ok(Some(file))
+}

@@ -1,0 +1,95 @@
+//! Where a unit's record comes from: a synthetic ensemble member scaled to
+//! the level, or a recorded motion scaled to it.
+//!
+//! PGA levels: synthetic records are generated at the target PGA (exact to
+//! the bit, see `Synthesizer::generate_into`); recorded motions are scaled by
+//! target/PGA. PGV levels: the record (synthetic at 1 g) is scaled by
+//! target/PGV, acceleration, velocity and displacement alike.
+
+use crate::error::{Error, Result};
+use crate::motion::{Record, Synthesizer, read_record};
+use crate::spec::{Intensity, Motions, Study};
+use std::sync::Arc;
+
+/// A record maker; clone one per worker thread.
+#[derive(Clone, Debug)]
+pub enum Source {
+    /// A synthetic ensemble.
+    Synthetic {
+        /// The generator (its scratch buffers are per clone).
+        synth: Box<Synthesizer>,
+        /// Ensemble seed.
+        seed: u64,
+    },
+    /// Recorded motions, as read (unscaled).
+    Files(Arc<Vec<Record>>),
+}
+
+impl Source {
+    /// Builds the source of `study`: the generator, or every record file read
+    /// once (an unreadable file is an error here, before any analysis runs).
+    pub fn new(study: &Study) -> Result<Source> {
+        match &study.motions {
+            Motions::Synthetic { settings, seed, .. } => Ok(Source::Synthetic {
+                synth: Box::new(Synthesizer::new(settings)?),
+                seed: *seed,
+            }),
+            Motions::Files(files) => {
+                let records = files
+                    .iter()
+                    .map(|f| read_record(&f.path, study.g))
+                    .collect::<Result<Vec<_>>>()?;
+                Ok(Source::Files(Arc::new(records)))
+            }
+        }
+    }
+
+    /// The record of ensemble member `record` scaled to intensity `level`
+    /// (PGA in g or PGV in m/s, per `intensity`), with gravity `g`.
+    pub fn record(
+        &mut self,
+        intensity: &Intensity,
+        level: f64,
+        record: usize,
+        g: f64,
+    ) -> Result<Record> {
+        match (self, intensity) {
+            (Source::Synthetic { synth, seed }, Intensity::Pga(_)) => {
+                synth.generate(*seed, record as u64, level * g)
+            }
+            (Source::Synthetic { synth, seed }, Intensity::Pgv(_)) => {
+                let r = synth.generate(*seed, record as u64, g)?;
+                let pgv = r.pgv();
+                scaled(r, level, pgv, "PGV")
+            }
+            (Source::Files(records), Intensity::Pga(_)) => {
+                let r = records[record].clone();
+                let pga = r.pga();
+                scaled(r, level * g, pga, "PGA")
+            }
+            (Source::Files(records), Intensity::Pgv(_)) => {
+                let r = records[record].clone();
+                let pgv = r.pgv();
+                scaled(r, level, pgv, "PGV")
+            }
+        }
+    }
+}
+
+/// Scales every series of `r` by `target / peak`.
+fn scaled(mut r: Record, target: f64, peak: f64, what: &str) -> Result<Record> {
+    if !(peak.is_finite() && peak > 0.0) {
+        return Err(Error::InvalidRecord {
+            name: r.name,
+            message: format!("{what} is {peak}; it cannot be scaled to {target}"),
+        });
+    }
+    let k = target / peak;
+    for s in [&mut r.acc, &mut r.vel, &mut r.disp] {
+        s.iter_mut().for_each(|x| *x *= k);
+    }
+    if let Some(v) = r.acc_v.as_mut() {
+        v.iter_mut().for_each(|x| *x *= k);
+    }
+    Ok(r)
+}

@@ -1,0 +1,417 @@
+//! `summary.md`: the paper's tables for a study, computed from `outcomes.csv`.
+//!
+//! For each friction model, width and aspect ratio, a table in the layout of
+//! the paper's Tables 1–3: e, intensity, number of runs that overturned, and
+//! over the runs that did not, the mean θmax/θc, μ_mot and μ_imp. Two
+//! conventions: **strict** (overturned means |θ| reached π/2) and the
+//! **paper's** (a run that lifted off from rock also counts as overturned:
+//! the paper's program stopped there). When the study is the paper's
+//! (synthetic firm-soil records at the default settings, 25 per level,
+//! 2B = 0.5 m, PGA levels), each value has the published one beside it.
+//!
+//! The summary is always computed by reading `outcomes.csv` back, so a run,
+//! a resumed run and a merge of shards give the same bytes.
+
+use super::outcomes_csv::Columns;
+use super::paper;
+use super::plan::{self, Case, Shard};
+use crate::error::{Error, Result};
+use crate::motion::{G_STANDARD, SynthesisSettings};
+use crate::solver::Friction;
+use crate::spec::{Intensity, Motions, Study, friction_label};
+use std::fmt::Write;
+use std::path::Path;
+
+/// Counts over all analyses of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Counts {
+    /// Analyses in `outcomes.csv`.
+    pub analyses: u64,
+    /// Analyses the solver could not finish (status `failed`).
+    pub failed: u64,
+    /// Runs that reached |θ| = π/2.
+    pub overturned: u64,
+    /// Runs that lifted off from rock at least once.
+    pub uplifted: u64,
+    /// Runs overturned or uplifted (the paper's convention).
+    pub overturned_or_uplifted: u64,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Means {
+    n: u64,
+    theta: f64,
+    mu_motion: f64,
+    mu_impact: f64,
+}
+
+impl Means {
+    fn add(&mut self, theta: f64, mu_motion: f64, mu_impact: f64) {
+        self.n += 1;
+        self.theta += theta;
+        self.mu_motion += mu_motion;
+        self.mu_impact += mu_impact;
+    }
+
+    fn get(&self) -> Option<[f64; 3]> {
+        let n = self.n as f64;
+        (self.n > 0).then(|| [self.theta / n, self.mu_motion / n, self.mu_impact / n])
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Cell {
+    ok: u64,
+    failed: u64,
+    overturned: u64,
+    overturned_or_uplifted: u64,
+    strict: Means,
+    paper: Means,
+}
+
+/// Statistics of a run read back from its `outcomes.csv`.
+#[derive(Clone, Debug)]
+pub struct Tally {
+    cells: Vec<Cell>,
+    counts: Counts,
+    levels: usize,
+}
+
+fn field(rec: &csv::StringRecord, i: usize) -> &str {
+    rec.get(i).unwrap_or("")
+}
+
+impl Tally {
+    /// Reads `outcomes.csv` of `study` (shard `shard`), checking its header,
+    /// that every row is the analysis expected at its place, and the count.
+    pub fn read(path: &Path, study: &Study, shard: Shard) -> Result<Tally> {
+        let bad = |line: usize, message: String| Error::Parse {
+            path: path.to_path_buf(),
+            line,
+            message,
+        };
+        let file = std::fs::File::open(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .from_reader(std::io::BufReader::new(file));
+        let cols = Columns::of(study);
+        let names = cols.names();
+        let header = reader
+            .headers()
+            .map_err(|e| bad(1, format!("unreadable header: {e}")))?
+            .clone();
+        if header.iter().ne(names.iter().copied()) {
+            return Err(bad(
+                1,
+                format!("header is not the study's: expected {}", names.join(",")),
+            ));
+        }
+        let col = |name: &str| names.iter().position(|n| *n == name).expect("known column");
+        let [
+            c_aspect,
+            c_width,
+            c_e,
+            c_level,
+            c_record,
+            c_status,
+            c_ot,
+            c_up,
+            c_theta,
+            c_mot,
+            c_imp,
+        ] = [
+            "aspect",
+            "width",
+            "restitution",
+            if cols.pgv { "pgv" } else { "pga" },
+            "record",
+            "status",
+            "overturned",
+            "uplifted",
+            "theta_max_over_theta_c",
+            "mu_motion",
+            "mu_impact",
+        ]
+        .map(col);
+
+        let cases = plan::cases(study);
+        let total = plan::unit_count(study);
+        let levels = study.intensity.levels();
+        let mut tally = Tally {
+            cells: vec![Cell::default(); cases.len() * levels.len()],
+            counts: Counts::default(),
+            levels: levels.len(),
+        };
+        let mut units = shard.units(total);
+        let mut unit = None;
+        let mut rec = csv::StringRecord::new();
+        let mut row = 0usize;
+        loop {
+            let more = reader
+                .read_record(&mut rec)
+                .map_err(|e| bad(row + 2, e.to_string()))?;
+            if !more {
+                break;
+            }
+            let line = row + 2;
+            let ci = row % cases.len();
+            if ci == 0 {
+                unit = units.next().map(|u| plan::unit(study, u));
+            }
+            let Some(u) = unit else {
+                return Err(bad(line, "more rows than the study has analyses".into()));
+            };
+            let case = &cases[ci];
+            let num = |i: usize| -> Result<f64> {
+                field(&rec, i).parse::<f64>().map_err(|_| {
+                    bad(
+                        line,
+                        format!("column {} is not a number: {:?}", names[i], field(&rec, i)),
+                    )
+                })
+            };
+            let flag = |i: usize| -> Result<bool> {
+                field(&rec, i)
+                    .parse::<bool>()
+                    .map_err(|_| bad(line, format!("column {} is not true/false", names[i])))
+            };
+            let expect = [
+                (c_aspect, case.aspect),
+                (c_width, case.width),
+                (c_e, case.restitution),
+                (c_level, levels[u.level]),
+                (c_record, u.record as f64),
+            ];
+            for (i, want) in expect {
+                if num(i)? != want {
+                    return Err(bad(
+                        line,
+                        format!(
+                            "{} = {} where the study's order puts {want}",
+                            names[i],
+                            field(&rec, i)
+                        ),
+                    ));
+                }
+            }
+            let cell = &mut tally.cells[ci * tally.levels + u.level];
+            tally.counts.analyses += 1;
+            match field(&rec, c_status) {
+                "ok" => {
+                    let (ot, up) = (flag(c_ot)?, flag(c_up)?);
+                    let (theta, mot, imp) = (num(c_theta)?, num(c_mot)?, num(c_imp)?);
+                    cell.ok += 1;
+                    tally.counts.overturned += ot as u64;
+                    tally.counts.uplifted += up as u64;
+                    tally.counts.overturned_or_uplifted += (ot || up) as u64;
+                    if ot {
+                        cell.overturned += 1;
+                    } else {
+                        cell.strict.add(theta, mot, imp);
+                    }
+                    if ot || up {
+                        cell.overturned_or_uplifted += 1;
+                    } else {
+                        cell.paper.add(theta, mot, imp);
+                    }
+                }
+                "failed" => {
+                    cell.failed += 1;
+                    tally.counts.failed += 1;
+                }
+                other => {
+                    return Err(bad(
+                        line,
+                        format!("status {other:?} is neither ok nor failed"),
+                    ));
+                }
+            }
+            row += 1;
+        }
+        let expected = shard.unit_count(total) * cases.len();
+        if row != expected {
+            return Err(bad(
+                row + 1,
+                format!("{row} analyses where the study (shard {shard}) has {expected}"),
+            ));
+        }
+        Ok(tally)
+    }
+
+    /// Counts over every analysis read.
+    pub fn counts(&self) -> Counts {
+        self.counts
+    }
+
+    /// The `summary.md` text.
+    pub fn markdown(&self, study: &Study, shard: Shard) -> String {
+        let mut s = String::new();
+        let c = self.counts;
+        let _ = writeln!(s, "# Study `{}`\n", study.name);
+        if !study.description.is_empty() {
+            let _ = writeln!(s, "{}\n", study.description);
+        }
+        if shard != Shard::WHOLE {
+            let _ = writeln!(
+                s,
+                "**Shard {shard} only**: merge the shards (`rockfrag merge`) for the study's tables.\n"
+            );
+        }
+        let motions = match &study.motions {
+            Motions::Synthetic { seed, records, .. } => {
+                format!("{records} synthetic records per level (seed {seed})")
+            }
+            Motions::Files(f) => format!("{} recorded motions per level", f.len()),
+        };
+        let _ = writeln!(
+            s,
+            "{} analyses: {} overturned, {} uplifted, {} overturned or uplifted, {} failed. {motions}.\n",
+            c.analyses, c.overturned, c.uplifted, c.overturned_or_uplifted, c.failed
+        );
+        let _ = writeln!(
+            s,
+            "Conventions. *Strict*: a run overturned when |θ| reached π/2. *Paper*: a run that \
+             lifted off from rock (N = 0) also counts as overturned, as in the paper, whose \
+             program stopped there. Means are over the runs that did not overturn in the \
+             table's convention (a run that never left rest counts with θmax/θc = μ = 0); \
+             failed analyses are left out.\n"
+        );
+        let paper = is_papers(study);
+        if paper {
+            let _ = writeln!(
+                s,
+                "This is the paper's study: each cell shows ours / the paper's (Shenton and Jones, \
+                 Tables 1–3, infinite friction, paper convention); `n/a`: no published value; \
+                 `-`: every run overturned.\n"
+            );
+        }
+        let (level_name, level_unit) = match study.intensity {
+            Intensity::Pga(_) => ("A_g", "g"),
+            Intensity::Pgv(_) => ("PGV", "m/s"),
+        };
+        let any_failed = c.failed > 0;
+        let cases = plan::cases(study);
+        for (fi, &friction) in study.frictions.iter().enumerate() {
+            let _ = writeln!(s, "## Friction: {}\n", friction_label(friction));
+            for (wi, &width) in study.widths.iter().enumerate() {
+                for (ai, &aspect) in study.aspects.iter().enumerate() {
+                    let _ = writeln!(s, "### H/B = {aspect}, 2B = {width} m\n");
+                    for strict in [true, false] {
+                        let _ = writeln!(
+                            s,
+                            "{}\n",
+                            if strict {
+                                "Strict convention (overturned):"
+                            } else {
+                                "Paper's convention (overturned or uplifted):"
+                            }
+                        );
+                        let mut head = format!("| e | {level_name} ({level_unit}) | runs |");
+                        if any_failed {
+                            head.push_str(" failed |");
+                        }
+                        let names = ["# OT", "θmax/θc", "μ_mot", "μ_imp"];
+                        for n in names {
+                            let _ = write!(head, " {n} |");
+                        }
+                        let _ = writeln!(s, "{head}");
+                        let cols = 3 + any_failed as usize + names.len();
+                        let _ = writeln!(s, "|{}", "---|".repeat(cols));
+                        for (ei, &e) in study.restitutions.iter().enumerate() {
+                            let ci = cases
+                                .iter()
+                                .position(|c: &Case| c.index == [ai, wi, ei, fi])
+                                .expect("every case exists");
+                            for (li, &level) in study.intensity.levels().iter().enumerate() {
+                                let cell = &self.cells[ci * self.levels + li];
+                                let (ot, means) = if strict {
+                                    (cell.overturned, cell.strict.get())
+                                } else {
+                                    (cell.overturned_or_uplifted, cell.paper.get())
+                                };
+                                let published = paper.then(|| paper::lookup(aspect, e, level));
+                                let mut line = format!("| {e} | {level} | {} |", cell.ok);
+                                if any_failed {
+                                    let _ = write!(line, " {} |", cell.failed);
+                                }
+                                let ours_ot = ot.to_string();
+                                let paper_ot = published.map(|p| {
+                                    p.map_or("n/a".to_string(), |r| r.overturned.to_string())
+                                });
+                                let _ = write!(line, " {} |", beside(&ours_ot, paper_ot));
+                                for k in 0..3 {
+                                    let ours = means.map_or("-".to_string(), |m| sig3(m[k]));
+                                    let theirs = published.map(|p| match p {
+                                        None => "n/a".to_string(),
+                                        Some(r) => {
+                                            [r.theta_max_over_theta_c, r.mu_motion, r.mu_impact][k]
+                                                .map_or("-".to_string(), sig3)
+                                        }
+                                    });
+                                    let _ = write!(line, " {} |", beside(&ours, theirs));
+                                }
+                                let _ = writeln!(s, "{line}");
+                            }
+                        }
+                        s.push('\n');
+                    }
+                }
+            }
+        }
+        s
+    }
+}
+
+fn beside(ours: &str, paper: Option<String>) -> String {
+    match paper {
+        Some(p) => format!("{ours} / {p}"),
+        None => ours.to_string(),
+    }
+}
+
+/// Whether `study` is the paper's set-up, cell for cell comparable with
+/// Tables 1–3 (its grids may be a subset of the paper's).
+pub fn is_papers(study: &Study) -> bool {
+    let synthetic_default = match &study.motions {
+        Motions::Synthetic {
+            settings, records, ..
+        } => *settings == SynthesisSettings::default() && *records == paper::RECORDS,
+        Motions::Files(_) => false,
+    };
+    synthetic_default
+        && study.g == G_STANDARD
+        && matches!(study.intensity, Intensity::Pga(_))
+        && study.widths == [paper::WIDTH]
+        && study.frictions.contains(&Friction::Infinite)
+        && study.aspects.iter().all(|a| [2.0, 4.0, 6.0].contains(a))
+}
+
+/// Three significant figures, as in the paper's tables.
+pub fn sig3(x: f64) -> String {
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    let mag = x.abs().log10().floor() as i32;
+    let decimals = (2 - mag).max(0) as usize;
+    format!("{x:.decimals$}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn three_significant_figures() {
+        assert_eq!(sig3(0.0155), "0.0155");
+        assert_eq!(sig3(0.5244), "0.524");
+        assert_eq!(sig3(5480.2), "5480");
+        assert_eq!(sig3(14.93), "14.9");
+        assert_eq!(sig3(0.0), "0");
+    }
+}
