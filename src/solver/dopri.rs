@@ -163,6 +163,110 @@ pub fn step_factor(err: f64) -> f64 {
     }
 }
 
+/// Adaptive DOPRI5 stepping over one interval of smooth forcing [t, t_end]:
+/// [`Stepper::step`] returns the next accepted step (the caller inspects it
+/// for events and then calls [`Stepper::accept`], or stops at an event), so
+/// every integrated mode shares one step-size controller.
+#[derive(Clone, Copy, Debug)]
+pub struct Stepper<const N: usize> {
+    /// Current time.
+    pub t: f64,
+    /// Current state.
+    pub y: [f64; N],
+    /// Step size to try next (carried between intervals by the caller).
+    pub h: f64,
+    f0: [f64; N],
+    t_end: f64,
+    tol: Tolerance<N>,
+    h_min: f64,
+    /// Interval length scale: the interval ends within 1e-12 of it.
+    span: f64,
+    /// Work done so far.
+    pub counts: StepCounts,
+}
+
+/// Counters updated by the stepper.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StepCounts {
+    /// Right-hand-side evaluations.
+    pub rhs_calls: u64,
+    /// Accepted steps.
+    pub accepted: u64,
+    /// Rejected steps.
+    pub rejected: u64,
+}
+
+impl<const N: usize> Stepper<N> {
+    /// Starts at (t, y) with trial step h; `span` is the sample interval (s).
+    pub fn new(
+        f: &mut impl Rhs<N>,
+        t: f64,
+        y: [f64; N],
+        t_end: f64,
+        h: f64,
+        tol: Tolerance<N>,
+        span: f64,
+    ) -> Self {
+        Stepper {
+            t,
+            y,
+            h,
+            f0: f(t, &y),
+            t_end,
+            tol,
+            h_min: 1e-14 * span.max(1.0),
+            span,
+            counts: StepCounts {
+                rhs_calls: 1,
+                ..StepCounts::default()
+            },
+        }
+    }
+
+    /// The next accepted step, `Ok(None)` once t_end is reached, or
+    /// `Err(t)` if the step size underflows at time t.
+    pub fn step(&mut self, f: &mut impl Rhs<N>) -> Result<Option<Step<N>>, f64> {
+        let counts = &mut self.counts;
+        loop {
+            let remaining = self.t_end - self.t;
+            if remaining <= 1e-12 * self.span {
+                return Ok(None);
+            }
+            let clipped = self.h >= remaining * 0.999;
+            let h = if clipped { remaining } else { self.h };
+            let step = attempt(f, self.t, &self.y, &self.f0, h, &self.tol);
+            counts.rhs_calls += 6;
+            if step.err.is_nan() || step.err > 1.0 {
+                counts.rejected += 1;
+                let fac = if step.err.is_finite() {
+                    step_factor(step.err).min(0.9)
+                } else {
+                    0.2
+                };
+                self.h = h * fac;
+                if self.h < self.h_min {
+                    return Err(self.t);
+                }
+                continue;
+            }
+            counts.accepted += 1;
+            let fac = step_factor(step.err);
+            // a step shortened to land on t_end does not shrink the next one
+            if !(clipped && fac >= 1.0) {
+                self.h = h * fac;
+            }
+            return Ok(Some(step));
+        }
+    }
+
+    /// Moves to the end of an accepted step.
+    pub fn accept(&mut self, step: &Step<N>) {
+        self.t = step.t0 + step.h;
+        self.y = step.y1;
+        self.f0 = step.f1;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

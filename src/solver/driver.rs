@@ -28,7 +28,7 @@
 //! N > 0 again or the release becomes consistent.
 
 use super::block::Block;
-use super::dopri::{self, Tolerance};
+use super::dopri::{StepCounts, Stepper, Tolerance};
 use super::history::{History, HistoryRow};
 use super::impact::{self, Velocity};
 use super::physics as ph;
@@ -407,75 +407,20 @@ impl<'a> Run<'a> {
     /// Rest: find the first time in [t, t_end] where |ẍg| > (g + ÿg)·B/H
     /// (exact on linear forcing: both sides of the inequality are linear in t).
     fn rest(&mut self, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
-        let (sc, cc) = (self.bl.sin_c, self.bl.cos_c);
-        let (ax0, ay0) = seg.at(*t);
-        let (ax1, ay1) = seg.at(t_end);
-        let mut best: Option<(f64, f64)> = None;
-        for s in [1.0, -1.0] {
-            // f = cosθc·s·ẍg − sinθc·(g + ÿg) ∝ s·θ̈ of eq. (1) at θ = 0 (same
-            // floating-point operations, so f > 0 ⇔ the block departs);
-            // linear on the interval
-            let f0 = cc * (s * ax0) - sc * (self.bl.g + ay0);
-            let f1 = cc * (s * ax1) - sc * (self.bl.g + ay1);
-            let tc = if f0 > 0.0 {
-                Some(*t)
-            } else if f1 > 0.0 {
-                Some(*t + (t_end - *t) * (f0 / (f0 - f1)))
-            } else {
-                None
-            };
-            if let Some(tc) = tc
-                && best.is_none_or(|(tb, _)| tc < tb)
-            {
-                best = Some((tc, s));
-            }
-        }
-        match best {
-            Some((tc, s)) => {
-                *t = tc;
-                Some(Event::StartRock(s))
-            }
-            None => {
-                *t = t_end;
-                None
-            }
-        }
+        let (sc, cc, g) = (self.bl.sin_c, self.bl.cos_c, self.bl.g);
+        // f = cosθc·s·ẍg − sinθc·(g + ÿg) ∝ s·θ̈ of eq. (1) at θ = 0 (same
+        // floating-point operations, so f > 0 ⇔ the block departs)
+        let found = first_exceedance(seg, t, t_end, |s, ax, ay| cc * (s * ax) - sc * (g + ay));
+        found.map(Event::StartRock)
     }
 
-    /// Rest with μs < B/H: find the first time in [t, t_end] where
+    /// Rest with μs ≤ B/H: find the first time in [t, t_end] where
     /// |ẍg| > μs (g + ÿg) (Shenton 1996), exact on the linear forcing. The
     /// block then slides opposite to the ground's acceleration.
     fn rest_slide(&mut self, seg: &Segment, t: &mut f64, t_end: f64, mu_s: f64) -> Option<Event> {
-        let (ax0, ay0) = seg.at(*t);
-        let (ax1, ay1) = seg.at(t_end);
-        let mut best: Option<(f64, f64)> = None;
-        for s in [1.0, -1.0] {
-            // f = s·ẍg − μs (g + ÿg), linear on the interval
-            let f0 = s * ax0 - mu_s * (self.bl.g + ay0);
-            let f1 = s * ax1 - mu_s * (self.bl.g + ay1);
-            let tc = if f0 > 0.0 {
-                Some(*t)
-            } else if f1 > 0.0 {
-                Some(*t + (t_end - *t) * (f0 / (f0 - f1)))
-            } else {
-                None
-            };
-            if let Some(tc) = tc
-                && best.is_none_or(|(tb, _)| tc < tb)
-            {
-                best = Some((tc, -s));
-            }
-        }
-        match best {
-            Some((tc, sigma)) => {
-                *t = tc;
-                Some(Event::StartSlide(sigma))
-            }
-            None => {
-                *t = t_end;
-                None
-            }
-        }
+        let g = self.bl.g;
+        let found = first_exceedance(seg, t, t_end, |s, ax, ay| s * ax - mu_s * (g + ay));
+        found.map(|s| Event::StartSlide(-s))
     }
 
     /// Slide on both corners over [t, t_end], in closed form: the relative
@@ -562,41 +507,21 @@ impl<'a> Run<'a> {
         };
         let mut y = [0.0; N];
         y[..4].copy_from_slice(&[sr.theta, sr.omega, sr.xp, sr.vp]);
-        let mut f0 = rhs(*t, &y);
-        self.out.stats.rhs_calls += 1;
-        let h_min = 1e-14 * self.dt.max(1.0);
+        let mut st = Stepper::new(&mut rhs, *t, y, t_end, self.h, tol, self.dt);
         let mut released = sr.vp == 0.0;
+        let mut found = None;
         loop {
-            let remaining = t_end - *t;
-            if remaining <= 1e-12 * self.dt {
-                break;
-            }
-            let clipped = self.h >= remaining * 0.999;
-            let h = if clipped { remaining } else { self.h };
-            let step = dopri::attempt(&mut rhs, *t, &y, &f0, h, &tol);
-            self.out.stats.rhs_calls += 6;
-            if step.err.is_nan() || step.err > 1.0 {
-                self.out.stats.steps_rejected += 1;
-                let fac = if step.err.is_finite() {
-                    dopri::step_factor(step.err).min(0.9)
-                } else {
-                    0.2
-                };
-                self.h = h * fac;
-                if self.h < h_min {
+            let step = match st.step(&mut rhs) {
+                Ok(Some(step)) => step,
+                Ok(None) => break,
+                Err(time) => {
                     return Err(Error::Solver {
-                        time: *t,
-                        message: format!("step size {} s too small in slide-rock", self.h),
+                        time,
+                        message: format!("step size {} s too small in slide-rock", st.h),
                     });
                 }
-                continue;
-            }
-            self.out.stats.steps_accepted += 1;
-            let (ta, t1) = (*t, *t + h);
-            let fac = dopri::step_factor(step.err);
-            if !(clipped && fac >= 1.0) {
-                self.h = h * fac;
-            }
+            };
+            let (ta, t1) = (st.t, step.t0 + step.h);
             let xtol = 1e-15 * t1.abs().max(1.0);
             let comp = |i: usize, tt: f64| step.component_at(i, tt);
             let mut best: Option<(f64, Event)> = None;
@@ -618,12 +543,12 @@ impl<'a> Run<'a> {
             };
             // slip velocity σ ẋp reaching 0
             let slip = |tt: f64| (sg * comp(3, tt), sg * acc_at(tt).xp_acc);
-            let found = if released {
+            let slip_stop = if released {
                 first_descent_after_release(slip, ta, t1, 1, xtol)
             } else {
                 first_descent(slip, ta, t1, 1, xtol)
             };
-            earliest(&mut best, found, Event::SlipStop);
+            earliest(&mut best, slip_stop, Event::SlipStop);
             let (a0, a1) = (acc_at(ta), acc_at(t1));
             if a0.den <= 0.0 {
                 earliest(&mut best, Some(ta), Event::Jam);
@@ -648,34 +573,31 @@ impl<'a> Run<'a> {
                 .min(FRAC_PI_2 / bl.theta_c);
             self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio);
             if let Some((te, ev)) = best {
-                let ye = step.at(te);
-                if N == 5 {
-                    self.work += ye[4] - y[4];
-                }
-                sr.theta = ye[0];
-                sr.omega = ye[1];
-                sr.xp = ye[2];
-                sr.vp = if ev == Event::SlipStop { 0.0 } else { ye[3] };
-                *t = te;
-                return Ok(Some(ev));
+                found = Some((te, ev, step.at(te)));
+                break;
             }
-            if N == 5 {
-                self.work += step.y1[4] - y[4];
-            }
-            y = step.y1;
-            if N == 5 {
-                y[4] = 0.0;
-            }
-            f0 = step.f1;
-            *t = t1;
+            st.accept(&step);
             released = false;
         }
-        sr.theta = y[0];
-        sr.omega = y[1];
-        sr.xp = y[2];
-        sr.vp = y[3];
-        *t = t_end;
-        Ok(None)
+        self.h = st.h;
+        self.count(&st.counts);
+        let (t_stop, event, ye) = match found {
+            Some((te, ev, ye)) => (te, Some(ev), ye),
+            None => (t_end, None, st.y),
+        };
+        if N == 5 {
+            self.work += ye[4];
+        }
+        sr.theta = ye[0];
+        sr.omega = ye[1];
+        sr.xp = ye[2];
+        sr.vp = if event == Some(Event::SlipStop) {
+            0.0
+        } else {
+            ye[3]
+        };
+        *t = t_stop;
+        Ok(event)
     }
 
     // ---------------------------------------------------------------- rock
@@ -716,64 +638,39 @@ impl<'a> Run<'a> {
         let mut y = [0.0; N];
         y[0] = rs.theta;
         y[1] = rs.omega;
-        let mut f0 = rhs(*t, &y);
-        self.out.stats.rhs_calls += 1;
-        let h_min = 1e-14 * self.dt.max(1.0);
+        let mut st = Stepper::new(&mut rhs, *t, y, t_end, self.h, tol, self.dt);
+        let mut found = None;
         loop {
-            let remaining = t_end - *t;
-            if remaining <= 1e-12 * self.dt {
-                break;
-            }
-            let clipped = self.h >= remaining * 0.999;
-            let h = if clipped { remaining } else { self.h };
-            let step = dopri::attempt(&mut rhs, *t, &y, &f0, h, &tol);
-            self.out.stats.rhs_calls += 6;
-            if step.err.is_nan() || step.err > 1.0 {
-                self.out.stats.steps_rejected += 1;
-                let fac = if step.err.is_finite() {
-                    dopri::step_factor(step.err).min(0.9)
-                } else {
-                    0.2
-                };
-                self.h = h * fac;
-                if self.h < h_min {
+            let step = match st.step(&mut rhs) {
+                Ok(Some(step)) => step,
+                Ok(None) => break,
+                Err(time) => {
                     return Err(Error::Solver {
-                        time: *t,
-                        message: format!("step size {} s too small in rock", self.h),
+                        time,
+                        message: format!("step size {} s too small in rock", st.h),
                     });
                 }
-                continue;
-            }
-            self.out.stats.steps_accepted += 1;
-            let t1 = *t + h;
+            };
             let path = |tt: f64| (step.component_at(0, tt), step.component_at(1, tt));
-            let fac = dopri::step_factor(step.err);
-            if !(clipped && fac >= 1.0) {
-                self.h = h * fac;
+            if let Some((te, ev)) = self.rock_events(rs, &path, &seg, st.t, step.t0 + step.h, 1) {
+                found = Some((te, ev, step.at(te)));
+                break;
             }
-            if let Some((te, ev)) = self.rock_events(rs, &path, &seg, *t, t1, 1) {
-                let ye = step.at(te);
-                if N == 3 {
-                    self.work += step.component_at(N - 1, te) - y[N - 1];
-                }
-                rs.theta = ye[0];
-                rs.omega = ye[1];
-                *t = te;
-                return Ok(Some(ev));
-            }
-            if N == 3 {
-                self.work += step.y1[N - 1] - y[N - 1];
-                y[N - 1] = 0.0;
-            }
-            y[0] = step.y1[0];
-            y[1] = step.y1[1];
-            f0 = step.f1;
-            *t = t1;
+            st.accept(&step);
         }
-        rs.theta = y[0];
-        rs.omega = y[1];
-        *t = t_end;
-        Ok(None)
+        self.h = st.h;
+        self.count(&st.counts);
+        let (t_stop, event, ye) = match found {
+            Some((te, ev, ye)) => (te, Some(ev), ye),
+            None => (t_end, None, st.y),
+        };
+        if N == 3 {
+            self.work += ye[N - 1];
+        }
+        rs.theta = ye[0];
+        rs.omega = ye[1];
+        *t = t_stop;
+        Ok(event)
     }
 
     /// Linearised rock over [t, t_end], in closed form:
@@ -1317,6 +1214,13 @@ impl<'a> Run<'a> {
         }
     }
 
+    /// Adds a stepper's counters to the run's statistics.
+    fn count(&mut self, c: &StepCounts) {
+        self.out.stats.rhs_calls += c.rhs_calls;
+        self.out.stats.steps_accepted += c.accepted;
+        self.out.stats.steps_rejected += c.rejected;
+    }
+
     /// Rock state → rigid-body pose and velocity in the flight representation.
     fn rock_to_flight(&self, rs: &RockState) -> FlightState {
         let [x, vx, y, vy] = ph::rock_kinematics(&self.bl, rs.s, rs.theta, rs.omega);
@@ -1615,6 +1519,37 @@ fn sinh_minus_x(x: f64) -> f64 {
         * (1.0
             + x2 / 20.0
                 * (1.0 + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
+}
+
+/// The first time in [t, t_end] at which f(s, ẍg, ÿg) > 0 for s = +1 or −1,
+/// where f is linear in the (linear) forcing, so the crossing is exact.
+/// Moves `t` to that time (or to t_end) and returns the side s.
+fn first_exceedance(
+    seg: &Segment,
+    t: &mut f64,
+    t_end: f64,
+    f: impl Fn(f64, f64, f64) -> f64,
+) -> Option<f64> {
+    let (ax0, ay0) = seg.at(*t);
+    let (ax1, ay1) = seg.at(t_end);
+    let mut best: Option<(f64, f64)> = None;
+    for s in [1.0, -1.0] {
+        let (f0, f1) = (f(s, ax0, ay0), f(s, ax1, ay1));
+        let tc = if f0 > 0.0 {
+            Some(*t)
+        } else if f1 > 0.0 {
+            Some(*t + (t_end - *t) * (f0 / (f0 - f1)))
+        } else {
+            None
+        };
+        if let Some(tc) = tc
+            && best.is_none_or(|(tb, _)| tc < tb)
+        {
+            best = Some((tc, s));
+        }
+    }
+    *t = best.map_or(t_end, |(tc, _)| tc);
+    best.map(|(_, s)| s)
 }
 
 /// ∫₀^T f(τ) dτ by 3-point Gauss–Legendre (exact for polynomials of degree ≤ 5).
