@@ -12,7 +12,8 @@
 //! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
 //!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
-//! - [`solver`]: the event-driven block solver (rest, rock, flight, impacts);
+//! - [`solver`]: the event-driven block solver (rest, slide, rock, slide-rock,
+//!   free flight; impacts with restitution and Coulomb friction);
 //! - [`outcome`]: what one analysis produces;
 //! - [`study`]: running a study (parallel, resumable, shardable) into
 //!   `outcomes.csv`, `summary.md` and `manifest.json`;
