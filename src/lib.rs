@@ -17,7 +17,8 @@
 //! - [`outcome`]: what one analysis produces;
 //! - [`study`]: running a study (parallel, resumable, shardable) into
 //!   `outcomes.csv`, `summary.md` and `manifest.json`;
-//! - [`figures`]: publication figures drawn with an embedded font.
+//! - [`figures`]: publication figures drawn with an embedded font;
+//! - [`bench`]: the speed-against-error (work–precision) report.
 //!
 //! ## Governing equations
 //!
@@ -52,6 +53,7 @@ pub mod solver;
 pub mod outcome;
 pub mod study;
 pub mod figures;
+pub mod bench;
 pub mod reference;
 
 pub use error::{Error, Result};

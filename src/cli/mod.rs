@@ -2,6 +2,7 @@
 //! into validated library types once and then calling the library.
 
 mod args;
+mod bench;
 mod merge;
 mod motion;
 mod run;
@@ -31,6 +32,8 @@ pub enum Command {
     Run(run::RunArgs),
     /// Merge the folders of shards 1/N..N/N of a study into one.
     Merge(merge::MergeArgs),
+    /// Speed against error: the work–precision report (table and figure).
+    Bench(bench::BenchArgs),
 }
 
 /// Runs a parsed command line.
@@ -40,6 +43,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(args) => simulate::run(*args),
         Command::Run(args) => run::run(args),
         Command::Merge(args) => merge::run(args),
+        Command::Bench(args) => bench::run(args),
     }
 }
 

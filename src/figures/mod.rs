@@ -18,6 +18,7 @@
 pub mod font;
 pub mod motion;
 pub mod style;
+pub mod work_precision;
 
 use std::ffi::OsString;
 use std::fs;

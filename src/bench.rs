@@ -1,0 +1,274 @@
+//! Speed against error: the work–precision report behind `rockfrag bench`.
+//!
+//! A reference solution per analysis at very tight tolerance (nonlinear
+//! model, rtol 1e-12), then for each solver setting the errors against it
+//! and the cost per analysis:
+//!
+//! - **θmax**: relative error of θmax/θc over the runs that overturned in
+//!   neither solution (an overturned run's θmax is capped at π/2);
+//! - **overturning**: the number of runs whose outcome differs;
+//! - **μ_mot**: relative error of the peak friction demand while rocking, over
+//!   the same runs;
+//! - **first impact**: absolute error of the first impact's time (s);
+//! - **cost**: median wall time per analysis (one thread) and mean
+//!   right-hand-side evaluations.
+//!
+//! Single runs on strong records are chaotic near overturning (physics.md,
+//! "Sensitivity"): the report therefore gives medians and maxima over the
+//! ensemble and counts outcome mismatches rather than trusting one run.
+
+use crate::error::Result;
+use crate::motion::{G_STANDARD, Record, SynthesisSettings, Synthesizer};
+use crate::outcome::Outcome;
+use crate::solver::{Analysis, Block, Friction, Model, SolverSettings, simulate};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// What the report covers. Plain data with documented defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorkPrecisionOptions {
+    /// Records per intensity level (default 25).
+    pub records: u64,
+    /// Ensemble seed (default 1991).
+    pub seed: u64,
+    /// PGA levels in g (default 0.6 and 1.2).
+    pub pga: Vec<f64>,
+    /// Aspect ratios H/B (default 2, 4, 6), base width 0.5 m.
+    pub aspect: Vec<f64>,
+    /// Coefficients of restitution (default 0 and 0.9).
+    pub restitution: Vec<f64>,
+    /// Friction models (default infinite, and μs = 0.7, μk = 0.6).
+    pub friction: Vec<Friction>,
+    /// Relative tolerances of the nonlinear model to compare (default 1e-3 … 1e-10).
+    pub rtols: Vec<f64>,
+    /// Tolerance of the reference solutions (default 1e-12).
+    pub reference_rtol: f64,
+}
+
+impl Default for WorkPrecisionOptions {
+    fn default() -> Self {
+        WorkPrecisionOptions {
+            records: 25,
+            seed: 1991,
+            pga: vec![0.6, 1.2],
+            aspect: vec![2.0, 4.0, 6.0],
+            restitution: vec![0.0, 0.9],
+            friction: vec![
+                Friction::Infinite,
+                Friction::Coulomb {
+                    mu_s: 0.7,
+                    mu_k: 0.6,
+                },
+            ],
+            rtols: vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10],
+            reference_rtol: 1e-12,
+        }
+    }
+}
+
+/// One solver setting's errors and cost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SettingReport {
+    /// Short label, e.g. `nonlinear rtol=1e-6` or `linear`.
+    pub label: String,
+    /// The settings measured.
+    pub settings: SolverSettings,
+    /// Analyses compared.
+    pub analyses: usize,
+    /// Median wall time per analysis (s).
+    pub median_time: f64,
+    /// Mean right-hand-side evaluations per analysis.
+    pub mean_rhs: f64,
+    /// Runs whose overturning outcome differs from the reference.
+    pub overturn_mismatches: usize,
+    /// Median and maximum relative error of θmax/θc.
+    pub theta_err: (f64, f64),
+    /// Median and maximum relative error of μ_mot.
+    pub mu_err: (f64, f64),
+    /// Median and maximum absolute error of the first impact time (s).
+    pub first_impact_err: (f64, f64),
+}
+
+struct Case {
+    analysis: Analysis,
+    record: usize,
+}
+
+/// Runs the report: reference solutions, then every setting (the nonlinear
+/// model at each rtol, and the linearised model on the infinite-friction
+/// cases, which is all it models).
+pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>> {
+    let settings = SynthesisSettings::default();
+    let synth = Synthesizer::new(&settings)?;
+    let records: Vec<Record> = opts
+        .pga
+        .iter()
+        .flat_map(|&pga| (0..opts.records).map(move |i| (pga, i)))
+        .collect::<Vec<_>>()
+        .par_iter()
+        .map(|&(pga, i)| synth.clone().generate(opts.seed, i, pga * G_STANDARD))
+        .collect::<Result<_>>()?;
+    let mut cases = Vec::new();
+    for &aspect in &opts.aspect {
+        let block = Block::new(0.5, aspect, G_STANDARD)?;
+        for &e in &opts.restitution {
+            for &friction in &opts.friction {
+                for record in 0..records.len() {
+                    let mut analysis = Analysis::new(block, e);
+                    analysis.friction = friction;
+                    cases.push(Case { analysis, record });
+                }
+            }
+        }
+    }
+    let reference_settings = SolverSettings {
+        rtol: opts.reference_rtol,
+        ..SolverSettings::default()
+    };
+    let reference: Vec<Outcome> = cases
+        .par_iter()
+        .map(|c| simulate(&c.analysis, &records[c.record], &reference_settings, None))
+        .collect::<Result<_>>()?;
+    let mut reports = Vec::new();
+    let mut all: Vec<(String, SolverSettings)> = opts
+        .rtols
+        .iter()
+        .map(|&rtol| {
+            (
+                format!("nonlinear rtol={rtol:e}"),
+                SolverSettings {
+                    rtol,
+                    ..SolverSettings::default()
+                },
+            )
+        })
+        .collect();
+    all.push((
+        "linear".to_string(),
+        SolverSettings {
+            model: Model::Linear,
+            ..SolverSettings::default()
+        },
+    ));
+    for (label, set) in all {
+        let mut rows = Vec::new();
+        for (c, r) in cases.iter().zip(&reference) {
+            if set.model == Model::Linear && c.analysis.friction != Friction::Infinite {
+                continue;
+            }
+            // timed one at a time, on one thread, for a fair cost per analysis
+            let start = Instant::now();
+            let o = simulate(&c.analysis, &records[c.record], &set, None)?;
+            rows.push((start.elapsed().as_secs_f64(), o, r));
+        }
+        reports.push(summarise(label, set, &rows));
+    }
+    Ok(reports)
+}
+
+fn summarise(
+    label: String,
+    settings: SolverSettings,
+    rows: &[(f64, Outcome, &Outcome)],
+) -> SettingReport {
+    let mut times: Vec<f64> = rows.iter().map(|r| r.0).collect();
+    let rel = |a: f64, b: f64| {
+        if b != 0.0 {
+            ((a - b) / b).abs()
+        } else {
+            (a - b).abs()
+        }
+    };
+    let (mut th, mut mu, mut fi) = (Vec::new(), Vec::new(), Vec::new());
+    let mut mismatches = 0;
+    for (_, o, r) in rows {
+        if o.overturned != r.overturned {
+            mismatches += 1;
+            continue;
+        }
+        if !o.overturned && r.theta_max_over_theta_c > 0.0 {
+            th.push(rel(o.theta_max_over_theta_c, r.theta_max_over_theta_c));
+            mu.push(rel(o.mu_motion, r.mu_motion));
+        }
+        if let (Some(a), Some(b)) = (o.first_impact_time, r.first_impact_time) {
+            fi.push((a - b).abs());
+        }
+    }
+    let rhs: f64 =
+        rows.iter().map(|r| r.1.stats.rhs_calls as f64).sum::<f64>() / rows.len().max(1) as f64;
+    SettingReport {
+        label,
+        settings,
+        analyses: rows.len(),
+        median_time: median(&mut times),
+        mean_rhs: rhs,
+        overturn_mismatches: mismatches,
+        theta_err: (median(&mut th), max(&th)),
+        mu_err: (median(&mut mu), max(&mu)),
+        first_impact_err: (median(&mut fi), max(&fi)),
+    }
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn max(v: &[f64]) -> f64 {
+    v.iter().copied().fold(0.0, f64::max)
+}
+
+/// The cheapest nonlinear setting whose overturning outcomes all match the
+/// reference and whose worst θmax error is below 1e-6 (the rule for the
+/// default tolerance), if any.
+pub fn cheapest_acceptable(reports: &[SettingReport]) -> Option<&SettingReport> {
+    reports
+        .iter()
+        .filter(|r| {
+            r.settings.model == Model::Nonlinear
+                && r.overturn_mismatches == 0
+                && r.theta_err.1 < 1e-6
+        })
+        .min_by(|a, b| a.median_time.total_cmp(&b.median_time))
+}
+
+/// The report as a markdown table.
+pub fn markdown(opts: &WorkPrecisionOptions, reports: &[SettingReport]) -> String {
+    let mut s = String::new();
+    s.push_str("# Speed against error\n\n");
+    s.push_str(&format!(
+        "Reference: nonlinear model at rtol {:e}. Ensemble: {} records (seed {}) at PGA {:?} g; H/B {:?}, 2B = 0.5 m; e {:?}; \
+         infinite friction and μs = 0.7, μk = 0.6 (the linearised model: infinite friction only). \
+         Errors over runs that overturned in neither solution; times are medians per analysis on one thread.\n\n",
+        opts.reference_rtol, opts.records, opts.seed, opts.pga, opts.aspect, opts.restitution
+    ));
+    s.push_str("| setting | analyses | median time (µs) | mean RHS calls | overturn mismatches | θmax err median | θmax err max | μ_mot err median | first impact err median (s) |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|\n");
+    for r in reports {
+        s.push_str(&format!(
+            "| {} | {} | {:.0} | {:.0} | {} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |\n",
+            r.label,
+            r.analyses,
+            r.median_time * 1e6,
+            r.mean_rhs,
+            r.overturn_mismatches,
+            r.theta_err.0,
+            r.theta_err.1,
+            r.mu_err.0,
+            r.first_impact_err.0
+        ));
+    }
+    match cheapest_acceptable(reports) {
+        Some(r) => s.push_str(&format!(
+            "\nCheapest setting with no overturning mismatch and θmax error < 1e-6: **{}**.\n",
+            r.label
+        )),
+        None => {
+            s.push_str("\nNo setting has both zero overturning mismatches and θmax error < 1e-6.\n")
+        }
+    }
+    s
+}
