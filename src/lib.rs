@@ -17,6 +17,7 @@
 //! - [`outcome`]: what one analysis produces;
 //! - [`study`]: running a study (parallel, resumable, shardable) into
 //!   `outcomes.csv`, `summary.md` and `manifest.json`;
+//! - [`fragility`]: lognormal overturning fragility curves (probit MLE, bootstrap);
 //! - [`figures`]: publication figures drawn with an embedded font;
 //! - [`bench`]: the speed-against-error (work–precision) report.
 //!
@@ -52,6 +53,7 @@ pub mod motion;
 pub mod solver;
 pub mod outcome;
 pub mod study;
+pub mod fragility;
 pub mod figures;
 pub mod bench;
 pub mod reference;

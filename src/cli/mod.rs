@@ -3,6 +3,7 @@
 
 mod args;
 mod bench;
+mod fragility;
 mod merge;
 mod motion;
 mod run;
@@ -32,6 +33,8 @@ pub enum Command {
     Run(run::RunArgs),
     /// Merge the folders of shards 1/N..N/N of a study into one.
     Merge(merge::MergeArgs),
+    /// Fit lognormal overturning fragility curves to a study's outcomes.
+    Fragility(fragility::FragilityArgs),
     /// Speed against error: the work–precision report (table and figure).
     Bench(bench::BenchArgs),
 }
@@ -43,6 +46,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(args) => simulate::run(*args),
         Command::Run(args) => run::run(args),
         Command::Merge(args) => merge::run(args),
+        Command::Fragility(args) => fragility::run(args),
         Command::Bench(args) => bench::run(args),
     }
 }
