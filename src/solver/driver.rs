@@ -329,7 +329,12 @@ impl<'a> Run<'a> {
                     // μs > B/H. At μs = B/H both thresholds coincide, and a block that
                     // starts to tip needs F/N rising above B/H at once (d(F/N)/dẍg = 1/4g
                     // > 0 at θ = 0), so it slips flat: the tie slides.
-                    Some((mu_s, _)) if mu_s <= self.bl.b / self.bl.h => {
+                    // A block coming to rest (after a landing) while |ẍg| already
+                    // exceeds μs (g + ÿg) cannot stay stuck, nor rock on a stuck
+                    // corner: it slides.
+                    Some((mu_s, _))
+                        if mu_s <= self.bl.b / self.bl.h || self.slide_exceeded(&seg, t, mu_s) =>
+                    {
                         self.rest_slide(&seg, &mut t, t_end, mu_s)
                     }
                     _ => self.rest(&seg, &mut t, t_end),
@@ -421,6 +426,12 @@ impl<'a> Run<'a> {
         let g = self.bl.g;
         let found = first_exceedance(seg, t, t_end, |s, ax, ay| s * ax - mu_s * (g + ay));
         found.map(|s| Event::StartSlide(-s))
+    }
+
+    /// True if |ẍg(t)| > μs (g + ÿg(t)): friction cannot hold the block at rest.
+    fn slide_exceeded(&self, seg: &Segment, t: f64, mu_s: f64) -> bool {
+        let (ax, ay) = seg.at(t);
+        ax.abs() > mu_s * (self.bl.g + ay)
     }
 
     /// Slide on both corners over [t, t_end], in closed form: the relative

@@ -1,0 +1,167 @@
+//! Hard cases (issue 7): each must finish with finite numbers, within a
+//! bounded number of events, with the physical invariants holding: no
+//! kinetic-energy gain at impacts under the energy-consistent law, and
+//! |θ| ≤ π/2 unless the block overturned.
+
+use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
+use rockfrag::outcome::Outcome;
+use rockfrag::reference::quiet_record;
+use rockfrag::solver::{
+    Analysis, Block, Friction, History, ImpactLaw, Initial, SolverSettings, simulate,
+};
+use std::f64::consts::FRAC_PI_2;
+
+const MAX_EVENTS: u64 = 200_000;
+
+fn settings() -> SolverSettings {
+    SolverSettings {
+        impact: ImpactLaw::Energetic,
+        max_events: MAX_EVENTS,
+        ..SolverSettings::default()
+    }
+}
+
+fn record(seed: u64, index: u64, pga_g: f64) -> Record {
+    let mut syn = Synthesizer::new(&SynthesisSettings::default()).unwrap();
+    syn.generate(seed, index, pga_g * G).unwrap()
+}
+
+/// Runs an analysis with history and checks the invariants.
+fn check(an: &Analysis, rec: &Record, what: &str) -> Outcome {
+    let mut hist = History::default();
+    let o =
+        simulate(an, rec, &settings(), Some(&mut hist)).unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert!(o.stats.events <= MAX_EVENTS, "{what}");
+    assert_eq!(o.energy_gains, 0, "{what}: energy gained at an impact");
+    for r in &hist.rows {
+        for v in [r.theta, r.theta_dot, r.x, r.x_dot, r.y, r.y_dot, r.n, r.f] {
+            assert!(v.is_finite(), "{what}: non-finite value at t = {}", r.t);
+        }
+        if !o.overturned {
+            assert!(
+                r.theta.abs() <= FRAC_PI_2,
+                "{what}: |θ| > π/2 without overturning"
+            );
+        }
+    }
+    let total: f64 = o.time_in_mode.iter().sum();
+    assert!(
+        (total - o.end_time).abs() <= 1e-9 * o.end_time.max(1.0),
+        "{what}"
+    );
+    o
+}
+
+fn block(aspect: f64) -> Block {
+    Block::new(0.5, aspect, G).unwrap()
+}
+
+/// Ring-down with e = 0.9 and the elastic limit e = 1.0 on a strong record.
+#[test]
+fn ring_down_high_restitution() {
+    for e in [0.9, 1.0] {
+        for i in 0..3 {
+            check(
+                &Analysis::new(block(4.0), e),
+                &record(31, i, 1.0),
+                &format!("ring-down e = {e}"),
+            );
+        }
+    }
+}
+
+/// Grazing: a pulse just above the rocking threshold (θ̇ → 0 as θ → 0), and
+/// balance at θ = θc with a tiny velocity either way.
+#[test]
+fn grazing_and_balance() {
+    let bl = block(4.0);
+    let peak = 1.0001 * G / 4.0;
+    let acc: Vec<f64> = (0..=200)
+        .map(|k| peak * (1.0 - ((k as f64 - 100.0) / 100.0).abs()))
+        .collect();
+    let rec = Record::from_acc("grazing", 0.01, acc).unwrap();
+    for e in [0.0, 0.5] {
+        check(&Analysis::new(bl, e), &rec, "grazing");
+    }
+    for w in [1e-9, -1e-9] {
+        let mut an = Analysis::new(bl, 0.0);
+        an.initial = Initial {
+            theta: bl.theta_c,
+            theta_dot: w,
+            ..Initial::default()
+        };
+        let o = check(&an, &quiet_record(0.02, 10.0), "balance");
+        // moving outwards from the balance point it falls over; inwards it rocks back
+        assert_eq!(o.overturned, w > 0.0, "balance with θ̇ = {w}");
+    }
+}
+
+/// Uplift at the instant of impact: a block spinning fast enough that the
+/// pivot releases right as it lands; and a flat landing on both corners.
+#[test]
+fn uplift_at_impact_and_two_corner_landing() {
+    let bl = Block::new(0.5, 1.0, G).unwrap();
+    let mut an = Analysis::new(bl, 0.5);
+    an.initial = Initial {
+        theta: 1e-6,
+        theta_dot: -12.0,
+        ..Initial::default()
+    };
+    check(&an, &quiet_record(0.01, 2.0), "uplift at impact");
+    for e in [0.0, 0.7, 1.0] {
+        let mut an = Analysis::new(block(3.0), e);
+        an.initial = Initial {
+            y_dot: 0.3,
+            ..Initial::default()
+        };
+        check(&an, &quiet_record(0.01, 2.0), "flat landing");
+    }
+}
+
+/// Stick–slip chatter and the μs = B/H tie under finite friction.
+#[test]
+fn friction_edges() {
+    for (aspect, mu) in [(2.0, 0.5), (4.0, 0.2501), (2.0, 0.3)] {
+        let mut an = Analysis::new(block(aspect), 0.6);
+        an.friction = Friction::Coulomb {
+            mu_s: mu,
+            mu_k: mu * 0.9,
+        };
+        for i in 0..2 {
+            check(&an, &record(32, i, 0.8), "friction edge");
+        }
+    }
+}
+
+/// Extreme geometry and intensity: H/B = 1 and 50, PGA 0.01 g and 5 g.
+#[test]
+fn extremes() {
+    for aspect in [1.0, 50.0] {
+        for pga in [0.01, 5.0] {
+            for e in [0.0, 0.9] {
+                let o = check(
+                    &Analysis::new(block(aspect), e),
+                    &record(33, 0, pga),
+                    "extreme",
+                );
+                if pga == 0.01 {
+                    assert!(!o.overturned, "0.01 g overturned H/B {aspect}");
+                }
+            }
+        }
+    }
+}
+
+/// A record that is a single sample spike of 5 g in an otherwise quiet record.
+#[test]
+fn single_sample_spike() {
+    let mut acc = vec![0.0; 1001];
+    acc[500] = 5.0 * G;
+    let rec = Record::from_acc("spike", 0.01, acc).unwrap();
+    for aspect in [2.0, 6.0] {
+        for e in [0.0, 0.9] {
+            let o = check(&Analysis::new(block(aspect), e), &rec, "spike");
+            assert!(o.moved);
+        }
+    }
+}
