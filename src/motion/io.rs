@@ -334,30 +334,20 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
         }
     }
     let name = file_label(path);
-    let record = if ncol == 4 {
-        let r = Record {
-            name,
-            dt,
-            acc,
-            vel,
-            disp,
-            acc_v: None,
-        };
-        r.validate()?;
-        r
+    let (vel, disp) = if ncol == 4 {
+        (vel, disp)
     } else {
-        let (vel, disp) = integrate_linear(dt, &acc, 0.0, 0.0);
-        let r = Record {
-            name,
-            dt,
-            acc,
-            vel,
-            disp,
-            acc_v: None,
-        };
-        r.validate()?;
-        r
+        integrate_linear(dt, &acc, 0.0, 0.0)
     };
+    let record = Record {
+        name,
+        dt,
+        acc,
+        vel,
+        disp,
+        acc_v: None,
+    };
+    record.validate()?;
     Ok(record)
 }
 

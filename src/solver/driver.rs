@@ -504,18 +504,8 @@ impl<'a> Run<'a> {
             }
             out
         };
-        let mut atol = [0.0; N];
-        atol[0] = self.set.atol * bl.theta_c;
-        atol[1] = self.set.atol * bl.p * bl.theta_c;
-        atol[2] = self.set.atol * bl.r * bl.theta_c;
-        atol[3] = self.set.atol * bl.p * bl.r * bl.theta_c;
-        if let Some(a) = atol.get_mut(4) {
-            *a = self.set.atol * self.escale;
-        }
-        let tol = Tolerance {
-            rtol: self.set.rtol,
-            atol,
-        };
+        let (tc, p, r) = (bl.theta_c, bl.p, bl.r);
+        let tol = self.tolerance::<N>(&[tc, p * tc, r * tc, p * r * tc]);
         let mut y = [0.0; N];
         y[..4].copy_from_slice(&[sr.theta, sr.omega, sr.xp, sr.vp]);
         let mut st = Stepper::new(&mut rhs, *t, y, t_end, self.h, tol, self.dt);
@@ -636,16 +626,7 @@ impl<'a> Run<'a> {
             }
             out
         };
-        let mut atol = [0.0; N];
-        atol[0] = self.set.atol * bl.theta_c;
-        atol[1] = self.set.atol * bl.p * bl.theta_c;
-        if let Some(a) = atol.get_mut(2) {
-            *a = self.set.atol * self.escale;
-        }
-        let tol = Tolerance {
-            rtol: self.set.rtol,
-            atol,
-        };
+        let tol = self.tolerance::<N>(&[bl.theta_c, bl.p * bl.theta_c]);
         let mut y = [0.0; N];
         y[0] = rs.theta;
         y[1] = rs.omega;
@@ -1222,6 +1203,18 @@ impl<'a> Run<'a> {
             vy,
             theta: sr.theta,
             omega: sr.omega,
+        }
+    }
+
+    /// Error tolerances: `atol` times the given scale for each state component
+    /// (θc for angles, p·θc for rates, …), and the energy scale for the
+    /// audit's work component that follows them when N is one larger.
+    fn tolerance<const N: usize>(&self, scales: &[f64]) -> Tolerance<N> {
+        let atol =
+            std::array::from_fn(|i| self.set.atol * scales.get(i).copied().unwrap_or(self.escale));
+        Tolerance {
+            rtol: self.set.rtol,
+            atol,
         }
     }
 
