@@ -45,6 +45,7 @@ mod io_util;
 pub mod motion;
 pub mod solver;
 pub mod outcome;
+pub mod fragility;
 pub mod figures;
 pub mod reference;
 
