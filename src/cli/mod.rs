@@ -2,6 +2,7 @@
 //! into validated library types once and then calling the library.
 
 mod args;
+mod fragility;
 mod motion;
 mod simulate;
 
@@ -24,6 +25,9 @@ pub enum Command {
     Motion(motion::MotionArgs),
     /// Solve one block under one record and print the outcome.
     Simulate(Box<simulate::SimulateArgs>),
+    /// Fit lognormal overturning fragility curves to a study's outcomes.csv
+    /// (bootstrap bands, CSV and OpenQuake NRML output).
+    Fragility(fragility::FragilityArgs),
 }
 
 /// Runs a parsed command line.
@@ -31,6 +35,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Motion(args) => motion::run(args),
         Command::Simulate(args) => simulate::run(*args),
+        Command::Fragility(args) => fragility::run(args),
     }
 }
 
