@@ -1,99 +1,199 @@
-//! `rockfrag fragility`: lognormal fragility curves from a study's outcomes.
+//! `rockfrag fragility`: lognormal overturning fragility curves from a study's
+//! `outcomes.csv`, with bootstrap bands and an OpenQuake export.
+
+use std::io::Write;
+use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::ValueEnum;
-use rockfrag::fragility::{fit_outcomes, fragility_csv, nrml};
-use std::path::PathBuf;
+use rockfrag::fragility::{
+    BootstrapUnit, CaseFit, FragilityOptions, IntensityMeasure, Interval, fit_cases, read_outcomes,
+    write_outputs,
+};
 
 /// Intensity measure, as a CLI value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum ImArg {
-    /// Peak ground acceleration (g).
+    /// Peak ground acceleration, g.
     Pga,
-    /// PGA/(g·tanθc) = PGA·H/B (dimensionless).
+    /// Peak ground velocity, m/s (needs a `pgv` column).
+    Pgv,
+    /// PGA/(g tan θc) = PGA·H/B, dimensionless.
     PgaOverTan,
+}
+
+/// Bootstrap resampling unit, as a CLI value.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ResampleArg {
+    /// Whole records, each bringing its analyses at every stripe.
+    Records,
+    /// Analyses, independently within each stripe.
+    Analyses,
 }
 
 /// Flags of `rockfrag fragility`.
 #[derive(Debug, clap::Args)]
 pub struct FragilityArgs {
-    /// A study's output directory (with outcomes.csv).
+    /// Study directory holding `outcomes.csv`.
+    #[arg(value_name = "DIR")]
     pub dir: PathBuf,
-    /// Intensity measure.
+    /// Intensity measure the curves are fitted against.
     #[arg(long, value_enum, default_value_t = ImArg::Pga)]
     pub im: ImArg,
-    /// Bootstrap replicates over records.
-    #[arg(long, value_name = "N", default_value_t = 1000)]
+    /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap.
+    #[arg(long, value_name = "N", default_value_t = FragilityOptions::default().bootstrap)]
     pub bootstrap: usize,
-    /// Bootstrap seed.
-    #[arg(long, value_name = "S", default_value_t = 1)]
+    /// Bootstrap seed: the same seed gives the same bands on any machine.
+    #[arg(long, value_name = "S", default_value_t = FragilityOptions::default().seed)]
     pub seed: u64,
-    /// Where to write fragility.csv and fragility.xml [default: DIR].
+    /// What the bootstrap resamples: whole records (shared across stripes),
+    /// or analyses within each stripe (only for independent analyses).
+    #[arg(long, value_enum, default_value_t = ResampleArg::Records)]
+    pub resample: ResampleArg,
+    /// Output directory for fragility.csv, fragility_curves.csv and
+    /// fragility.xml [default: DIR].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
 
-/// Runs `rockfrag fragility`.
-pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
-    let im = match args.im {
-        ImArg::Pga => "pga",
-        ImArg::PgaOverTan => "pga-over-tan",
-    };
-    let fits = fit_outcomes(
-        &args.dir.join("outcomes.csv"),
-        im,
-        args.bootstrap,
-        args.seed,
-    )?;
-    let out = args.out.unwrap_or(args.dir);
-    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    let write = |name: &str, text: String| -> anyhow::Result<()> {
-        let path = out.join(name);
-        let tmp = out.join(format!(".{name}.tmp"));
-        std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-        std::fs::rename(&tmp, &path).with_context(|| format!("writing {}", path.display()))?;
-        Ok(())
-    };
-    write("fragility.csv", fragility_csv(&fits, im))?;
-    write(
-        "fragility.xml",
-        nrml(&fits, if im == "pga" { "PGA" } else { "PGA/tan" }),
-    )?;
-    println!(
-        "{:>6} {:>6} {:>5} {:>8} {:>10} {:>20} {:>8} {:>16}",
-        "H/B", "2B", "e", "friction", "median", "90% band", "beta", "90% band"
-    );
-    for c in &fits {
-        let fr = if c.key[3] == "coulomb" {
-            format!("{}/{}", c.key[4], c.key[5])
-        } else {
-            "inf".into()
-        };
-        match (&c.fit, &c.boot) {
-            (Ok(f), Some(b)) => println!(
-                "{:>6} {:>6} {:>5} {:>8} {:>10.4} {:>9.4}–{:<10.4} {:>8.3} {:>7.3}–{:<8.3}",
-                c.key[0],
-                c.key[1],
-                c.key[2],
-                fr,
-                f.median,
-                b.median.0,
-                b.median.1,
-                f.beta,
-                b.beta.0,
-                b.beta.1
-            ),
-            (fit, _) => println!(
-                "{:>6} {:>6} {:>5} {:>8}  cannot fit: {}",
-                c.key[0],
-                c.key[1],
-                c.key[2],
-                fr,
-                fit.as_ref()
-                    .err()
-                    .map_or("-".to_string(), |e| e.to_string())
-            ),
+impl FragilityArgs {
+    fn options(&self) -> FragilityOptions {
+        FragilityOptions {
+            im: match self.im {
+                ImArg::Pga => IntensityMeasure::Pga,
+                ImArg::Pgv => IntensityMeasure::Pgv,
+                ImArg::PgaOverTan => IntensityMeasure::PgaOverTan,
+            },
+            bootstrap: self.bootstrap,
+            unit: match self.resample {
+                ResampleArg::Records => BootstrapUnit::Records,
+                ResampleArg::Analyses => BootstrapUnit::Analyses,
+            },
+            seed: self.seed,
+            ..FragilityOptions::default()
         }
     }
-    Ok(())
+}
+
+/// Runs `rockfrag fragility`.
+pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
+    let options = args.options();
+    let input = args.dir.join("outcomes.csv");
+    let outcomes = read_outcomes(&input, options.im)?;
+    if outcomes.cases.is_empty() {
+        anyhow::bail!("{}: no analyses to fit", input.display());
+    }
+    let fits = fit_cases(&outcomes, &options)?;
+    let out = args.out.as_ref().unwrap_or(&args.dir);
+    let paths = write_outputs(out, &fits)?;
+
+    let mut text = table(&fits, &options);
+    let failed: usize =
+        fits.iter().map(|f| f.n_failed).sum::<usize>() + outcomes.failed_unattributed;
+    if failed > 0 {
+        text.push_str(&format!(
+            "note: {failed} failed analyses skipped (error or status not ok in outcomes.csv)\n"
+        ));
+    }
+    text.push_str(&format!(
+        "wrote {}, {}, {}\n",
+        paths.fragility.display(),
+        paths.curves.display(),
+        paths.nrml.display()
+    ));
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()) {
+        // A closed pipe (`rockfrag fragility … | head`) is not an error.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other.context("writing to standard output"),
+    }
+}
+
+/// The short summary table, one line per case, then notes on bootstrap
+/// replicates that could not be fitted.
+fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
+    let pct = (options.confidence * 100.0).round();
+    let unit = match options.im.unit() {
+        "1" => String::new(),
+        u => format!(" ({u})"),
+    };
+    let header: Vec<String> = [
+        "case",
+        "analyses",
+        "overturned",
+        "stripes",
+        "records",
+        &format!("median{unit} [{pct}%]"),
+        &format!("beta [{pct}%]"),
+        "status",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let mut rows = vec![header];
+    for f in fits {
+        let band = |i: Option<Interval>| {
+            i.map_or(String::new(), |i| {
+                format!(" [{}, {}]", sig(i.lo), sig(i.hi))
+            })
+        };
+        let boot = f.bootstrap.as_ref();
+        let (median, beta, status) = match &f.fit {
+            Ok(fit) => (
+                format!("{}{}", sig(fit.median()), band(boot.and_then(|b| b.median))),
+                format!("{}{}", sig(fit.beta()), band(boot.and_then(|b| b.beta))),
+                "ok".to_string(),
+            ),
+            Err(reason) => ("-".into(), "-".into(), format!("not fitted: {reason}")),
+        };
+        rows.push(vec![
+            f.key.to_string(),
+            f.n_analyses.to_string(),
+            f.n_overturned.to_string(),
+            f.n_stripes.to_string(),
+            f.n_records.to_string(),
+            median,
+            beta,
+            status,
+        ]);
+    }
+    // Pad every column but the last to its widest cell.
+    let columns = rows[0].len();
+    let widths: Vec<usize> = (0..columns)
+        .map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0))
+        .collect();
+    let mut text = String::new();
+    for r in &rows {
+        for (c, cell) in r.iter().enumerate() {
+            text.push_str(cell);
+            if c + 1 < columns {
+                text.push_str(&" ".repeat(widths[c] - cell.chars().count() + 2));
+            }
+        }
+        text.push('\n');
+    }
+    for f in fits {
+        if let Some(b) = f.bootstrap.as_ref().filter(|b| b.unfit_total() > 0) {
+            let reasons: Vec<String> = b.unfit.iter().map(|(k, n)| format!("{k} {n}")).collect();
+            text.push_str(&format!(
+                "note: {}: {} of {} bootstrap replicates could not be fitted ({}); \
+                 the intervals come from the other {}\n",
+                f.key,
+                b.unfit_total(),
+                b.replicates,
+                reasons.join(", "),
+                b.fitted
+            ));
+        }
+    }
+    text
+}
+
+/// Three significant digits, without exponent for ordinary magnitudes.
+fn sig(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return x.to_string();
+    }
+    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    format!("{x:.digits$}")
 }

@@ -1,0 +1,166 @@
+//! The CSV outputs: one row per case (`fragility.csv`) and the sampled curves
+//! with their bands (`fragility_curves.csv`). Both are written atomically;
+//! numbers use the shortest representation that reads back exactly, and a
+//! number that does not exist (a case that could not be fitted, a band without
+//! a bootstrap) is an empty field, never NaN.
+
+use std::path::{Path, PathBuf};
+
+use super::{CaseFit, CaseKey, nrml};
+use crate::error::{Error, Result};
+use crate::io_util::write_atomic;
+
+/// Header of `fragility.csv`. `median`, `median_lo`, `median_hi`,
+/// `se_median`, `boot_sd_median`, `im_min`, `im_max` are in the unit of `im`
+/// (`im_unit`); `loglik` includes the binomial coefficients; `status` is `ok`
+/// or an [`Unfit`](super::Unfit) keyword; `boot_unfit` counts the replicates
+/// that could not be fitted, `boot_unfit_reasons` lists them as `reason=count`
+/// separated by spaces.
+pub const FRAGILITY_HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,im,median,beta,\
+median_lo,median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,status,\
+im_unit,n_analyses,n_overturned,n_failed,im_min,im_max,iterations,boot_replicates,boot_fitted,\
+boot_unfit,boot_unfit_reasons,boot_sd_median,boot_sd_beta";
+
+/// Header of `fragility_curves.csv`: `case` is the 0-based row of the case in
+/// `fragility.csv`; `im_value` is the intensity (unit of `im`); `p` the fitted
+/// probability of overturning; `p_lo`, `p_hi` the pointwise bootstrap band
+/// (empty without a bootstrap). Only fitted cases have rows.
+pub const CURVES_HEADER: &str =
+    "case,aspect,width,restitution,friction,mu_s,mu_k,im,im_value,p,p_lo,p_hi";
+
+/// The files [`write_outputs`] wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputPaths {
+    /// One row per case.
+    pub fragility: PathBuf,
+    /// The sampled curves.
+    pub curves: PathBuf,
+    /// The OpenQuake fragility model.
+    pub nrml: PathBuf,
+}
+
+/// Writes `fragility.csv`, `fragility_curves.csv` and `fragility.xml` into `dir`.
+pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
+    let paths = OutputPaths {
+        fragility: dir.join("fragility.csv"),
+        curves: dir.join("fragility_curves.csv"),
+        nrml: dir.join("fragility.xml"),
+    };
+    write_fragility_csv(&paths.fragility, fits)?;
+    write_curves_csv(&paths.curves, fits)?;
+    nrml::write_nrml(&paths.nrml, fits)?;
+    Ok(paths)
+}
+
+/// Writes `fragility.csv` (header [`FRAGILITY_HEADER`]).
+pub fn write_fragility_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
+    write_atomic(path, |w| {
+        writeln!(w, "{FRAGILITY_HEADER}")?;
+        for f in fits {
+            let fit = f.fit.as_ref().ok();
+            let boot = f.bootstrap.as_ref();
+            let reasons = boot.map(|b| {
+                b.unfit
+                    .iter()
+                    .map(|(k, n)| format!("{k}={n}"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            });
+            let status = match &f.fit {
+                Ok(_) => "ok",
+                Err(reason) => reason.status(),
+            };
+            let fields = [
+                key_fields(&f.key),
+                f.im.name().to_string(),
+                opt(fit.map(|x| x.median())),
+                opt(fit.map(|x| x.beta())),
+                opt(boot.and_then(|b| b.median).map(|i| i.lo)),
+                opt(boot.and_then(|b| b.median).map(|i| i.hi)),
+                opt(boot.and_then(|b| b.beta).map(|i| i.lo)),
+                opt(boot.and_then(|b| b.beta).map(|i| i.hi)),
+                f.n_records.to_string(),
+                f.n_stripes.to_string(),
+                opt(fit.map(|x| x.loglik)),
+                opt(fit.map(|x| x.se_median())),
+                opt(fit.map(|x| x.se_beta())),
+                status.to_string(),
+                f.im.unit().to_string(),
+                f.n_analyses.to_string(),
+                f.n_overturned.to_string(),
+                f.n_failed.to_string(),
+                opt(f.im_range.map(|r| r.0)),
+                opt(f.im_range.map(|r| r.1)),
+                fit.map_or(String::new(), |x| x.iterations.to_string()),
+                boot.map_or(String::new(), |b| b.replicates.to_string()),
+                boot.map_or(String::new(), |b| b.fitted.to_string()),
+                boot.map_or(String::new(), |b| b.unfit_total().to_string()),
+                reasons.unwrap_or_default(),
+                opt(boot.and_then(|b| b.sd_median)),
+                opt(boot.and_then(|b| b.sd_beta)),
+            ];
+            writeln!(w, "{}", fields.join(","))?;
+        }
+        Ok(())
+    })
+    .map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Writes `fragility_curves.csv` (header [`CURVES_HEADER`]).
+pub fn write_curves_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
+    write_atomic(path, |w| {
+        writeln!(w, "{CURVES_HEADER}")?;
+        for (case, f) in fits.iter().enumerate() {
+            let Some(curve) = &f.curve else { continue };
+            let key = key_fields(&f.key);
+            let band = f
+                .bootstrap
+                .as_ref()
+                .filter(|b| b.curve_lo.len() == curve.im.len());
+            for (i, (&x, &p)) in curve.im.iter().zip(&curve.probability).enumerate() {
+                let lo = opt(band.map(|b| b.curve_lo[i]));
+                let hi = opt(band.map(|b| b.curve_hi[i]));
+                let (x, p) = (number(x), number(p));
+                writeln!(w, "{case},{key},{},{x},{p},{lo},{hi}", f.im.name())?;
+            }
+        }
+        Ok(())
+    })
+    .map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// The six case columns, comma-separated (absent μ as an empty field).
+fn key_fields(k: &CaseKey) -> String {
+    format!(
+        "{},{},{},{},{},{}",
+        k.aspect,
+        k.width,
+        k.restitution,
+        k.friction,
+        opt(k.mu_s),
+        opt(k.mu_k)
+    )
+}
+
+/// A number, or an empty field when absent or NaN (infinite μ reads `inf`).
+fn opt(x: Option<f64>) -> String {
+    x.filter(|v| !v.is_nan()).map_or(String::new(), number)
+}
+
+/// The shortest text that reads back as exactly `x`: plain for ordinary
+/// magnitudes, with an exponent below 1e-4 or from 1e15 (so that a tail
+/// probability of 1e-300 is not 300 zeros).
+pub(crate) fn number(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
+    }
+}
