@@ -15,8 +15,17 @@
 //! rockfrag::figures::plot_record(&record, Path::new("pulse.svg")).unwrap();
 //! ```
 
+pub mod batch;
+pub mod data;
 pub mod font;
+pub mod fragility;
+pub mod friction;
+pub mod history;
+pub mod layout;
 pub mod motion;
+pub mod paper;
+pub mod restitution;
+pub mod spectrum;
 pub mod style;
 
 use std::ffi::OsString;
@@ -32,6 +41,7 @@ use plotters::prelude::{
 
 use crate::error::{Error, Result};
 
+pub use batch::{FigureOptions, FiguresReport, study_figures};
 pub use motion::plot_record;
 pub use style::Style;
 
