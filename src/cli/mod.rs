@@ -2,6 +2,7 @@
 //! into validated library types once and then calling the library.
 
 mod args;
+mod figures;
 mod motion;
 mod simulate;
 
@@ -24,6 +25,8 @@ pub enum Command {
     Motion(motion::MotionArgs),
     /// Solve one block under one record and print the outcome.
     Simulate(Box<simulate::SimulateArgs>),
+    /// Draw the publication figures of a study folder (SVG or PNG).
+    Figures(figures::FiguresArgs),
 }
 
 /// Runs a parsed command line.
@@ -31,6 +34,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Motion(args) => motion::run(args),
         Command::Simulate(args) => simulate::run(*args),
+        Command::Figures(args) => figures::run(args),
     }
 }
 
