@@ -242,7 +242,9 @@ impl Figure for FragilityFigure {
                 };
                 curve!(chart, points, line, Dash::nth(s.friction), style);
             }
-            for s in &order {
+            // hollow (finite friction) markers first: a filled one on top
+            // at the same place leaves a ring showing both
+            for s in order.iter().rev() {
                 let colour = restitution_colour(s.restitution);
                 markers!(
                     chart,

@@ -34,8 +34,18 @@ pub const DASH_PT: (f64, f64) = (3.5, 2.0);
 pub const SHORT_DASH_PT: (f64, f64) = (1.2, 1.5);
 /// Width of rug ticks (pt).
 pub const RUG_PT: f64 = 0.4;
-/// Radius of point markers (pt).
+/// Radius of filled point markers (pt).
 pub const MARKER_PT: f64 = 1.9;
+/// Radius of hollow point markers (pt): larger than filled ones, so that a
+/// hollow marker drawn under a filled one at the same place shows as a ring.
+pub const HOLLOW_MARKER_PT: f64 = 2.5;
+
+/// Marker radius in pixels.
+pub fn marker_px(style: &Style, filled: bool) -> i32 {
+    style
+        .px(if filled { MARKER_PT } else { HOLLOW_MARKER_PT })
+        .round() as i32
+}
 
 /// Line pattern of a series.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -315,13 +325,31 @@ pub fn draw_marker<DB: DrawingBackend>(
     marker: Marker,
     filled: bool,
 ) -> DrawResult<DB> {
-    let r = style.px(MARKER_PT).round() as i32;
+    let r = marker_px(style, filled);
     let s = marker_style(style, colour, filled);
     match marker {
-        Marker::Circle => area.draw(&Circle::new(c, r, s)),
-        Marker::Square => area.draw(&Rectangle::new([(c.0 - r, c.1 - r), (c.0 + r, c.1 + r)], s)),
+        Marker::Circle => {
+            if !filled {
+                area.draw(&Circle::new(c, r, HOLLOW_FILL))?;
+            }
+            area.draw(&Circle::new(c, r, s))
+        }
+        Marker::Square => {
+            let corners = [(c.0 - r, c.1 - r), (c.0 + r, c.1 + r)];
+            if !filled {
+                area.draw(&Rectangle::new(corners, HOLLOW_FILL))?;
+            }
+            area.draw(&Rectangle::new(corners, s))
+        }
     }
 }
+
+/// Interior of hollow markers: white, so that lines do not show through.
+pub const HOLLOW_FILL: ShapeStyle = ShapeStyle {
+    color: plotters::style::RGBAColor(255, 255, 255, 1.0),
+    filled: true,
+    stroke_width: 0,
+};
 
 /// Style of a marker: filled, or outlined with a white interior.
 pub fn marker_style(style: &Style, colour: RGBColor, filled: bool) -> ShapeStyle {
@@ -468,20 +496,26 @@ pub(crate) use curve;
 /// coordinate system): `markers!(chart, points, colour, marker, filled, style)`.
 macro_rules! markers {
     ($chart:expr, $points:expr, $colour:expr, $marker:expr, $filled:expr, $style:expr) => {{
-        let r = $style.px($crate::figures::layout::MARKER_PT).round() as i32;
+        use plotters::prelude::{Circle, EmptyElement, Rectangle};
+        let r = $crate::figures::layout::marker_px(&$style, $filled);
         let s = $crate::figures::layout::marker_style(&$style, $colour, $filled);
-        match $marker {
-            $crate::figures::layout::Marker::Circle => {
-                $chart.draw_series(
-                    $points
-                        .into_iter()
-                        .map(|p| plotters::prelude::Circle::new(p, r, s)),
-                )?;
+        let under = $crate::figures::layout::HOLLOW_FILL;
+        let points: Vec<_> = $points.into_iter().collect();
+        match ($marker, $filled) {
+            ($crate::figures::layout::Marker::Circle, true) => {
+                $chart.draw_series(points.into_iter().map(|p| Circle::new(p, r, s)))?;
             }
-            $crate::figures::layout::Marker::Square => {
-                $chart.draw_series($points.into_iter().map(|p| {
-                    plotters::prelude::EmptyElement::at(p)
-                        + plotters::prelude::Rectangle::new([(-r, -r), (r, r)], s)
+            ($crate::figures::layout::Marker::Circle, false) => {
+                $chart.draw_series(points.into_iter().map(|p| {
+                    EmptyElement::at(p) + Circle::new((0, 0), r, under) + Circle::new((0, 0), r, s)
+                }))?;
+            }
+            ($crate::figures::layout::Marker::Square, filled) => {
+                let fill = if filled { s } else { under };
+                $chart.draw_series(points.into_iter().map(|p| {
+                    EmptyElement::at(p)
+                        + Rectangle::new([(-r, -r), (r, r)], fill)
+                        + Rectangle::new([(-r, -r), (r, r)], s)
                 }))?;
             }
         }

@@ -283,7 +283,9 @@ impl Figure for RestitutionFigure {
                         style
                     );
                 }
-                for s in &panel.series {
+                // hollow (finite friction) markers first: a filled one on
+                // top at the same place leaves a ring showing both
+                for s in panel.series.iter().rev() {
                     let colour = level_colour(s.level, self.levels.len());
                     markers!(
                         chart,
