@@ -135,19 +135,13 @@ impl StudyData {
 pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
     let mut table = Table::open(path)?;
     let status = table.optional("status");
-    let cols = [
-        "pga",
-        "record",
-        "overturned",
-        "uplifted",
-        "theta_max_over_theta_c",
-        "mu_motion",
-        "mu_impact",
-        "impacts",
-    ]
-    .map(|c| table.required(c));
-    let case_cols = table.case_columns()?;
     let [
+        aspect,
+        width,
+        restitution,
+        friction,
+        mu_s,
+        mu_k,
         pga,
         record,
         overturned,
@@ -156,9 +150,30 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
         mu_mot,
         mu_imp,
         impacts,
-    ] = cols;
-    let (pga, record, overturned, uplifted) = (pga?, record?, overturned?, uplifted?);
-    let (theta, mu_mot, mu_imp, impacts) = (theta?, mu_mot?, mu_imp?, impacts?);
+    ] = table.columns([
+        "aspect",
+        "width",
+        "restitution",
+        "friction",
+        "mu_s",
+        "mu_k",
+        "pga",
+        "record",
+        "overturned",
+        "uplifted",
+        "theta_max_over_theta_c",
+        "mu_motion",
+        "mu_impact",
+        "impacts",
+    ])?;
+    let case_cols = CaseColumns {
+        aspect,
+        width,
+        restitution,
+        friction,
+        mu_s,
+        mu_k,
+    };
     let mut rows = Vec::new();
     while let Some(rec) = table.next_record()? {
         if let Some(s) = status
@@ -194,9 +209,37 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
 /// This is the one place that knows the fragility file's layout.
 pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
     let mut table = Table::open(path)?;
-    let case_cols = table.case_columns()?;
-    let [im, p, lo, hi] = ["im", "p", "p_lo", "p_hi"].map(|c| table.required(c));
-    let (im, p, lo, hi) = (im?, p?, lo?, hi?);
+    let [
+        aspect,
+        width,
+        restitution,
+        friction,
+        mu_s,
+        mu_k,
+        im,
+        p,
+        lo,
+        hi,
+    ] = table.columns([
+        "aspect",
+        "width",
+        "restitution",
+        "friction",
+        "mu_s",
+        "mu_k",
+        "im",
+        "p",
+        "p_lo",
+        "p_hi",
+    ])?;
+    let case_cols = CaseColumns {
+        aspect,
+        width,
+        restitution,
+        friction,
+        mu_s,
+        mu_k,
+    };
     let mut points = Vec::new();
     while let Some(rec) = table.next_record()? {
         points.push(CurvePoint {
@@ -265,20 +308,21 @@ impl Table {
         self.columns.get(name).copied()
     }
 
-    fn required(&self, name: &str) -> Result<usize> {
-        self.optional(name)
-            .ok_or_else(|| parse_error(&self.path, 1, format!("no column `{name}` in the header")))
-    }
-
-    fn case_columns(&self) -> Result<CaseColumns> {
-        Ok(CaseColumns {
-            aspect: self.required("aspect")?,
-            width: self.required("width")?,
-            restitution: self.required("restitution")?,
-            friction: self.required("friction")?,
-            mu_s: self.required("mu_s")?,
-            mu_k: self.required("mu_k")?,
-        })
+    /// The indices of `names`; an error listing every missing one.
+    fn columns<const N: usize>(&self, names: [&str; N]) -> Result<[usize; N]> {
+        let missing: Vec<String> = names
+            .iter()
+            .filter(|n| self.optional(n).is_none())
+            .map(|n| format!("`{n}`"))
+            .collect();
+        if !missing.is_empty() {
+            return Err(parse_error(
+                &self.path,
+                1,
+                format!("no column {} in the header", missing.join(", ")),
+            ));
+        }
+        Ok(names.map(|n| self.optional(n).expect("checked above")))
     }
 
     fn next_record(&mut self) -> Result<Option<Row<'_>>> {
@@ -421,12 +465,13 @@ mod tests {
 
     #[test]
     fn a_missing_column_is_named() {
-        // The error names the file, line 1 and the missing column.
+        // The error names the file, line 1 and every missing column.
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("outcomes.csv");
         std::fs::write(&path, "aspect,width\n4,0.5\n").unwrap();
         let err = read_outcomes(&path).unwrap_err().to_string();
         assert!(err.contains("outcomes.csv:1:"), "{err}");
+        assert!(err.contains("`restitution`, `friction`"), "{err}");
         assert!(err.contains("`pga`"), "{err}");
     }
 }

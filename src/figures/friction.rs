@@ -359,3 +359,35 @@ impl Figure for FrictionDemandFigure {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::Block;
+    use crate::solver::impact::rock_impact_mu;
+
+    #[test]
+    fn eq8_is_the_solvers_rock_impact_ratio_and_the_papers_values() {
+        // The curve drawn is the solver's eq. (8), and it gives the paper's
+        // e = 0 column (0.353, 0.185, 0.124) to the table's 3 digits.
+        for (aspect, table) in [(2.0, 0.353), (4.0, 0.185), (6.0, 0.124)] {
+            let block = Block::new(0.5, aspect, 9.81).unwrap();
+            assert!((eq8(1.0 / aspect) - rock_impact_mu(&block)).abs() < 1e-12);
+            assert!((eq8(1.0 / aspect) - table).abs() < 5e-4, "H/B = {aspect}");
+        }
+        // small-angle limit 0.75·B/H
+        assert!((eq8(1e-4) / 1e-4 - 0.75).abs() < 1e-6);
+    }
+
+    #[test]
+    fn many_levels_are_thinned_to_the_papers_or_spread() {
+        // Up to five levels are all drawn; a fine grid containing the
+        // paper's four levels shows those; otherwise four spread levels.
+        let few = [0.3, 0.6, 0.9];
+        assert_eq!(shown_levels(&few), few.to_vec());
+        let fine: Vec<f64> = (1..=15).map(|k| k as f64 / 10.0).collect();
+        assert_eq!(shown_levels(&fine), vec![0.3, 0.6, 0.9, 1.2]);
+        let odd: Vec<f64> = (1..=10).map(|k| k as f64 * 0.25).collect();
+        assert_eq!(shown_levels(&odd), vec![0.25, 1.0, 1.75, 2.5]);
+    }
+}

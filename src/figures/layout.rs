@@ -522,3 +522,29 @@ macro_rules! markers {
     }};
 }
 pub(crate) use markers;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_ticks_label_only_one_two_five_decades() {
+        // A log axis labels 1, 2, 5 × 10^k and leaves the other ticks blank.
+        assert_eq!(log_tick_label(0.1), "0.1");
+        assert_eq!(log_tick_label(2000.0), "2000");
+        assert_eq!(log_tick_label(0.05), "0.05");
+        assert_eq!(log_tick_label(3.0), "");
+        assert_eq!(log_tick_label(0.0), "");
+    }
+
+    #[test]
+    fn sequential_scale_runs_dark_to_light() {
+        // The first level is the darkest, the last the lightest (sum of
+        // channels as a proxy for lightness), and one level is the dark end.
+        let lightness = |c: RGBColor| c.0 as u32 + c.1 as u32 + c.2 as u32;
+        let cs: Vec<RGBColor> = (0..4).map(|i| sequential(i, 4)).collect();
+        assert!(cs.windows(2).all(|w| lightness(w[0]) < lightness(w[1])));
+        assert_eq!(sequential(0, 1), RGBColor(0x0D, 0x08, 0x87));
+        assert_eq!(tint(RGBColor(0, 0, 0), 1.0), RGBColor(255, 255, 255));
+    }
+}

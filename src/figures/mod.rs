@@ -8,6 +8,15 @@
 //! reader never sees half a figure. Sizes, fonts and colours come from
 //! [`style`].
 //!
+//! The study figures of a folder written by the study runner
+//! (`outcomes.csv`, optionally `fragility_curves.csv`) are drawn by
+//! [`study_figures`] (the CLI's `rockfrag figures DIR`): see [`batch`] for
+//! the list. Each is a plain data struct built once ([`spectrum`],
+//! [`history`], [`fragility`], [`friction`], [`restitution`]) and drawn by
+//! [`Figure`]; [`data`] reads the CSV files by header name, [`paper`] holds
+//! the seed paper's Tables 1–3 and [`layout`] the shared titles, legends and
+//! markers.
+//!
 //! ```no_run
 //! use rockfrag::motion::Record;
 //! use std::path::Path;
