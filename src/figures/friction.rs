@@ -7,7 +7,8 @@
 //! impacts, over the runs with impacts that did not overturn, on a log
 //! scale: one line per e, pooled over PGA. Both panels carry the paper's
 //! eq. (8), μ = 3 cosθc sinθc/(1 + 3cos²θc), its small-angle form 0.75·B/H,
-//! and the paper's table values (open squares, one per table row, set
+//! and the paper's table values for the study's blocks (open squares, one
+//! per table row, set
 //! [`PAPER_DODGE`] of the axis to the right of their B/H so that they do not
 //! hide this study's means).
 
@@ -152,7 +153,7 @@ impl FrictionDemandFigure {
                     .collect(),
                 paper: TABLES
                     .iter()
-                    .filter(|p| p.pga == pga)
+                    .filter(|p| p.pga == pga && aspects.contains(&p.aspect))
                     .filter_map(|p| p.mu_motion.map(|m| (1.0 / p.aspect, m)))
                     .collect(),
             })
@@ -179,7 +180,7 @@ impl FrictionDemandFigure {
                     .collect(),
                 paper: TABLES
                     .iter()
-                    .filter(|p| p.restitution == e)
+                    .filter(|p| p.restitution == e && aspects.contains(&p.aspect))
                     .filter_map(|p| p.mu_impact.map(|m| (1.0 / p.aspect, m)))
                     .collect(),
             })
