@@ -135,13 +135,8 @@ impl HistoryFigure {
                 .count();
             let moving = out.end_time - out.time_in_mode[Mode::Rest.index()];
             let score = (!out.overturned, modes, moving);
-            let better = match &best {
-                None => true,
-                Some((s, _)) => {
-                    (score.0, score.1) > (s.0, s.1)
-                        || ((score.0, score.1) == (s.0, s.1) && score.2 > s.2)
-                }
-            };
+            // lexicographic: standing, then modes, then time moving
+            let better = best.as_ref().is_none_or(|(s, _)| score > *s);
             if better {
                 best = Some((score, i));
             }
