@@ -5,6 +5,7 @@ mod args;
 mod bench;
 mod fragility;
 mod merge;
+mod figures;
 mod motion;
 mod run;
 mod simulate;
@@ -37,6 +38,8 @@ pub enum Command {
     Fragility(fragility::FragilityArgs),
     /// Speed against error: the work–precision report (table and figure).
     Bench(bench::BenchArgs),
+    /// Draw the publication figures of a study folder (SVG or PNG).
+    Figures(figures::FiguresArgs),
 }
 
 /// Runs a parsed command line.
@@ -48,6 +51,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Merge(args) => merge::run(args),
         Command::Fragility(args) => fragility::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Figures(args) => figures::run(args),
     }
 }
 

@@ -8,6 +8,15 @@
 //! reader never sees half a figure. Sizes, fonts and colours come from
 //! [`style`].
 //!
+//! The study figures of a folder written by the study runner
+//! (`outcomes.csv`, optionally `fragility_curves.csv`) are drawn by
+//! [`study_figures`] (the CLI's `rockfrag figures DIR`): see [`batch`] for
+//! the list. Each is a plain data struct built once ([`spectrum`],
+//! [`history`], [`fragility`], [`friction`], [`restitution`]) and drawn by
+//! [`Figure`]; [`data`] reads the CSV files by header name, [`crate::study::paper`]
+//! holds the seed paper's Tables 1–3 and [`layout`] the shared titles, legends and
+//! markers.
+//!
 //! ```no_run
 //! use rockfrag::motion::Record;
 //! use std::path::Path;
@@ -15,8 +24,16 @@
 //! rockfrag::figures::plot_record(&record, Path::new("pulse.svg")).unwrap();
 //! ```
 
+pub mod batch;
+pub mod data;
 pub mod font;
+pub mod fragility;
+pub mod friction;
+pub mod history;
+pub mod layout;
 pub mod motion;
+pub mod restitution;
+pub mod spectrum;
 pub mod style;
 pub mod work_precision;
 
@@ -33,6 +50,7 @@ use plotters::prelude::{
 
 use crate::error::{Error, Result};
 
+pub use batch::{FigureOptions, FiguresReport, study_figures};
 pub use motion::plot_record;
 pub use style::Style;
 

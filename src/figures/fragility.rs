@@ -1,0 +1,261 @@
+//! Fragility curves: probability of overturning against PGA, one panel per
+//! block (aspect ratio, and width when a study has several), one colour per
+//! coefficient of restitution, one line pattern per friction model (infinite
+//! friction solid, the first Coulomb model dashed, a second short-dashed),
+//! the fitted curve over its 90 % band, and the observed fraction of each
+//! PGA stripe as points (filled for infinite friction, open otherwise).
+//!
+//! Without fitted curves (no `fragility_curves.csv`) the observed fractions
+//! are joined by straight lines and the title says so.
+
+use plotters::coord::Shift;
+use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, Polygon};
+use plotters::style::{BLACK, Color};
+
+use super::data::{Case, StudyData, distinct, distinct_friction, friction_label};
+use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
+use super::style::{PAGE_WIDTH_IN, Style, tick_label};
+use super::{DrawResult, Figure};
+use crate::solver::Friction;
+
+/// Figure height (in), before legend rows beyond the first.
+const HEIGHT_IN: f64 = 2.9;
+/// Opacity of the confidence bands.
+const BAND_ALPHA: f64 = 0.14;
+
+/// One curve: a case's fit (if any) and its observed stripe fractions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FragilitySeries {
+    /// Index into [`FragilityFigure::restitutions`] (sets the colour).
+    pub restitution: usize,
+    /// Index into [`FragilityFigure::frictions`] (sets the pattern).
+    pub friction: usize,
+    /// Fitted curve (im, p, p_lo, p_hi), IM ascending; empty without a fit.
+    pub fit: Vec<(f64, f64, f64, f64)>,
+    /// Observed stripes (pga, fraction overturned, analyses).
+    pub observed: Vec<(f64, f64, usize)>,
+}
+
+/// One panel: one block.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FragilityPanel {
+    /// Heading, e.g. `H/B = 4`.
+    pub label: String,
+    /// Its series, by restitution then friction.
+    pub series: Vec<FragilitySeries>,
+}
+
+/// The fragility figure's data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FragilityFigure {
+    /// Title.
+    pub title: String,
+    /// Restitution values, ascending.
+    pub restitutions: Vec<f64>,
+    /// Friction models, infinite first.
+    pub frictions: Vec<Friction>,
+    /// Whether fitted curves were available.
+    pub fitted: bool,
+    /// Panels, by aspect ratio then width.
+    pub panels: Vec<FragilityPanel>,
+    /// Largest PGA or IM shown (g).
+    pub im_max: f64,
+}
+
+impl FragilityFigure {
+    /// Groups the study's outcomes (and fits, if any) into panels and series.
+    pub fn from_study(data: &StudyData) -> FragilityFigure {
+        let rows = &data.outcomes;
+        let curves = data.curves.as_deref().unwrap_or(&[]);
+        let cases = rows
+            .iter()
+            .map(|r| r.case)
+            .chain(curves.iter().map(|c| c.case));
+        let cases: Vec<Case> = cases.collect();
+        let restitutions = distinct(cases.iter().map(|c| c.restitution));
+        let frictions = distinct_friction(cases.iter().map(|c| c.friction));
+        let blocks = distinct_blocks(&cases);
+        let several_widths = distinct(cases.iter().map(|c| c.width)).len() > 1;
+        let mut im_max = 0.0_f64;
+        let mut panels = Vec::new();
+        for &(aspect, width) in &blocks {
+            let mut series = Vec::new();
+            for (ie, &e) in restitutions.iter().enumerate() {
+                for (jf, f) in frictions.iter().enumerate() {
+                    let case = Case {
+                        aspect,
+                        width,
+                        restitution: e,
+                        friction: *f,
+                    };
+                    let fit: Vec<(f64, f64, f64, f64)> = curves
+                        .iter()
+                        .filter(|c| c.case == case)
+                        .map(|c| (c.im, c.p, c.p_lo, c.p_hi))
+                        .collect();
+                    let mine: Vec<_> = rows.iter().filter(|r| r.case == case).collect();
+                    let observed: Vec<(f64, f64, usize)> = distinct(mine.iter().map(|r| r.pga))
+                        .into_iter()
+                        .map(|pga| {
+                            let at: Vec<_> = mine.iter().filter(|r| r.pga == pga).collect();
+                            let k = at.iter().filter(|r| r.overturned).count();
+                            (pga, k as f64 / at.len() as f64, at.len())
+                        })
+                        .collect();
+                    if fit.is_empty() && observed.is_empty() {
+                        continue;
+                    }
+                    im_max = fit
+                        .iter()
+                        .map(|p| p.0)
+                        .chain(observed.iter().map(|o| o.0))
+                        .fold(im_max, f64::max);
+                    series.push(FragilitySeries {
+                        restitution: ie,
+                        friction: jf,
+                        fit,
+                        observed,
+                    });
+                }
+            }
+            let mut label = format!("H/B = {}", tick_label(aspect));
+            if several_widths {
+                label.push_str(&format!(", 2B = {} m", tick_label(width)));
+            }
+            panels.push(FragilityPanel { label, series });
+        }
+        let fitted = data.curves.is_some();
+        let title = if fitted {
+            "Fragility: fitted curves with 90 % band (lines), observed stripe fractions (points)"
+                .to_string()
+        } else {
+            "Observed overturning fractions per PGA stripe (no fragility_curves.csv: no fits)"
+                .to_string()
+        };
+        FragilityFigure {
+            title,
+            restitutions,
+            frictions,
+            fitted,
+            panels,
+            im_max,
+        }
+    }
+
+    /// The legend: colours for e, patterns and markers for friction.
+    fn legend(&self) -> Vec<Entry> {
+        let mut entries: Vec<Entry> = self
+            .restitutions
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                Entry::new(
+                    Sample::Line(restitution_colour(i), Dash::Solid),
+                    format!("e = {}", tick_label(*e)),
+                )
+            })
+            .collect();
+        for (j, f) in self.frictions.iter().enumerate() {
+            entries.push(Entry::new(
+                Sample::LinePoint(BLACK, Dash::nth(j), Marker::Circle, j == 0),
+                friction_label(f),
+            ));
+        }
+        if self.fitted {
+            entries.push(Entry::new(
+                Sample::Block(layout::tint(BLACK, 1.0 - 1.5 * BAND_ALPHA)),
+                "90 % band",
+            ));
+        }
+        entries
+    }
+}
+
+/// Colour of the `i`-th restitution value.
+pub fn restitution_colour(i: usize) -> plotters::style::RGBColor {
+    super::style::PALETTE[i % super::style::PALETTE.len()]
+}
+
+/// The distinct (aspect, width) pairs, sorted.
+fn distinct_blocks(cases: &[Case]) -> Vec<(f64, f64)> {
+    let mut v: Vec<(f64, f64)> = cases.iter().map(|c| (c.aspect, c.width)).collect();
+    v.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    v.dedup();
+    v
+}
+
+impl Figure for FragilityFigure {
+    fn size_in(&self) -> (f64, f64) {
+        (PAGE_WIDTH_IN, HEIGHT_IN)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        style: &Style,
+    ) -> DrawResult<DB> {
+        root.fill(&layout::BACKGROUND)?;
+        let body = layout::title_band(root, style, &self.title)?;
+        let body = layout::legend(&body, style, &self.legend())?;
+        let n = self.panels.len().max(1);
+        let heading = style.ipx(layout::HEADING_PT);
+        let x_area = style.ipx(26.0);
+        let y_area = style.ipx(24.0);
+        let body = layout::side_label(&body, style, "P(overturning)", heading, x_area)?;
+        let areas = body.split_evenly((1, n));
+        let x_max = if self.im_max > 0.0 { self.im_max } else { 1.0 };
+        for (panel, area) in self.panels.iter().zip(&areas) {
+            layout::heading(area, style, &panel.label, y_area)?;
+            let mut chart = ChartBuilder::on(area)
+                .margin_top(heading)
+                .margin_right(style.ipx(8.0))
+                .x_label_area_size(x_area)
+                .y_label_area_size(y_area)
+                .build_cartesian_2d(0.0..x_max * 1.03, 0.0..1.0)?;
+            let mut mesh = chart.configure_mesh();
+            layout::house_mesh(&mut mesh, style);
+            mesh.x_labels(6).y_labels(6).x_desc("PGA (g)").draw()?;
+
+            for s in &panel.series {
+                if s.fit.is_empty() {
+                    continue;
+                }
+                let colour = restitution_colour(s.restitution);
+                let mut outline: Vec<(f64, f64)> = s.fit.iter().map(|p| (p.0, p.3)).collect();
+                outline.extend(s.fit.iter().rev().map(|p| (p.0, p.2)));
+                chart.draw_series(std::iter::once(Polygon::new(
+                    outline,
+                    colour.mix(BAND_ALPHA).filled(),
+                )))?;
+            }
+            // all solid series first, then the dashed ones: a dashed series
+            // is a run of consecutive polylines of one colour
+            let mut order: Vec<&FragilitySeries> = panel.series.iter().collect();
+            order.sort_by_key(|s| (s.friction, s.restitution));
+            for s in &order {
+                let colour = restitution_colour(s.restitution);
+                let line = colour.stroke_width(style.ipx(super::style::LINE_PT));
+                let points: Vec<(f64, f64)> = if self.fitted {
+                    s.fit.iter().map(|p| (p.0, p.1)).collect()
+                } else {
+                    s.observed.iter().map(|o| (o.0, o.1)).collect()
+                };
+                curve!(chart, points, line, Dash::nth(s.friction), style);
+            }
+            // hollow (finite friction) markers first: a filled one on top
+            // at the same place leaves a ring showing both
+            for s in order.iter().rev() {
+                let colour = restitution_colour(s.restitution);
+                markers!(
+                    chart,
+                    s.observed.iter().map(|o| (o.0, o.1)),
+                    colour,
+                    Marker::Circle,
+                    s.friction == 0,
+                    style
+                );
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,394 @@
+//! Friction demand against B/H, under infinite friction (the paper's
+//! setting: demand is only meaningful when friction never limits it).
+//!
+//! (a) Mean μ_mot, the peak |F|/N while rocking, over the runs that rocked
+//! (μ_mot > 0) and did not overturn: one line per PGA, pooled over e (the
+//! paper found it insensitive to e). (b) Mean μ_imp, the peak |P_t/P_n| over
+//! impacts, over the runs with impacts that did not overturn, on a log
+//! scale: one line per e, pooled over PGA. Both panels carry the paper's
+//! eq. (8), μ = 3 cosθc sinθc/(1 + 3cos²θc), its small-angle form 0.75·B/H,
+//! and the paper's table values for the study's blocks (open squares, one
+//! per table row, set
+//! [`PAPER_DODGE`] of the axis to the right of their B/H so that they do not
+//! hide this study's means).
+
+use plotters::coord::Shift;
+use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, IntoLogRange};
+use plotters::style::{BLACK, Color, RGBColor};
+
+use super::data::{StudyData, distinct};
+use super::fragility::restitution_colour;
+use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
+use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
+use super::{DrawResult, Figure};
+use crate::solver::Friction;
+use crate::study::paper::TABLES;
+
+/// Figure height (in).
+const HEIGHT_IN: f64 = 3.3;
+/// Horizontal offset of the paper's markers, as a fraction of the B/H axis.
+pub const PAPER_DODGE: f64 = 0.02;
+/// Points on each reference curve.
+const REFERENCE_POINTS: usize = 120;
+
+/// One line of a panel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DemandSeries {
+    /// Legend label (`0.6 g`, `e = 0.3`).
+    pub label: String,
+    /// Line colour.
+    pub colour: RGBColor,
+    /// (B/H, mean) of this study, B/H ascending.
+    pub means: Vec<(f64, f64)>,
+    /// (B/H, value) of the paper's table rows in this series.
+    pub paper: Vec<(f64, f64)>,
+}
+
+/// The friction-demand figure's data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrictionDemandFigure {
+    /// Title.
+    pub title: String,
+    /// Panel (a): μ_mot, a series per PGA.
+    pub motion: Vec<DemandSeries>,
+    /// Panel (b): μ_imp, a series per restitution.
+    pub impact: Vec<DemandSeries>,
+    /// Largest B/H of the study.
+    pub b_over_h_max: f64,
+}
+
+/// The paper's eq. (8) as a function of B/H: the impulse ratio of a rock
+/// impact without slip, 3 cosθc sinθc/(1 + 3 cos²θc), θc = atan(B/H).
+pub fn eq8(b_over_h: f64) -> f64 {
+    let (s, c) = b_over_h.atan().sin_cos();
+    3.0 * c * s / (1.0 + 3.0 * c * c)
+}
+
+/// At most `max` levels, evenly spread over `levels` (all of them if they
+/// fit): the first, the last and evenly spaced ones between.
+pub fn pick_levels(levels: &[f64], max: usize) -> Vec<f64> {
+    if levels.len() <= max || max < 2 {
+        return levels.to_vec();
+    }
+    let n = levels.len() - 1;
+    let mut v: Vec<f64> = (0..max)
+        .map(|i| levels[(i * n + (max - 1) / 2) / (max - 1)])
+        .collect();
+    v.dedup();
+    v
+}
+
+/// Most PGA levels drawn as separate lines.
+pub const MAX_LEVELS: usize = 5;
+/// Levels drawn when there are more than [`MAX_LEVELS`].
+pub const PICKED_LEVELS: usize = 4;
+
+/// Colour of PGA level `i` of `n` (dark to light).
+pub fn level_colour(i: usize, n: usize) -> RGBColor {
+    layout::sequential(i, n)
+}
+
+/// The PGA levels drawn as lines: all of them if there are at most
+/// [`MAX_LEVELS`]; otherwise the paper's four (0.3, 0.6, 0.9, 1.2 g) if the
+/// study has them all, so that its tables can be compared; otherwise
+/// [`PICKED_LEVELS`] spread over the range.
+pub fn shown_levels(levels: &[f64]) -> Vec<f64> {
+    if levels.len() <= MAX_LEVELS {
+        return levels.to_vec();
+    }
+    let paper = distinct(TABLES.iter().map(|r| r.pga));
+    if paper.iter().all(|p| levels.contains(p)) {
+        paper
+    } else {
+        pick_levels(levels, PICKED_LEVELS)
+    }
+}
+
+fn mean(v: impl Iterator<Item = f64>) -> Option<f64> {
+    let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    (n > 0).then(|| s / n as f64)
+}
+
+impl FrictionDemandFigure {
+    /// Averages the study's infinite-friction runs; `None` if it has none.
+    pub fn from_study(data: &StudyData) -> Option<FrictionDemandFigure> {
+        let rows: Vec<_> = data
+            .outcomes
+            .iter()
+            .filter(|r| r.case.friction == Friction::Infinite && !r.overturned)
+            .collect();
+        if !data
+            .outcomes
+            .iter()
+            .any(|r| r.case.friction == Friction::Infinite)
+        {
+            return None;
+        }
+        let all_inf = data
+            .outcomes
+            .iter()
+            .filter(|r| r.case.friction == Friction::Infinite);
+        let aspects = distinct(all_inf.clone().map(|r| r.case.aspect));
+        let levels = shown_levels(&distinct(all_inf.clone().map(|r| r.pga)));
+        let es = distinct(all_inf.clone().map(|r| r.case.restitution));
+        let widths = distinct(all_inf.map(|r| r.case.width));
+
+        let motion = levels
+            .iter()
+            .enumerate()
+            .map(|(i, &pga)| DemandSeries {
+                label: format!("{} g", tick_label(pga)),
+                colour: level_colour(i, levels.len()),
+                means: aspects
+                    .iter()
+                    .rev()
+                    .filter_map(|&a| {
+                        mean(
+                            rows.iter()
+                                .filter(|r| r.case.aspect == a && r.pga == pga && r.mu_motion > 0.0)
+                                .map(|r| r.mu_motion),
+                        )
+                        .map(|m| (1.0 / a, m))
+                    })
+                    .collect(),
+                paper: TABLES
+                    .iter()
+                    .filter(|p| p.pga == pga && aspects.contains(&p.aspect))
+                    .filter_map(|p| p.mu_motion.map(|m| (1.0 / p.aspect, m)))
+                    .collect(),
+            })
+            .collect();
+        let impact = es
+            .iter()
+            .enumerate()
+            .map(|(i, &e)| DemandSeries {
+                label: format!("e = {}", tick_label(e)),
+                colour: restitution_colour(i),
+                means: aspects
+                    .iter()
+                    .rev()
+                    .filter_map(|&a| {
+                        mean(
+                            rows.iter()
+                                .filter(|r| {
+                                    r.case.aspect == a && r.case.restitution == e && r.impacts > 0
+                                })
+                                .map(|r| r.mu_impact),
+                        )
+                        .map(|m| (1.0 / a, m))
+                    })
+                    .collect(),
+                paper: TABLES
+                    .iter()
+                    .filter(|p| p.restitution == e && aspects.contains(&p.aspect))
+                    .filter_map(|p| p.mu_impact.map(|m| (1.0 / p.aspect, m)))
+                    .collect(),
+            })
+            .collect();
+        let mut title = "Friction demand, infinite friction, runs not overturned".to_string();
+        if widths.len() > 1 {
+            title.push_str(" (all widths pooled)");
+        }
+        Some(FrictionDemandFigure {
+            title,
+            motion,
+            impact,
+            b_over_h_max: aspects.first().map_or(0.5, |a| 1.0 / a),
+        })
+    }
+}
+
+/// Draws each series' means (line and filled circles) and the paper's values
+/// (open squares, moved right by `dodge`) on `chart`.
+macro_rules! draw_series_set {
+    ($chart:expr, $series:expr, $style:expr, $dodge:expr) => {{
+        for s in $series.iter() {
+            let line = s.colour.stroke_width($style.ipx(LINE_PT));
+            curve!($chart, s.means.iter().copied(), line, Dash::Solid, $style);
+        }
+        for s in $series.iter() {
+            markers!(
+                $chart,
+                s.paper.iter().map(|&(x, y)| (x + $dodge, y)),
+                s.colour,
+                Marker::Square,
+                false,
+                $style
+            );
+            markers!(
+                $chart,
+                s.means.iter().copied(),
+                s.colour,
+                Marker::Circle,
+                true,
+                $style
+            );
+        }
+    }};
+}
+
+impl Figure for FrictionDemandFigure {
+    fn size_in(&self) -> (f64, f64) {
+        (PAGE_WIDTH_IN, HEIGHT_IN)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        style: &Style,
+    ) -> DrawResult<DB> {
+        root.fill(&layout::BACKGROUND)?;
+        let body = layout::title_band(root, style, &self.title)?;
+        let shared = [
+            Entry::new(Sample::Line(BLACK, Dash::Solid), "eq. (8)"),
+            Entry::new(Sample::Line(BLACK, Dash::Dashed), "0.75·B/H"),
+            Entry::new(
+                Sample::Point(BLACK, Marker::Circle, true),
+                "this study, mean",
+            ),
+            Entry::new(
+                Sample::Point(BLACK, Marker::Square, false),
+                "paper, Tables 1–3",
+            ),
+        ];
+        let body = layout::legend(&body, style, &shared)?;
+        let halves = body.split_evenly((1, 2));
+        let x_max = self.b_over_h_max * 1.12;
+        let heading = style.ipx(layout::HEADING_PT);
+        let x_area = style.ipx(26.0);
+        let y_area = style.ipx(30.0);
+        let reference = |f: &dyn Fn(f64) -> f64, lo: f64| -> Vec<(f64, f64)> {
+            (1..=REFERENCE_POINTS)
+                .map(|i| {
+                    let x = x_max * i as f64 / REFERENCE_POINTS as f64;
+                    (x, f(x))
+                })
+                .filter(|&(_, y)| y >= lo)
+                .collect()
+        };
+        let ref_style = BLACK.stroke_width(style.ipx(LINE_PT));
+        let three_quarters = |x: f64| 0.75 * x;
+
+        let legends: Vec<Vec<Entry>> = [&self.motion, &self.impact]
+            .iter()
+            .enumerate()
+            .map(|(k, series)| {
+                let mut entries = Vec::new();
+                if k == 0 {
+                    entries.push(Entry::new(Sample::Text, "PGA:"));
+                }
+                entries.extend(
+                    series
+                        .iter()
+                        .map(|s| Entry::new(Sample::Line(s.colour, Dash::Solid), s.label.clone())),
+                );
+                entries
+            })
+            .collect();
+        let rows = halves
+            .iter()
+            .zip(&legends)
+            .map(|(area, entries)| layout::legend_rows(area, style, entries))
+            .max()
+            .unwrap_or(1);
+        for (k, ((area, series), entries)) in halves
+            .iter()
+            .zip([&self.motion, &self.impact])
+            .zip(&legends)
+            .enumerate()
+        {
+            let area = layout::legend_in_rows(area, style, entries, rows)?;
+            let values = series
+                .iter()
+                .flat_map(|s| s.means.iter().chain(&s.paper))
+                .map(|p| p.1)
+                .filter(|v| *v > 0.0);
+            let (lo, hi) = values.fold((f64::INFINITY, 0.0_f64), |(l, h), v| (l.min(v), h.max(v)));
+            let (lo, hi) = if hi > 0.0 { (lo, hi) } else { (0.1, 1.0) };
+            if k == 0 {
+                layout::heading(&area, style, "(a) Mean μₘₒₜ, during rocking", y_area)?;
+                let y_hi = hi.max(0.75 * x_max) * 1.08;
+                let mut chart = ChartBuilder::on(&area)
+                    .margin_top(heading)
+                    .margin_right(style.ipx(10.0))
+                    .x_label_area_size(x_area)
+                    .y_label_area_size(y_area)
+                    .build_cartesian_2d(0.0..x_max, 0.0..y_hi)?;
+                let mut mesh = chart.configure_mesh();
+                layout::house_mesh(&mut mesh, style);
+                mesh.x_labels(7).y_labels(7).x_desc("B/H").draw()?;
+                curve!(chart, reference(&eq8, 0.0), ref_style, Dash::Solid, style);
+                curve!(
+                    chart,
+                    reference(&three_quarters, 0.0),
+                    ref_style,
+                    Dash::Dashed,
+                    style
+                );
+                draw_series_set!(chart, series, style, x_max * PAPER_DODGE);
+            } else {
+                layout::heading(
+                    &area,
+                    style,
+                    "(b) Mean μᵢₘₚ, at impacts (log scale)",
+                    y_area,
+                )?;
+                let y_lo = lo.min(eq8(self.b_over_h_max)) * 0.6;
+                let mut chart = ChartBuilder::on(&area)
+                    .margin_top(heading)
+                    .margin_right(style.ipx(10.0))
+                    .x_label_area_size(x_area)
+                    .y_label_area_size(y_area)
+                    .build_cartesian_2d(0.0..x_max, (y_lo..hi * 1.6).log_scale())?;
+                let mut mesh = chart.configure_mesh();
+                layout::house_mesh(&mut mesh, style);
+                mesh.x_labels(7)
+                    .y_label_formatter(&|v| layout::log_tick_label(*v))
+                    .x_desc("B/H")
+                    .draw()?;
+                curve!(chart, reference(&eq8, y_lo), ref_style, Dash::Solid, style);
+                curve!(
+                    chart,
+                    reference(&three_quarters, y_lo),
+                    ref_style,
+                    Dash::Dashed,
+                    style
+                );
+                draw_series_set!(chart, series, style, x_max * PAPER_DODGE);
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::Block;
+    use crate::solver::impact::rock_impact_mu;
+
+    #[test]
+    fn eq8_is_the_solvers_rock_impact_ratio_and_the_papers_values() {
+        // The curve drawn is the solver's eq. (8), and it gives the paper's
+        // e = 0 column (0.353, 0.185, 0.124) to the table's 3 digits.
+        for (aspect, table) in [(2.0, 0.353), (4.0, 0.185), (6.0, 0.124)] {
+            let block = Block::new(0.5, aspect, 9.81).unwrap();
+            assert!((eq8(1.0 / aspect) - rock_impact_mu(&block)).abs() < 1e-12);
+            assert!((eq8(1.0 / aspect) - table).abs() < 5e-4, "H/B = {aspect}");
+        }
+        // small-angle limit 0.75·B/H
+        assert!((eq8(1e-4) / 1e-4 - 0.75).abs() < 1e-6);
+    }
+
+    #[test]
+    fn many_levels_are_thinned_to_the_papers_or_spread() {
+        // Up to five levels are all drawn; a fine grid containing the
+        // paper's four levels shows those; otherwise four spread levels.
+        let few = [0.3, 0.6, 0.9];
+        assert_eq!(shown_levels(&few), few.to_vec());
+        let fine: Vec<f64> = (1..=15).map(|k| k as f64 / 10.0).collect();
+        assert_eq!(shown_levels(&fine), vec![0.3, 0.6, 0.9, 1.2]);
+        let odd: Vec<f64> = (1..=10).map(|k| k as f64 * 0.25).collect();
+        assert_eq!(shown_levels(&odd), vec![0.25, 1.0, 1.75, 2.5]);
+    }
+}

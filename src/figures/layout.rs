@@ -1,0 +1,550 @@
+//! Building blocks shared by the study figures: title bands, legends drawn
+//! above the panels, panel headings, the house mesh, line dashes and point
+//! markers.
+//!
+//! Legend samples are drawn as rectangles and circles in pixel coordinates,
+//! never as polylines, and every line *sample* is black: the only coloured
+//! polylines in a figure are its data curves, which keeps them countable.
+
+use plotters::chart::MeshStyle;
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::prelude::{Circle, DrawingArea, DrawingBackend, Rectangle};
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::{Color, FontTransform, RGBColor, ShapeStyle, WHITE};
+
+use super::DrawResult;
+use super::style::{LINE_PT, Style, tick_label};
+
+/// Height of a title band (pt).
+pub const TITLE_BAND_PT: f64 = 16.0;
+/// Height of one legend row (pt).
+pub const LEGEND_ROW_PT: f64 = 12.0;
+/// Room above a panel for its heading (pt).
+pub const HEADING_PT: f64 = 13.0;
+/// Length of a legend line sample (pt).
+const SAMPLE_PT: f64 = 16.0;
+/// Gap between legend entries (pt).
+const ENTRY_GAP_PT: f64 = 9.0;
+/// Gap between a sample and its label (pt).
+const SAMPLE_GAP_PT: f64 = 3.0;
+/// Dash and gap of dashed lines (pt).
+pub const DASH_PT: (f64, f64) = (3.5, 2.0);
+/// Dash and gap of short-dashed lines (pt).
+pub const SHORT_DASH_PT: (f64, f64) = (1.2, 1.5);
+/// Width of rug ticks (pt).
+pub const RUG_PT: f64 = 0.4;
+/// Radius of filled point markers (pt).
+pub const MARKER_PT: f64 = 1.9;
+/// Radius of hollow point markers (pt): larger than filled ones, so that a
+/// hollow marker drawn under a filled one at the same place shows as a ring.
+pub const HOLLOW_MARKER_PT: f64 = 2.5;
+
+/// Marker radius in pixels.
+pub fn marker_px(style: &Style, filled: bool) -> i32 {
+    style
+        .px(if filled { MARKER_PT } else { HOLLOW_MARKER_PT })
+        .round() as i32
+}
+
+/// Line pattern of a series.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dash {
+    /// Continuous line (one polyline).
+    Solid,
+    /// Dashes of [`DASH_PT`] (plotters writes one polyline per dash).
+    Dashed,
+    /// Short dashes of [`SHORT_DASH_PT`].
+    Short,
+}
+
+impl Dash {
+    /// The pattern of the `i`-th friction model: solid, dashed, short dashes.
+    pub fn nth(i: usize) -> Dash {
+        [Dash::Solid, Dash::Dashed, Dash::Short][i % 3]
+    }
+
+    /// (dash, gap) in points, `None` for solid.
+    pub fn pattern(self) -> Option<(f64, f64)> {
+        match self {
+            Dash::Solid => None,
+            Dash::Dashed => Some(DASH_PT),
+            Dash::Short => Some(SHORT_DASH_PT),
+        }
+    }
+}
+
+/// Shape of a point marker.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Marker {
+    /// Circle.
+    Circle,
+    /// Square.
+    Square,
+}
+
+/// The sample shown beside a legend label.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sample {
+    /// A line of the given colour and pattern.
+    Line(RGBColor, Dash),
+    /// A marker; `filled` or drawn in outline.
+    Point(RGBColor, Marker, bool),
+    /// A filled block (a shaded band or region).
+    Block(RGBColor),
+    /// A short vertical tick (a rug mark).
+    Tick(RGBColor),
+    /// A line with a marker on it (a series drawn as line and points).
+    LinePoint(RGBColor, Dash, Marker, bool),
+    /// No sample: the label alone (a heading for the entries after it).
+    Text,
+}
+
+/// One legend entry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Entry {
+    /// What the entry looks like.
+    pub sample: Sample,
+    /// Its label.
+    pub label: String,
+}
+
+impl Entry {
+    /// An entry.
+    pub fn new(sample: Sample, label: impl Into<String>) -> Entry {
+        Entry {
+            sample,
+            label: label.into(),
+        }
+    }
+}
+
+/// Splits a title band off the top of `area`, writes `title` centred in it
+/// and returns the rest. A title wider than the area is broken after its
+/// last `; ` or `, ` that lets the first line fit, into a band of two lines.
+pub fn title_band<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    title: &str,
+) -> Result<DrawingArea<DB, Shift>, plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+    let font = style.title_font();
+    let (width, _) = area.dim_in_pixel();
+    let fits = |t: &str| {
+        area.estimate_text_size(t, &font)
+            .map_or(true, |(w, _)| w + style.ipx(4.0) <= width)
+    };
+    let lines: Vec<&str> = if fits(title) {
+        vec![title]
+    } else {
+        let breaks = title
+            .match_indices("; ")
+            .chain(title.match_indices(", "))
+            .map(|(i, _)| i)
+            .filter(|&i| fits(&title[..i + 1]));
+        match breaks.max() {
+            Some(i) => vec![&title[..i + 1], &title[i + 2..]],
+            None => vec![title],
+        }
+    };
+    let line_h = style.px(TITLE_BAND_PT - 4.0);
+    let band_h = style.px(TITLE_BAND_PT) + line_h * (lines.len() - 1) as f64;
+    let (band, body) = area.split_vertically(band_h.round() as u32);
+    let centred = font.pos(Pos::new(HPos::Center, VPos::Center));
+    for (k, line) in lines.iter().enumerate() {
+        let y = style.px(TITLE_BAND_PT) / 2.0 + line_h * k as f64;
+        band.draw_text(line, &centred, ((width / 2) as i32, y.round() as i32))?;
+    }
+    Ok(body)
+}
+
+/// Number of legend rows `entries` need across `width` pixels.
+pub fn legend_rows<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    entries: &[Entry],
+) -> usize {
+    layout_legend(area, style, entries).len()
+}
+
+/// Entries grouped into centred rows that fit the area's width: each row is
+/// a list of (entry index, x offset), with the row's width.
+fn layout_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    entries: &[Entry],
+) -> Vec<(Vec<(usize, i32)>, i32)> {
+    let (width, _) = area.dim_in_pixel();
+    let font = style.tick_font();
+    let sample = style.px(SAMPLE_PT);
+    let gap = style.px(ENTRY_GAP_PT);
+    let sgap = style.px(SAMPLE_GAP_PT);
+    let mut rows: Vec<(Vec<(usize, i32)>, i32)> = vec![(vec![], 0)];
+    let mut x = 0.0;
+    for (i, e) in entries.iter().enumerate() {
+        let text_w = area
+            .estimate_text_size(&e.label, &font)
+            .map_or(6.0 * e.label.len() as f64, |(w, _)| w as f64);
+        let w = match e.sample {
+            Sample::Text => text_w,
+            _ => sample + sgap + text_w,
+        };
+        if x > 0.0 && x + w > width as f64 {
+            rows.push((vec![], 0));
+            x = 0.0;
+        }
+        let row = rows.last_mut().expect("one row at least");
+        row.0.push((i, x.round() as i32));
+        row.1 = (x + w).round() as i32;
+        x += w + gap;
+    }
+    rows
+}
+
+/// Draws `entries` in centred rows of [`LEGEND_ROW_PT`] at the top of
+/// `area`; returns the rest of the area below the legend.
+pub fn legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    entries: &[Entry],
+) -> Result<DrawingArea<DB, Shift>, plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+    legend_in_rows(area, style, entries, 0)
+}
+
+/// As [`legend`], but taking the room of at least `min_rows` rows, so that
+/// panels side by side with legends of different lengths stay aligned.
+pub fn legend_in_rows<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    entries: &[Entry],
+    min_rows: usize,
+) -> Result<DrawingArea<DB, Shift>, plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+    let rows = layout_legend(area, style, entries);
+    let row_h = style.px(LEGEND_ROW_PT);
+    let n_rows = rows.len().max(min_rows);
+    let (band, body) = area.split_vertically((row_h * n_rows as f64).round() as u32);
+    let (width, _) = band.dim_in_pixel();
+    let sample = style.px(SAMPLE_PT);
+    let sgap = style.px(SAMPLE_GAP_PT);
+    let font = style.tick_font().pos(Pos::new(HPos::Left, VPos::Center));
+    for (r, (items, row_w)) in rows.iter().enumerate() {
+        let x0 = (width as i32 - row_w) / 2;
+        let yc = (row_h * (r as f64 + 0.5)).round() as i32;
+        for &(i, dx) in items {
+            let e = &entries[i];
+            let xs = x0 + dx;
+            let text_x = match e.sample {
+                Sample::Text => xs,
+                _ => {
+                    draw_sample(&band, style, e.sample, xs, yc, sample)?;
+                    xs + (sample + sgap).round() as i32
+                }
+            };
+            band.draw_text(&e.label, &font, (text_x, yc))?;
+        }
+    }
+    Ok(body)
+}
+
+/// Draws one legend sample, `len` pixels long, starting at `x`, centred on `y`.
+fn draw_sample<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    sample: Sample,
+    x: i32,
+    y: i32,
+    len: f64,
+) -> DrawResult<DB> {
+    let lw = style.ipx(LINE_PT) as i32;
+    let half = lw / 2;
+    match sample {
+        Sample::Text => {}
+        Sample::LinePoint(colour, dash, marker, filled) => {
+            draw_sample(area, style, Sample::Line(colour, dash), x, y, len)?;
+            let xc = x + (len / 2.0).round() as i32;
+            draw_marker(area, style, (xc, y), colour, marker, filled)?;
+        }
+        Sample::Line(colour, dash) => {
+            // rectangles, not polylines (see the module docs)
+            let x1 = x + len.round() as i32;
+            let fill = colour.filled();
+            match dash.pattern() {
+                None => area.draw(&Rectangle::new([(x, y - half), (x1, y - half + lw)], fill))?,
+                Some((on, off)) => {
+                    let (on, off) = (style.px(on), style.px(off));
+                    let mut a = x as f64;
+                    while a < x1 as f64 {
+                        let b = (a + on).min(x1 as f64);
+                        area.draw(&Rectangle::new(
+                            [
+                                (a.round() as i32, y - half),
+                                (b.round() as i32, y - half + lw),
+                            ],
+                            fill,
+                        ))?;
+                        a = b + off;
+                    }
+                }
+            }
+        }
+        Sample::Point(colour, marker, filled) => {
+            let xc = x + (len / 2.0).round() as i32;
+            draw_marker(area, style, (xc, y), colour, marker, filled)?;
+        }
+        Sample::Tick(colour) => {
+            let xc = x + (len / 2.0).round() as i32;
+            let (w, h) = (style.ipx(RUG_PT).max(1) as i32, style.ipx(6.0) as i32);
+            area.draw(&Rectangle::new(
+                [(xc, y - h / 2), (xc + w, y + h / 2)],
+                colour.filled(),
+            ))?;
+        }
+        Sample::Block(colour) => {
+            let h = style.ipx(6.0) as i32;
+            area.draw(&Rectangle::new(
+                [(x, y - h / 2), (x + len.round() as i32, y + h / 2)],
+                colour.filled(),
+            ))?;
+            area.draw(&Rectangle::new(
+                [(x, y - h / 2), (x + len.round() as i32, y + h / 2)],
+                ShapeStyle::from(&GREY_EDGE).stroke_width(1),
+            ))?;
+        }
+    }
+    Ok(())
+}
+
+/// Thin grey edge drawn round legend blocks so that light tints stay visible.
+const GREY_EDGE: RGBColor = RGBColor(0x99, 0x99, 0x99);
+
+/// Draws one marker centred at pixel `c` of `area`.
+pub fn draw_marker<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    c: (i32, i32),
+    colour: RGBColor,
+    marker: Marker,
+    filled: bool,
+) -> DrawResult<DB> {
+    let r = marker_px(style, filled);
+    let s = marker_style(style, colour, filled);
+    match marker {
+        Marker::Circle => {
+            if !filled {
+                area.draw(&Circle::new(c, r, HOLLOW_FILL))?;
+            }
+            area.draw(&Circle::new(c, r, s))
+        }
+        Marker::Square => {
+            let corners = [(c.0 - r, c.1 - r), (c.0 + r, c.1 + r)];
+            if !filled {
+                area.draw(&Rectangle::new(corners, HOLLOW_FILL))?;
+            }
+            area.draw(&Rectangle::new(corners, s))
+        }
+    }
+}
+
+/// Interior of hollow markers: white, so that lines do not show through.
+pub const HOLLOW_FILL: ShapeStyle = ShapeStyle {
+    color: plotters::style::RGBAColor(255, 255, 255, 1.0),
+    filled: true,
+    stroke_width: 0,
+};
+
+/// Style of a marker: filled, or outlined with a white interior.
+pub fn marker_style(style: &Style, colour: RGBColor, filled: bool) -> ShapeStyle {
+    if filled {
+        colour.filled()
+    } else {
+        colour.stroke_width(style.ipx(LINE_PT))
+    }
+}
+
+/// Writes a panel heading at the top left of `area` (inside its top
+/// [`HEADING_PT`] band), indented by `indent` pixels to line up with the
+/// plot's left edge.
+pub fn heading<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    text: &str,
+    indent: u32,
+) -> DrawResult<DB> {
+    area.draw_text(
+        text,
+        &style.label_font().pos(Pos::new(HPos::Left, VPos::Center)),
+        (indent as i32, (style.px(HEADING_PT) / 2.0).round() as i32),
+    )
+}
+
+/// Applies the house mesh: black axes, light grid at the labelled ticks only,
+/// small ticks, compact tick labels ([`tick_label`]) and the label font.
+pub fn house_mesh<'a, 'b, X, Y, DB>(mesh: &mut MeshStyle<'a, 'b, X, Y, DB>, style: &Style)
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    DB: DrawingBackend,
+{
+    mesh.axis_style(style.axis())
+        .bold_line_style(style.grid())
+        .max_light_lines(0)
+        .set_all_tick_mark_size(style.ipx(2.5))
+        .label_style(style.tick_font())
+        .axis_desc_style(style.label_font())
+        .x_label_formatter(&|v| tick_label(*v))
+        .y_label_formatter(&|v| tick_label(*v));
+}
+
+/// Formats a tick on a log axis: only powers of ten and their 2× and 5×
+/// multiples are labelled (`1`, `2`, `5`, `10`, …), as compact numbers.
+pub fn log_tick_label(v: f64) -> String {
+    if v.is_nan() || v <= 0.0 {
+        return String::new();
+    }
+    let e = v.log10().floor();
+    let m = v / 10f64.powf(e);
+    if [1.0, 2.0, 5.0].iter().any(|k| (m - k).abs() < 1e-6) {
+        tick_label(v)
+    } else {
+        String::new()
+    }
+}
+
+/// A lighter tint of `c`: `amount` = 0 gives `c`, 1 gives white.
+pub fn tint(c: RGBColor, amount: f64) -> RGBColor {
+    let mix = |a: u8| (a as f64 + (255.0 - a as f64) * amount).round() as u8;
+    RGBColor(mix(c.0), mix(c.1), mix(c.2))
+}
+
+/// Colour `i` of `n` on a dark-to-light sequential scale (plasma: deep
+/// blue, purple, red, orange; cut before its pale yellow end so that thin
+/// lines stay visible on white), for ordered levels such as PGA.
+pub fn sequential(i: usize, n: usize) -> RGBColor {
+    const STOPS: [(f64, RGBColor); 5] = [
+        (0.0, RGBColor(0x0D, 0x08, 0x87)),
+        (0.25, RGBColor(0x7E, 0x03, 0xA8)),
+        (0.5, RGBColor(0xCC, 0x47, 0x78)),
+        (0.75, RGBColor(0xF8, 0x95, 0x40)),
+        (1.0, RGBColor(0xF0, 0xF9, 0x21)),
+    ];
+    let t = if n <= 1 {
+        0.0
+    } else {
+        0.8 * i as f64 / (n - 1) as f64
+    };
+    let k = STOPS
+        .windows(2)
+        .position(|w| t <= w[1].0)
+        .unwrap_or(STOPS.len() - 2);
+    let ((t0, a), (t1, b)) = (STOPS[k], STOPS[k + 1]);
+    let u = (t - t0) / (t1 - t0);
+    let lerp = |x: u8, y: u8| (x as f64 + (y as f64 - x as f64) * u).round() as u8;
+    RGBColor(lerp(a.0, b.0), lerp(a.1, b.1), lerp(a.2, b.2))
+}
+
+/// Background of every figure.
+pub const BACKGROUND: RGBColor = WHITE;
+
+/// Width of the strip left of a row of panels that holds its rotated
+/// y-axis label (pt).
+pub const SIDE_LABEL_PT: f64 = 13.0;
+
+/// Splits a [`SIDE_LABEL_PT`] strip off the left of `area` and writes `text`
+/// in it, rotated to read upwards, centred on the plot region (the area less
+/// `top` pixels of headings and `bottom` pixels of x-axis labels); returns
+/// the rest of the area.
+pub fn side_label<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    text: &str,
+    top: u32,
+    bottom: u32,
+) -> Result<DrawingArea<DB, Shift>, plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+    let (strip, rest) = area.split_horizontally(style.ipx(SIDE_LABEL_PT));
+    let (w, h) = strip.dim_in_pixel();
+    let yc = (top as i32 + (h as i32 - bottom as i32)) / 2;
+    let font = style
+        .label_font()
+        .transform(FontTransform::Rotate270)
+        .pos(Pos::new(HPos::Center, VPos::Center));
+    strip.draw_text(text, &font, ((w / 2) as i32, yc))?;
+    Ok(rest)
+}
+
+/// Draws a data curve as a solid or dashed series on a chart (a macro, so that
+/// it works for any coordinate system): `curve!(chart, points, style, dash, px)`
+/// where `px` converts points to pixels (the figure's [`Style`]).
+macro_rules! curve {
+    ($chart:expr, $points:expr, $shape:expr, $dash:expr, $style:expr) => {{
+        match $dash.pattern() {
+            None => {
+                $chart.draw_series(plotters::prelude::LineSeries::new($points, $shape))?;
+            }
+            Some((on, off)) => {
+                $chart.draw_series(plotters::prelude::DashedLineSeries::new(
+                    $points,
+                    $style.px(on).round() as i32,
+                    $style.px(off).round() as i32,
+                    $shape,
+                ))?;
+            }
+        }
+    }};
+}
+pub(crate) use curve;
+
+/// Draws point markers at data coordinates on a chart (a macro, for any
+/// coordinate system): `markers!(chart, points, colour, marker, filled, style)`.
+macro_rules! markers {
+    ($chart:expr, $points:expr, $colour:expr, $marker:expr, $filled:expr, $style:expr) => {{
+        use plotters::prelude::{Circle, EmptyElement, Rectangle};
+        let r = $crate::figures::layout::marker_px(&$style, $filled);
+        let s = $crate::figures::layout::marker_style(&$style, $colour, $filled);
+        let under = $crate::figures::layout::HOLLOW_FILL;
+        let points: Vec<_> = $points.into_iter().collect();
+        match ($marker, $filled) {
+            ($crate::figures::layout::Marker::Circle, true) => {
+                $chart.draw_series(points.into_iter().map(|p| Circle::new(p, r, s)))?;
+            }
+            ($crate::figures::layout::Marker::Circle, false) => {
+                $chart.draw_series(points.into_iter().map(|p| {
+                    EmptyElement::at(p) + Circle::new((0, 0), r, under) + Circle::new((0, 0), r, s)
+                }))?;
+            }
+            ($crate::figures::layout::Marker::Square, filled) => {
+                let fill = if filled { s } else { under };
+                $chart.draw_series(points.into_iter().map(|p| {
+                    EmptyElement::at(p)
+                        + Rectangle::new([(-r, -r), (r, r)], fill)
+                        + Rectangle::new([(-r, -r), (r, r)], s)
+                }))?;
+            }
+        }
+    }};
+}
+pub(crate) use markers;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_ticks_label_only_one_two_five_decades() {
+        // A log axis labels 1, 2, 5 × 10^k and leaves the other ticks blank.
+        assert_eq!(log_tick_label(0.1), "0.1");
+        assert_eq!(log_tick_label(2000.0), "2000");
+        assert_eq!(log_tick_label(0.05), "0.05");
+        assert_eq!(log_tick_label(3.0), "");
+        assert_eq!(log_tick_label(0.0), "");
+    }
+
+    #[test]
+    fn sequential_scale_runs_dark_to_light() {
+        // The first level is the darkest, the last the lightest (sum of
+        // channels as a proxy for lightness), and one level is the dark end.
+        let lightness = |c: RGBColor| c.0 as u32 + c.1 as u32 + c.2 as u32;
+        let cs: Vec<RGBColor> = (0..4).map(|i| sequential(i, 4)).collect();
+        assert!(cs.windows(2).all(|w| lightness(w[0]) < lightness(w[1])));
+        assert_eq!(sequential(0, 1), RGBColor(0x0D, 0x08, 0x87));
+        assert_eq!(tint(RGBColor(0, 0, 0), 1.0), RGBColor(255, 255, 255));
+    }
+}
