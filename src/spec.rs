@@ -30,6 +30,7 @@
 //! ```
 
 use crate::error::{Error, Result};
+use crate::fragility::FragilityOptions;
 use crate::motion::{G_STANDARD, SynthesisSettings};
 use crate::solver::{Block, Friction, SolverSettings};
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
@@ -87,6 +88,11 @@ pub struct SpecFile {
     pub solver: SolverSettings,
     /// What to write.
     pub output: OutputFile,
+    /// Fit fragility curves when the run completes (`fragility.csv`,
+    /// `fragility_curves.csv`, `fragility.xml`), with these settings; an
+    /// empty `[fragility]` table takes every default (default: no fit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fragility: Option<FragilityOptions>,
 }
 
 /// The `[grid]` table: every combination of its values is analysed under
@@ -140,6 +146,9 @@ pub struct OutputFile {
     /// Add the solver's work counters to `outcomes.csv`
     /// (`rhs_calls,steps_accepted,steps_rejected,events`, default: false).
     pub stats: bool,
+    /// Draw the study's figures into `figures/` inside the output folder
+    /// when the run completes, as `rockfrag figures` does (default: false).
+    pub figures: bool,
 }
 
 impl Default for OutputFile {
@@ -148,6 +157,7 @@ impl Default for OutputFile {
             summary: true,
             time_in_mode: false,
             stats: false,
+            figures: false,
         }
     }
 }
@@ -252,6 +262,8 @@ pub struct Study {
     pub solver: SolverSettings,
     /// Output options.
     pub output: OutputFile,
+    /// Fragility fit on completion, if the spec asks for one.
+    pub fragility: Option<FragilityOptions>,
 }
 
 /// The ground motions of a study.
@@ -368,6 +380,7 @@ impl Study {
             },
             solver: self.solver,
             output: self.output,
+            fragility: self.fragility,
         }
     }
 
@@ -660,6 +673,10 @@ impl SpecFile {
         }
 
         self.solver.validate().map_err(|e| nested("solver", e))?;
+        if let Some(options) = &self.fragility {
+            // its fields already carry the `fragility.` prefix
+            options.validate().map_err(|e| nested_as_is(e, &bad))?;
+        }
 
         Ok(Study {
             name,
@@ -673,7 +690,21 @@ impl SpecFile {
             frictions,
             solver: self.solver,
             output: self.output,
+            fragility: self.fragility,
         })
+    }
+}
+
+/// An [`Error::InvalidParameter`] whose field is already a full spec path,
+/// re-labelled with the spec's file and line by `bad`.
+fn nested_as_is(err: Error, bad: &dyn Fn(&str, &dyn std::fmt::Display, &str) -> Error) -> Error {
+    match err {
+        Error::InvalidParameter {
+            field,
+            value,
+            expected,
+        } => bad(&field, &value, &expected),
+        other => other,
     }
 }
 

@@ -126,3 +126,75 @@ fn default_study_is_built_in() {
         "{err}"
     );
 }
+
+/// A spec with a `[fragility]` table and `output.figures` gets, when the run
+/// completes, the fragility files and the figures in the same folder; the
+/// fragility.csv rows are one per case (4 here) and every figure is an SVG.
+/// The outcomes carry the measured PGV of each scaled record, so the curves
+/// can also be fitted against PGV.
+#[test]
+fn run_fits_fragility_and_draws_figures_when_the_spec_asks() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = tmp.path().join("asks.toml");
+    let text = std::fs::read_to_string(SMALL)
+        .unwrap()
+        .replace("name = \"small\"", "name = \"asks\"")
+        + "\n[output]\nfigures = true\n\n[fragility]\nbootstrap = 50\n";
+    std::fs::write(&spec, text).unwrap();
+    let out = tmp.path().join("out");
+    let o = rockfrag(&[
+        "run",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for name in ["fragility.csv", "fragility_curves.csv", "fragility.xml"] {
+        assert!(out.join(name).exists(), "{name} missing");
+    }
+    let rows = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
+    assert_eq!(rows.lines().count(), 1 + 4, "{rows}");
+    for name in [
+        "motion",
+        "spectrum",
+        "history",
+        "fragility",
+        "friction_demand",
+        "restitution",
+    ] {
+        let svg = std::fs::read_to_string(out.join("figures").join(format!("{name}.svg")))
+            .unwrap_or_else(|e| panic!("{name}.svg: {e}"));
+        assert!(
+            svg.trim_end().ends_with("</svg>"),
+            "{name}.svg is incomplete"
+        );
+    }
+
+    // pgv: a positive measured peak on every row, differing between records
+    // at one level (the records have one PGA but different PGVs)
+    let mut reader = csv::Reader::from_path(out.join("outcomes.csv")).unwrap();
+    let headers = reader.headers().unwrap().clone();
+    let at = |n: &str| headers.iter().position(|h| h == n).unwrap();
+    let (pga, pgv) = (at("pga"), at("pgv"));
+    let mut at_04: Vec<f64> = Vec::new();
+    for row in reader.records() {
+        let row = row.unwrap();
+        let v: f64 = row[pgv].parse().unwrap();
+        assert!(v > 0.0 && v < 5.0, "pgv = {v} m/s");
+        if &row[pga] == "0.4" {
+            at_04.push(v);
+        }
+    }
+    at_04.sort_by(f64::total_cmp);
+    at_04.dedup();
+    assert_eq!(at_04.len(), 3, "one PGV per record at 0.4 g: {at_04:?}");
+    let o = rockfrag(&[
+        "fragility",
+        out.to_str().unwrap(),
+        "--im",
+        "pgv",
+        "--bootstrap",
+        "0",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

@@ -17,8 +17,9 @@ pub enum FormatArg {
 /// Flags of `rockfrag figures`.
 #[derive(Debug, clap::Args)]
 pub struct FiguresArgs {
-    /// Study folder holding outcomes.csv (and optionally fragility_curves.csv).
-    #[arg(value_name = "DIR")]
+    /// Study folder holding outcomes.csv (and optionally fragility_curves.csv
+    /// and manifest.json); default: the built-in study's folder.
+    #[arg(value_name = "DIR", default_value = "results/shenton-jones")]
     pub dir: PathBuf,
     /// Folder the figures are written to (created if missing).
     #[arg(long, value_name = "DIR", default_value = "figures")]
@@ -26,28 +27,40 @@ pub struct FiguresArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = FormatArg::Svg)]
     pub format: FormatArg,
-    /// Ensemble seed of the sample record, the spectrum and the history.
-    #[arg(long, value_name = "N", default_value_t = 1)]
-    pub seed: u64,
+    /// Ensemble seed of the sample record, the spectrum and the history
+    /// (default: the study's, from DIR/manifest.json; 1 without one).
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
 }
 
 /// Runs `rockfrag figures`.
 pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
-    let mut options = FigureOptions {
-        format: match args.format {
-            FormatArg::Svg => Format::Svg,
-            FormatArg::Png => Format::Png,
-        },
-        seed: args.seed,
-        ..FigureOptions::default()
+    let mut options = FigureOptions::for_folder(&args.dir)?;
+    options.format = match args.format {
+        FormatArg::Svg => Format::Svg,
+        FormatArg::Png => Format::Png,
     };
-    options.history.seed = args.seed;
-    let report = study_figures(&args.dir, &args.out, &options)?;
-    for note in &report.notes {
-        eprintln!("note: {note}");
+    if let Some(seed) = args.seed {
+        options.seed = seed;
+        options.history.seed = seed;
     }
-    for path in &report.written {
+    for path in draw(&args.dir, &args.out, &options)? {
         println!("{}", path.display());
     }
     Ok(())
+}
+
+/// Draws the figures of `dir` into `out`, printing notes to stderr, and
+/// returns the files written (also used by `run` and `merge` when the spec
+/// sets `output.figures`).
+pub fn draw(
+    dir: &std::path::Path,
+    out: &std::path::Path,
+    options: &FigureOptions,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let report = study_figures(dir, out, options)?;
+    for note in &report.notes {
+        eprintln!("note: {note}");
+    }
+    Ok(report.written)
 }

@@ -78,16 +78,33 @@ impl FragilityArgs {
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     let options = args.options();
-    let input = args.dir.join("outcomes.csv");
+    let out = args.out.as_ref().unwrap_or(&args.dir);
+    let text = fit_and_write(&args.dir, out, &options)?;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()) {
+        // A closed pipe (`rockfrag fragility … | head`) is not an error.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other.context("writing to standard output"),
+    }
+}
+
+/// Fits the curves of `dir/outcomes.csv`, writes the fragility files into
+/// `out` and returns the table printed to the user (also used by `run` and
+/// `merge` when the spec has a `[fragility]` table).
+pub fn fit_and_write(
+    dir: &std::path::Path,
+    out: &std::path::Path,
+    options: &FragilityOptions,
+) -> anyhow::Result<String> {
+    let input = dir.join("outcomes.csv");
     let outcomes = read_outcomes(&input, options.im)?;
     if outcomes.cases.is_empty() {
         anyhow::bail!("{}: no analyses to fit", input.display());
     }
-    let fits = fit_cases(&outcomes, &options)?;
-    let out = args.out.as_ref().unwrap_or(&args.dir);
+    let fits = fit_cases(&outcomes, options)?;
     let paths = write_outputs(out, &fits)?;
 
-    let mut text = table(&fits, &options);
+    let mut text = table(&fits, options);
     let failed: usize =
         fits.iter().map(|f| f.n_failed).sum::<usize>() + outcomes.failed_unattributed;
     if failed > 0 {
@@ -101,16 +118,9 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
         paths.curves.display(),
         paths.nrml.display()
     ));
-    let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()) {
-        // A closed pipe (`rockfrag fragility … | head`) is not an error.
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        other => other.context("writing to standard output"),
-    }
+    Ok(text)
 }
 
-/// The short summary table, one line per case, then notes on bootstrap
-/// replicates that could not be fitted.
 fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
     let pct = (options.confidence * 100.0).round();
     let unit = match options.im.unit() {

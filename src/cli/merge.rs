@@ -1,5 +1,6 @@
 //! `rockfrag merge`: join the folders of shards 1/N..N/N into one.
 
+use rockfrag::spec::Study;
 use rockfrag::study;
 use std::path::PathBuf;
 
@@ -33,5 +34,7 @@ pub fn run(args: MergeArgs) -> anyhow::Result<()> {
             m.counts.analyses
         );
     }
-    Ok(())
+    let spec = args.out.join(study::files::MANIFEST);
+    let whole = Study::from_toml_unchecked(&m.spec_toml, &spec)?;
+    super::run::finish(&whole, &args.out)
 }

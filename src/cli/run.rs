@@ -2,9 +2,10 @@
 
 use super::args::{shard, threads};
 use anyhow::bail;
+use rockfrag::figures::FigureOptions;
 use rockfrag::spec::{SHENTON_JONES_ORIGIN, Study};
 use rockfrag::study::{self, RunOptions, Shard, files};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Flags of `rockfrag run`.
 #[derive(Debug, clap::Args)]
@@ -86,6 +87,24 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             c.analyses,
             out.join(files::OUTCOMES).display()
         );
+    }
+    if opts.shard == Shard::WHOLE {
+        finish(&study, &out)?;
+    }
+    Ok(())
+}
+
+/// What a complete study folder gets when its spec asks: the fragility fit
+/// (`[fragility]`) and the figures (`output.figures`, into `DIR/figures/`).
+pub fn finish(study: &Study, dir: &Path) -> anyhow::Result<()> {
+    if let Some(options) = &study.fragility {
+        let text = super::fragility::fit_and_write(dir, dir, options)?;
+        print!("{text}");
+    }
+    if study.output.figures {
+        let out = dir.join("figures");
+        let written = super::figures::draw(dir, &out, &FigureOptions::for_study(study))?;
+        eprintln!("drew {} figures into {}", written.len(), out.display());
     }
     Ok(())
 }

@@ -11,7 +11,8 @@
 //! | `restitution` | overturning and θmax/θc against e ([`super::restitution`]) |
 //!
 //! The first three are computed from the generator and the solver (with the
-//! default synthesis settings and the given seed), the last three from
+//! study's generator settings and seed, see [`FigureOptions::for_folder`]),
+//! the last three from
 //! `DIR/outcomes.csv` and, if present, `DIR/fragility_curves.csv`. Nothing
 //! depends on the clock or on the order of the rows, so running twice gives
 //! byte-identical files.
@@ -27,6 +28,9 @@ use super::spectrum::SpectrumFigure;
 use super::{Figure, Format, plot_record, save};
 use crate::error::{Error, Result};
 use crate::motion::{SynthesisSettings, Synthesizer};
+use crate::spec::{Motions, Study};
+use crate::study::files::MANIFEST;
+use crate::study::manifest::Manifest;
 
 /// What to draw and how.
 #[derive(Clone, Debug, PartialEq)]
@@ -56,6 +60,37 @@ impl Default for FigureOptions {
             history: HistoryCase::default(),
             synthesis: SynthesisSettings::default(),
         }
+    }
+}
+
+impl FigureOptions {
+    /// The options that draw `study`'s own ensemble: its seed and generator
+    /// settings for the sample record, the spectrum and the history (for a
+    /// study of recorded motions, the defaults), every other field at its
+    /// default.
+    pub fn for_study(study: &Study) -> FigureOptions {
+        let mut options = FigureOptions::default();
+        if let Motions::Synthetic { settings, seed, .. } = &study.motions {
+            options.seed = *seed;
+            options.history.seed = *seed;
+            options.synthesis = settings.clone();
+        }
+        options
+    }
+
+    /// The options for the study folder `dir`: [`FigureOptions::for_study`]
+    /// of the spec recorded in `dir/manifest.json`, or the defaults when the
+    /// folder has no manifest.
+    ///
+    /// Errors: a manifest that cannot be read, or whose spec does not parse.
+    pub fn for_folder(dir: &Path) -> Result<FigureOptions> {
+        let path = dir.join(MANIFEST);
+        if !path.exists() {
+            return Ok(FigureOptions::default());
+        }
+        let manifest = Manifest::read(&path)?;
+        let study = Study::from_toml_unchecked(&manifest.spec_toml, &path)?;
+        Ok(FigureOptions::for_study(&study))
     }
 }
 

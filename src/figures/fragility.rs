@@ -9,7 +9,7 @@
 //! are joined by straight lines and the title says so.
 
 use plotters::coord::Shift;
-use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, Polygon};
+use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, Polygon, Text};
 use plotters::style::{BLACK, Color};
 
 use super::data::{Case, StudyData, distinct, distinct_friction, friction_label};
@@ -227,6 +227,21 @@ impl Figure for FragilityFigure {
                     outline,
                     colour.mix(BAND_ALPHA).filled(),
                 )))?;
+            }
+            if self.fitted && panel.series.iter().all(|s| s.fit.is_empty()) {
+                // a block none of whose cases could be fitted (all or none
+                // overturned, or stripes separated): say so in the panel
+                let font = style.tick_font();
+                for (k, line) in ["no lognormal fit", "(fragility.csv says why)"]
+                    .iter()
+                    .enumerate()
+                {
+                    chart.draw_series(std::iter::once(Text::new(
+                        *line,
+                        (0.04 * x_max, 0.93 - 0.09 * k as f64),
+                        font.clone(),
+                    )))?;
+                }
             }
             // all solid series first, then the dashed ones: a dashed series
             // is a run of consecutive polylines of one colour

@@ -42,7 +42,7 @@ use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::Outcome;
 use crate::solver::simulate;
-use crate::spec::{Intensity, Motions, Study, fnv1a64};
+use crate::spec::{Motions, Study, fnv1a64};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use outcomes_csv::{Columns, RecordInfo};
 use rayon::prelude::*;
@@ -331,10 +331,8 @@ fn run_chunk(
             let info = RecordInfo {
                 index: unit.record,
                 level: levels[unit.level],
-                pga_g: match (&study.intensity, record) {
-                    (Intensity::Pgv(_), Ok(r)) => Some(r.pga() / study.g),
-                    _ => None,
-                },
+                pga_g: record.as_ref().ok().map(|r| r.pga() / study.g),
+                pgv: record.as_ref().ok().map(Record::pgv),
                 file: file_names[unit.record],
             };
             let result = match record {

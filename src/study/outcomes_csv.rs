@@ -4,7 +4,7 @@
 //! Columns, in order (the bracketed ones only when the study uses them):
 //!
 //! ```text
-//! aspect,width,restitution,friction,mu_s,mu_k,pga,[pgv],record,[record_file],
+//! aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,[record_file],
 //! status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,
 //! mu_motion,mu_impact,impacts,flights,uplifts,liftoff_holds,energy_gains,
 //! settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,
@@ -13,8 +13,9 @@
 //! ```
 //!
 //! - `friction` is `inf` or `coulomb` (then `mu_s`, `mu_k` are set, else empty);
-//! - `pga` is the level in g for PGA studies; for PGV studies (`pgv`, m/s, is
-//!   the level) it is the scaled record's measured PGA in g;
+//! - `pga` (g) and `pgv` (m/s): one is the study's intensity level, the
+//!   other the scaled record's measured peak (PGV for PGA studies, PGA for
+//!   PGV studies), so that fragility can be fitted against either;
 //! - `record` is the ensemble index (0-based); `record_file` the spec's path;
 //! - `status` is `ok` or `failed`; a failed analysis leaves the outcome
 //!   columns empty and says why in `error`;
@@ -31,7 +32,7 @@ use std::fmt::Write;
 /// Which optional columns a study's `outcomes.csv` has.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Columns {
-    /// PGV levels (`pgv` column).
+    /// The levels are PGV (else PGA).
     pub pgv: bool,
     /// Recorded motions (`record_file` column).
     pub files: bool,
@@ -48,8 +49,10 @@ pub struct RecordInfo<'a> {
     pub index: usize,
     /// The intensity level (g for PGA, m/s for PGV).
     pub level: f64,
-    /// Measured PGA of the scaled record, g (PGV studies; `None` if the record failed).
+    /// Measured PGA of the scaled record, g (`None` if the record failed).
     pub pga_g: Option<f64>,
+    /// Measured PGV of the scaled record, m/s (`None` if the record failed).
+    pub pgv: Option<f64>,
     /// The record file as written in the spec.
     pub file: Option<&'a str>,
 }
@@ -75,11 +78,9 @@ impl Columns {
             "mu_s",
             "mu_k",
             "pga",
+            "pgv",
+            "record",
         ];
-        if self.pgv {
-            v.push("pgv");
-        }
-        v.push("record");
         if self.files {
             v.push("record_file");
         }
@@ -142,7 +143,7 @@ impl Columns {
         if self.pgv {
             let _ = write!(w, "{},{},", opt(record.pga_g), record.level);
         } else {
-            let _ = write!(w, "{},", record.level);
+            let _ = write!(w, "{},{},", record.level, opt(record.pgv));
         }
         let _ = write!(w, "{},", record.index);
         if self.files {
@@ -258,6 +259,7 @@ mod tests {
                 index: 3,
                 level: 0.3,
                 pga_g: Some(0.5),
+                pgv: Some(0.4),
                 file: Some("a,b.csv"),
             };
             for result in [
