@@ -1,11 +1,12 @@
 //! Criterion benchmarks of one 30-s analysis (H/B = 4, 2B = 0.5 m, PGA 0.6 g),
-//! e = 0 and e = 0.9, nonlinear and linearised models, at the default
-//! settings. `solver/ensemble` solves 10 records per iteration (throughput in
+//! e = 0 and e = 0.9; the nonlinear model by each integrator (Taylor, the
+//! default, and Dormand–Prince) and the linearised model, at the default
+//! tolerances. `solver/ensemble` solves 10 records per iteration (throughput in
 //! analyses per second); `solver/single` one record.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use rockfrag::motion::{G_STANDARD as G, SynthesisSettings, Synthesizer};
-use rockfrag::solver::{Analysis, Block, Model, SolverSettings, simulate};
+use rockfrag::solver::{Analysis, Block, Integrator, Model, SolverSettings, simulate};
 use std::hint::black_box;
 
 fn bench_solver(c: &mut Criterion) {
@@ -15,9 +16,14 @@ fn bench_solver(c: &mut Criterion) {
         .collect();
     let block = Block::new(0.5, 4.0, G).unwrap();
     let mut single = c.benchmark_group("solver/single");
-    for (name, model) in [("nonlinear", Model::Nonlinear), ("linear", Model::Linear)] {
+    for (name, model, integrator) in [
+        ("taylor", Model::Nonlinear, Integrator::Taylor),
+        ("dopri5", Model::Nonlinear, Integrator::Dopri5),
+        ("linear", Model::Linear, Integrator::Taylor),
+    ] {
         let set = SolverSettings {
             model,
+            integrator,
             ..SolverSettings::default()
         };
         for e in [0.0, 0.9] {
@@ -35,7 +41,7 @@ fn bench_solver(c: &mut Criterion) {
         let an = Analysis::new(block, e);
         let set = SolverSettings::default();
         ens.bench_with_input(
-            BenchmarkId::new("nonlinear", format!("e={e}")),
+            BenchmarkId::new("taylor", format!("e={e}")),
             &an,
             |b, an| {
                 b.iter(|| {

@@ -1,8 +1,10 @@
 //! Speed against error: the work–precision report behind `rockfrag bench`.
 //!
 //! A reference solution per analysis at very tight tolerance (nonlinear
-//! model, rtol 1e-12), then for each solver setting the errors against it
-//! and the cost per analysis:
+//! model, Dormand–Prince at rtol 1e-12, atol 1e-14), then for each solver
+//! setting (each integrator of the nonlinear model at rtol 1e-3 … 1e-10 with
+//! atol = rtol/100, and the linearised model) the errors against it and the
+//! cost per analysis:
 //!
 //! - **θmax**: relative error of θmax/θc over the runs that overturned in
 //!   neither solution (an overturned run's θmax is capped at π/2);
@@ -20,7 +22,7 @@
 use crate::error::Result;
 use crate::motion::{G_STANDARD, Record, SynthesisSettings, Synthesizer};
 use crate::outcome::Outcome;
-use crate::solver::{Analysis, Block, Friction, Model, SolverSettings, simulate};
+use crate::solver::{Analysis, Block, Friction, Integrator, Model, SolverSettings, simulate};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -39,9 +41,14 @@ pub struct WorkPrecisionOptions {
     pub restitution: Vec<f64>,
     /// Friction models (default infinite, and μs = 0.7, μk = 0.6).
     pub friction: Vec<Friction>,
-    /// Relative tolerances of the nonlinear model to compare (default 1e-3 … 1e-10).
+    /// Integrators of the nonlinear model to compare (default: Taylor and
+    /// Dormand–Prince).
+    pub integrators: Vec<Integrator>,
+    /// Relative tolerances of the nonlinear model to compare (default 1e-3 …
+    /// 1e-10); each is run with atol = rtol/100.
     pub rtols: Vec<f64>,
-    /// Tolerance of the reference solutions (default 1e-12).
+    /// Relative tolerance of the reference solutions, by Dormand–Prince with
+    /// atol = rtol/100 (default 1e-12).
     pub reference_rtol: f64,
 }
 
@@ -60,6 +67,7 @@ impl Default for WorkPrecisionOptions {
                     mu_k: 0.6,
                 },
             ],
+            integrators: vec![Integrator::Taylor, Integrator::Dopri5],
             rtols: vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10],
             reference_rtol: 1e-12,
         }
@@ -122,7 +130,9 @@ pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>>
         }
     }
     let reference_settings = SolverSettings {
+        integrator: Integrator::Dopri5,
         rtol: opts.reference_rtol,
+        atol: opts.reference_rtol * 1e-2,
         ..SolverSettings::default()
     };
     let reference: Vec<Outcome> = cases
@@ -130,19 +140,20 @@ pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>>
         .map(|c| simulate(&c.analysis, &records[c.record], &reference_settings, None))
         .collect::<Result<_>>()?;
     let mut reports = Vec::new();
-    let mut all: Vec<(String, SolverSettings)> = opts
-        .rtols
-        .iter()
-        .map(|&rtol| {
-            (
-                format!("nonlinear rtol={rtol:e}"),
+    let mut all: Vec<(String, SolverSettings)> = Vec::new();
+    for &integrator in &opts.integrators {
+        for &rtol in &opts.rtols {
+            all.push((
+                format!("{} rtol={rtol:e}", integrator_name(integrator)),
                 SolverSettings {
+                    integrator,
                     rtol,
+                    atol: rtol * 1e-2,
                     ..SolverSettings::default()
                 },
-            )
-        })
-        .collect();
+            ));
+        }
+    }
     all.push((
         "linear".to_string(),
         SolverSettings {
@@ -164,6 +175,14 @@ pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>>
         reports.push(summarise(label, set, &rows));
     }
     Ok(reports)
+}
+
+/// Short name of an integrator, as in the spec (`taylor`, `dopri5`).
+pub fn integrator_name(i: Integrator) -> &'static str {
+    match i {
+        Integrator::Taylor => "taylor",
+        Integrator::Dopri5 => "dopri5",
+    }
 }
 
 fn summarise(
@@ -240,7 +259,7 @@ pub fn markdown(opts: &WorkPrecisionOptions, reports: &[SettingReport]) -> Strin
     let mut s = String::new();
     s.push_str("# Speed against error\n\n");
     s.push_str(&format!(
-        "Reference: nonlinear model at rtol {:e}. Ensemble: {} records (seed {}) at PGA {:?} g; H/B {:?}, 2B = 0.5 m; e {:?}; \
+        "Reference: nonlinear model, Dormand–Prince at rtol {:e} (atol rtol/100). Settings: each integrator at rtol 1e-3 … 1e-10 with atol = rtol/100, and the linearised model. Ensemble: {} records (seed {}) at PGA {:?} g; H/B {:?}, 2B = 0.5 m; e {:?}; \
          infinite friction and μs = 0.7, μk = 0.6 (the linearised model: infinite friction only). \
          Errors over runs that overturned in neither solution; times are medians per analysis on one thread.\n\n",
         opts.reference_rtol, opts.records, opts.seed, opts.pga, opts.aspect, opts.restitution

@@ -23,7 +23,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     eprintln!(
         "rockfrag bench: reference at rtol {:e}, then {} settings …",
         opts.reference_rtol,
-        opts.rtols.len() + 1
+        opts.rtols.len() * opts.integrators.len() + 1
     );
     let reports = work_precision(&opts)?;
     let text = markdown(&opts, &reports);

@@ -4,8 +4,8 @@ use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::prelude::{
-    ChartBuilder, Circle, DrawingArea, DrawingBackend, IntoLogRange, LineSeries, Text,
-    TriangleMarker, WHITE,
+    BindKeyPoints, ChartBuilder, Circle, DrawingArea, DrawingBackend, IntoLogRange, LineSeries,
+    Text, TriangleMarker, WHITE,
 };
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -13,11 +13,12 @@ use super::style::{COLUMN_WIDTH_IN, Style, tick_label};
 use super::{DrawResult, Figure, save};
 use crate::bench::SettingReport;
 use crate::error::Result;
-use crate::solver::Model;
+use crate::solver::{Integrator, Model};
 
 /// Draws the median relative error of θmax/θc against the median time per
-/// analysis (log–log): the nonlinear model as a line through its tolerances
-/// (each point labelled with its rtol), the linearised model as a triangle.
+/// analysis (log–log): each integrator of the nonlinear model as a line
+/// through its tolerances (labelled at both ends), the linearised model as a
+/// triangle.
 /// Settings whose median error is 0 (exact to rounding) are drawn at 1e-16.
 pub fn plot_work_precision(reports: &[SettingReport], path: &Path) -> Result<()> {
     save(&WorkPrecision { reports }, path)
@@ -53,14 +54,39 @@ impl Figure for WorkPrecision<'_> {
             y0 = y0.min(y);
             y1 = y1.max(y);
         }
+        // ticks at 1, 2, 5 × 10^k inside the range, so that a range of less
+        // than a decade still has several labelled ticks
+        let ticks = |lo: f64, hi: f64| -> Vec<f64> {
+            let mut v = Vec::new();
+            let mut decade = 10f64.powf(lo.log10().floor());
+            while decade <= hi {
+                for m in [1.0, 2.0, 5.0] {
+                    let t = m * decade;
+                    if t >= lo && t <= hi {
+                        v.push(t);
+                    }
+                }
+                decade *= 10.0;
+            }
+            v
+        };
+        let (xl, xh) = (x0 / 1.6, x1 * 1.6);
+        let (yl, yh) = (y0 / 10.0, y1 * 10.0);
+        let x_ticks = ticks(xl, xh);
+        let y_ticks: Vec<f64> = ticks(yl, yh)
+            .into_iter()
+            .filter(|t| {
+                (t.log10().round() - t.log10()).abs() < 1e-9 && t.log10().round() as i64 % 2 == 0
+            })
+            .collect();
         let mut chart = ChartBuilder::on(root)
             .margin(style.ipx(6.0))
-            .margin_right(style.ipx(14.0))
+            .margin_right(style.ipx(10.0))
             .x_label_area_size(style.ipx(28.0))
             .y_label_area_size(style.ipx(34.0))
             .build_cartesian_2d(
-                (x0 / 3.0..x1 * 3.0).log_scale(),
-                (y0 / 10.0..y1 * 10.0).log_scale(),
+                (xl..xh).log_scale().with_key_points(x_ticks),
+                (yl..yh).log_scale().with_key_points(y_ticks),
             )?;
         chart
             .configure_mesh()
@@ -71,41 +97,55 @@ impl Figure for WorkPrecision<'_> {
             .axis_desc_style(style.label_font())
             .x_desc("Median time per analysis (µs)")
             .y_desc("Median rel. error of θmax")
-            .x_labels(8)
             .x_label_formatter(&|v| tick_label(*v))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .y_label_formatter(&|v| format!("1e{}", v.log10().round()))
             .draw()?;
-        let nonlinear: Vec<(f64, f64)> = pts
-            .iter()
-            .filter(|p| p.2.settings.model == Model::Nonlinear)
-            .map(|p| (p.0, p.1))
-            .collect();
-        let line = style.series(0);
-        chart.draw_series(LineSeries::new(nonlinear.iter().copied(), line))?;
-        chart.draw_series(
-            nonlinear
-                .iter()
-                .map(|&(x, y)| Circle::new((x, y), style.ipx(2.0), line.filled())),
-        )?;
-        // rtol labels alternate right and left of their points so that
-        // neighbours with nearly equal cost do not overprint
-        let right = style.font(7.0).pos(Pos::new(HPos::Left, VPos::Center));
-        let left = style.font(7.0).pos(Pos::new(HPos::Right, VPos::Center));
-        for (i, p) in pts
-            .iter()
-            .filter(|p| p.2.settings.model == Model::Nonlinear)
+        // one line per integrator, labelled at its loosest and tightest rtol
+        let label_right = style.font(7.0).pos(Pos::new(HPos::Left, VPos::Center));
+        let label_left = style.font(7.0).pos(Pos::new(HPos::Right, VPos::Center));
+        for (k, integrator) in [Integrator::Taylor, Integrator::Dopri5]
+            .into_iter()
             .enumerate()
         {
-            let text = format!("rtol {:.0e}", p.2.settings.rtol);
-            let (x, st) = if i % 2 == 0 {
-                (p.0 * 1.12, right.clone())
-            } else {
-                (p.0 / 1.12, left.clone())
-            };
-            chart.draw_series(std::iter::once(Text::new(text, (x, p.1), st)))?;
+            let line: Vec<(f64, f64, f64)> = pts
+                .iter()
+                .filter(|p| {
+                    p.2.settings.model == Model::Nonlinear && p.2.settings.integrator == integrator
+                })
+                .map(|p| (p.0, p.1, p.2.settings.rtol))
+                .collect();
+            if line.is_empty() {
+                continue;
+            }
+            let colour = style.series(k);
+            chart
+                .draw_series(LineSeries::new(line.iter().map(|p| (p.0, p.1)), colour))?
+                .label(match integrator {
+                    Integrator::Taylor => "Taylor series",
+                    Integrator::Dopri5 => "Dormand–Prince 5(4)",
+                })
+                .legend(move |(x, y)| {
+                    plotters::prelude::PathElement::new(vec![(x, y), (x + 14, y)], colour)
+                });
+            chart.draw_series(
+                line.iter()
+                    .map(|&(x, y, _)| Circle::new((x, y), style.ipx(2.0), colour.filled())),
+            )?;
+            for (i, p) in [line.first(), line.last()]
+                .into_iter()
+                .flatten()
+                .enumerate()
+            {
+                let text = format!("rtol {:.0e}", p.2);
+                let (x, st) = if (i == 0) == (k == 0) {
+                    (p.0 * 1.08, label_right.clone())
+                } else {
+                    (p.0 / 1.08, label_left.clone())
+                };
+                chart.draw_series(std::iter::once(Text::new(text, (x, p.1), st)))?;
+            }
         }
-        let label_style = style.font(7.0).pos(Pos::new(HPos::Left, VPos::Center));
-        let lin = style.series(1);
+        let lin = style.series(2);
         for p in pts.iter().filter(|p| p.2.settings.model == Model::Linear) {
             chart.draw_series(std::iter::once(TriangleMarker::new(
                 (p.0, p.1),
@@ -114,10 +154,17 @@ impl Figure for WorkPrecision<'_> {
             )))?;
             chart.draw_series(std::iter::once(Text::new(
                 "linearised",
-                (p.0 * 1.12, p.1),
-                label_style.clone(),
+                (p.0 * 1.08, p.1),
+                label_right.clone(),
             )))?;
         }
+        chart
+            .configure_series_labels()
+            .position(plotters::chart::SeriesLabelPosition::UpperRight)
+            .label_font(style.font(7.0))
+            .border_style(style.axis())
+            .background_style(WHITE)
+            .draw()?;
         Ok(())
     }
 }

@@ -78,6 +78,12 @@ impl Block {
     pub fn corner_offset(&self, side: f64, theta: f64) -> (f64, f64) {
         let (s, c) = theta.sin_cos();
         // body vector (side·B, −H) rotated by θ
+        self.corner_offset_sc(side, s, c)
+    }
+
+    /// [`Block::corner_offset`] from sin θ and cos θ already known.
+    #[inline]
+    pub fn corner_offset_sc(&self, side: f64, s: f64, c: f64) -> (f64, f64) {
         (
             side * self.b * c + self.h * s,
             side * self.b * s - self.h * c,

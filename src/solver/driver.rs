@@ -34,7 +34,8 @@ use super::impact::{self, Velocity};
 use super::physics as ph;
 use super::roots::brent;
 use super::scan::{first_descent, first_descent_after_release};
-use super::settings::{Analysis, Friction, Model, SolverSettings};
+use super::settings::{Analysis, Friction, Integrator, Model, SolverSettings};
+use super::taylor;
 use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::{Mode, Outcome};
@@ -228,6 +229,8 @@ struct Run<'a> {
     h_touch: f64,
     /// Coulomb friction (μs, μk), or `None` for infinite friction.
     fric: Option<(f64, f64)>,
+    /// The last release of a rock pivot into flight: (time, rock state).
+    released: Option<(f64, RockState)>,
 }
 
 impl<'a> Run<'a> {
@@ -261,6 +264,7 @@ impl<'a> Run<'a> {
                 Friction::Infinite => None,
                 Friction::Coulomb { mu_s, mu_k } => Some((mu_s, mu_k)),
             },
+            released: None,
         }
     }
 
@@ -347,12 +351,17 @@ impl<'a> Run<'a> {
                         self.slide_rock::<4>(sr, &seg, &mut t, t_end)?
                     }
                 }
-                State::Rock(rs) => match self.set.model {
-                    Model::Nonlinear if self.set.audit_energy => {
+                State::Rock(rs) => match (self.set.model, self.set.integrator) {
+                    (Model::Linear, _) => self.rock_linear(rs, &seg, &mut t, t_end),
+                    (Model::Nonlinear, Integrator::Taylor) => {
+                        self.rock_taylor(rs, &seg, &mut t, t_end)?
+                    }
+                    (Model::Nonlinear, Integrator::Dopri5) if self.set.audit_energy => {
                         self.rock_nonlinear::<3>(rs, &seg, &mut t, t_end)?
                     }
-                    Model::Nonlinear => self.rock_nonlinear::<2>(rs, &seg, &mut t, t_end)?,
-                    Model::Linear => self.rock_linear(rs, &seg, &mut t, t_end),
+                    (Model::Nonlinear, Integrator::Dopri5) => {
+                        self.rock_nonlinear::<2>(rs, &seg, &mut t, t_end)?
+                    }
                 },
                 State::Flight(fs) => self.flight(fs, &seg, &mut t, t_end),
             };
@@ -644,7 +653,11 @@ impl<'a> Run<'a> {
                 }
             };
             let path = |tt: f64| (step.component_at(0, tt), step.component_at(1, tt));
-            if let Some((te, ev)) = self.rock_events(rs, &path, &seg, st.t, step.t0 + step.h, 1) {
+            let trig = |tt: f64| (bl.theta_c - s * step.component_at(0, tt)).sin_cos();
+            let unknown = (f64::NEG_INFINITY, f64::INFINITY);
+            if let Some((te, ev)) =
+                self.rock_events(rs, &path, &trig, unknown, &seg, st.t, step.t0 + step.h, 1)
+            {
                 found = Some((te, ev, step.at(te)));
                 break;
             }
@@ -663,6 +676,90 @@ impl<'a> Run<'a> {
         rs.omega = ye[1];
         *t = t_stop;
         Ok(event)
+    }
+
+    /// Nonlinear rock over [t, t_end] by Taylor series ([`taylor`]): one
+    /// series per step, usually one step per sample; events are located on
+    /// the series. With the energy audit, the ground's work is a series too.
+    fn rock_taylor(
+        &mut self,
+        rs: &mut RockState,
+        seg: &Segment,
+        t: &mut f64,
+        t_end: f64,
+    ) -> Result<Option<Event>> {
+        let bl = self.bl;
+        let s = rs.s;
+        let seg = *seg;
+        let k = 0.75 / bl.r; // eq. (1): I_O = 4mR²/3
+        let (atol_th, atol_om) = (
+            self.set.atol * bl.theta_c,
+            self.set.atol * bl.p * bl.theta_c,
+        );
+        let h_min = 1e-14 * t_end.abs().max(1.0);
+        while *t < t_end {
+            let t0 = *t;
+            let (ax0, ay0) = seg.at(t0);
+            let forcing = taylor::LinearForcing {
+                a0: ax0,
+                a1: seg.a1,
+                v0: bl.g + ay0,
+                v1: seg.v1,
+            };
+            let (psi0, dpsi0) = (s * rs.theta, s * rs.omega);
+            let series = taylor::RockSeries::new(bl.theta_c, k, s, psi0, dpsi0, &forcing);
+            self.out.stats.rhs_calls += 1;
+            let tol_psi = atol_th + self.set.rtol * psi0.abs();
+            let tol_dpsi = atol_om + self.set.rtol * dpsi0.abs();
+            let h = series.step(t_end - t0, tol_psi, tol_dpsi);
+            if h.is_nan() || h <= h_min {
+                return Err(Error::Solver {
+                    time: t0,
+                    message: format!("Taylor step {h} s too small in rock"),
+                });
+            }
+            self.out.stats.steps_accepted += 1;
+            let t1 = if h == t_end - t0 { t_end } else { t0 + h };
+            // the ends are asked for several times by the event checks: once each
+            let start = (psi0, dpsi0, series.sin[0], series.cos[0]);
+            let end = series.full_at(t1 - t0);
+            let full = |tt: f64| {
+                if tt == t0 {
+                    start
+                } else if tt == t1 {
+                    end
+                } else {
+                    series.full_at(tt - t0)
+                }
+            };
+            let path = |tt: f64| {
+                let (p, d) = if tt == t0 {
+                    (start.0, start.1)
+                } else if tt == t1 {
+                    (end.0, end.1)
+                } else {
+                    series.at(tt - t0)
+                };
+                (s * p, s * d)
+            };
+            let trig = |tt: f64| {
+                let (_, _, sn, cs) = full(tt);
+                (sn, cs)
+            };
+            let range = series.psi_bounds(t1 - t0, tol_psi);
+            let found = self.rock_events(rs, &path, &trig, range, &seg, t0, t1, 1);
+            let t_stop = found.map_or(t1, |(te, _)| te);
+            if self.set.audit_energy {
+                let w = series.work(bl.r, s, &forcing, bl.g);
+                self.work += taylor::eval(&w, t_stop - t0);
+            }
+            (rs.theta, rs.omega) = path(t_stop);
+            *t = t_stop;
+            if let Some((_, ev)) = found {
+                return Ok(Some(ev));
+            }
+        }
+        Ok(None)
     }
 
     /// Linearised rock over [t, t_end], in closed form:
@@ -700,7 +797,10 @@ impl<'a> Run<'a> {
         };
         let n = 1 + (2.0 * lam * (t_end - t0)) as usize;
         self.out.stats.steps_accepted += 1;
-        if let Some((te, ev)) = self.rock_events(rs, &path, seg, t0, t_end, n) {
+        let (s, theta_c) = (rs.s, self.bl.theta_c);
+        let trig = |tt: f64| (theta_c - s * path(tt).0).sin_cos();
+        let unknown = (f64::NEG_INFINITY, f64::INFINITY);
+        if let Some((te, ev)) = self.rock_events(rs, &path, &trig, unknown, seg, t0, t_end, n) {
             let (th, om) = path(te);
             rs.theta = th;
             rs.omega = om;
@@ -718,10 +818,13 @@ impl<'a> Run<'a> {
     /// and updates the peak rotation and friction demand. Contact forces are
     /// those of eq. (1) at the path's state; the value at `ta` is reused from
     /// the previous step's end when available.
+    #[allow(clippy::too_many_arguments)]
     fn rock_events(
         &mut self,
         rs: &mut RockState,
         path: &impl Fn(f64) -> (f64, f64),
+        trig: &impl Fn(f64) -> (f64, f64),
+        psi_range: (f64, f64),
         seg: &Segment,
         ta: f64,
         tb: f64,
@@ -731,9 +834,10 @@ impl<'a> Run<'a> {
         let bl = self.bl;
         let xtol = 1e-15 * tb.abs().max(1.0);
         let contact = |tt: f64| {
-            let (th, om) = path(tt);
+            let (_, om) = path(tt);
+            let (sp, cp) = trig(tt);
             let (ax, ay) = seg.at(tt);
-            ph::rock_contact(&bl, s, th, om, ax, ay)
+            ph::rock_contact_sc(&bl, s, sp, cp, om, ax, ay)
         };
         let mut best: Option<(f64, Event)> = None;
         // Impact: ψ = sθ reaches 0 (grazing dips included).
@@ -741,29 +845,40 @@ impl<'a> Run<'a> {
             let (th, om) = path(tt);
             (s * th, s * om)
         };
-        earliest(
-            &mut best,
-            first_descent(psi, ta, tb, n, xtol),
-            Event::RockImpact,
-        );
+        // `psi_range` bounds ψ over the step (infinite when unknown): the
+        // searches are skipped when it proves there is nothing to find.
+        if psi_range.0 <= 0.0 {
+            earliest(
+                &mut best,
+                first_descent(psi, ta, tb, n, xtol),
+                Event::RockImpact,
+            );
+        }
         // Overturning: π/2 − ψ reaches 0.
         let over = |tt: f64| {
             let (th, om) = path(tt);
             (FRAC_PI_2 - s * th, -s * om)
         };
-        earliest(
-            &mut best,
-            first_descent(over, ta, tb, n, xtol),
-            Event::Overturn,
-        );
+        if psi_range.1 >= FRAC_PI_2 {
+            earliest(
+                &mut best,
+                first_descent(over, ta, tb, n, xtol),
+                Event::Overturn,
+            );
+        }
         // Normal force and release condition, checked at the ends of each piece.
+        // Release needs q < 0 (the freed pivot accelerates upwards). Within
+        // rounding of q = 0 the third-order motion decides and the freed
+        // corner can be driven straight back into the ground, so release
+        // asks for q below −1e-9 g; otherwise the pivot is held.
+        let q_tol = 1e-9 * bl.g;
         let normal = |tt: f64| contact(tt).n;
-        let release = |tt: f64| contact(tt).q;
+        let release = |tt: f64| contact(tt).q + q_tol;
         let c_a = match rs.last {
             Some((t_last, c)) if t_last == ta => c,
             _ => contact(ta),
         };
-        let (mut n0, mut q0) = (c_a.n, c_a.q);
+        let (mut n0, mut q0) = (c_a.n, c_a.q + q_tol);
         let mut c_end: Option<ph::RockContact> = None;
         if let Some((mu_s, mu_k)) = self.fric {
             // Stuck pivot under Coulomb friction: slip starts when |F| reaches
@@ -773,7 +888,7 @@ impl<'a> Run<'a> {
             // consistent, or the pivot can be released into flight.
             let margin = |c: &ph::RockContact| mu_s * c.n - c.f.abs();
             let mut m0 = margin(&c_a);
-            let mut q0 = c_a.q;
+            let mut q0 = c_a.q + q_tol;
             if !rs.hold && m0 < 0.0 {
                 return Some((ta, Event::SlipStart));
             }
@@ -796,10 +911,10 @@ impl<'a> Run<'a> {
                         let te = brent(|tt| margin(&contact(tt)), t0, t1, m0, m1, xtol);
                         earliest(&mut best, Some(te), Event::HoldEnd);
                     }
-                    if q0 >= 0.0 && c1.q < 0.0 && c1.n < 0.0 {
+                    if q0 >= 0.0 && c1.q + q_tol < 0.0 && c1.n < 0.0 {
                         earliest(
                             &mut best,
-                            Some(brent(release, t0, t1, q0, c1.q, xtol)),
+                            Some(brent(release, t0, t1, q0, c1.q + q_tol, xtol)),
                             Event::Release,
                         );
                     }
@@ -820,7 +935,7 @@ impl<'a> Run<'a> {
                 }
                 t0 = t1;
                 m0 = m1;
-                q0 = c1.q;
+                q0 = c1.q + q_tol;
             }
         } else if !rs.hold && n0 < 0.0 {
             // Entered rock with the pivot already in tension (after an impact
@@ -843,7 +958,7 @@ impl<'a> Run<'a> {
             if i == n {
                 c_end = Some(c1);
             }
-            let (n1, q1) = (c1.n, c1.q);
+            let (n1, q1) = (c1.n, c1.q + q_tol);
             if !rs.hold && n0 >= 0.0 && n1 < 0.0 {
                 let te = brent(normal, t0, t1, n0, n1, xtol);
                 let ev = if release(te) < 0.0 {
@@ -887,7 +1002,9 @@ impl<'a> Run<'a> {
         let (th_a, om_a) = path(ta);
         let (th_b, om_b) = path(t_stop);
         let mut peak = th_a.abs().max(th_b.abs());
-        if om_a * om_b < 0.0 {
+        // a turning point can only raise θmax if ψ's bound exceeds it
+        let may_raise = psi_range.1 > self.out.theta_max_over_theta_c * bl.theta_c;
+        if om_a * om_b < 0.0 && (may_raise || self.hist.is_some()) {
             let tm = brent(|tt| path(tt).1, ta, t_stop, om_a, om_b, xtol);
             let (th_m, om_m) = path(tm);
             peak = peak.max(th_m.abs());
@@ -944,10 +1061,15 @@ impl<'a> Run<'a> {
         let n = 1 + (f.omega.abs() * span / 0.2) as usize;
         let xtol = 1e-15 * t_end.abs().max(1.0);
         let mut best: Option<(f64, Event)> = None;
+        // θ(τ) = θ0 + ωτ: sin and cos by angle addition, the small rotation
+        // by its series (most flights of a ring-down rotate little)
+        let (s0, c0) = f.theta.sin_cos();
         for side in [-1.0, 1.0] {
             let height = |tau: f64| {
                 let p = pos(tau);
-                let (rx, ry) = bl.corner_offset(side, p.theta);
+                let (sx, cx) = ph::sin_cos_small(f.omega * tau);
+                let (st, ct) = (s0 * cx + c0 * sx, c0 * cx - s0 * sx);
+                let (rx, ry) = bl.corner_offset_sc(side, st, ct);
                 (bl.h + p.y + ry, p.vy + p.omega * rx)
             };
             // a corner leaving the ground at the start of this piece of flight
@@ -1034,7 +1156,28 @@ impl<'a> Run<'a> {
                 self.out.uplifted = true;
                 self.out.uplifts += 1;
                 self.out.flights += 1;
+                self.released = Some((t, rs));
                 State::Flight(self.rock_to_flight(&rs))
+            }
+            (Event::Landing(side), State::Flight(_))
+                if self
+                    .released
+                    .is_some_and(|(tr, rs)| tr == t && side == -rs.s) =>
+            {
+                // The freed pivot is driven back into the ground at the
+                // instant of release (q ≈ 0 and the rotation pushes it down):
+                // no flight is possible, so the pivot is held instead.
+                let Some((_, rs)) = self.released.take() else {
+                    unreachable!("the guard checked `released`")
+                };
+                self.out.uplifts -= 1;
+                self.out.flights -= 1;
+                self.out.liftoff_holds += 1;
+                State::Rock(RockState {
+                    hold: true,
+                    last: None,
+                    ..rs
+                })
             }
             (Event::RockImpact, State::Rock(rs)) => {
                 let mut fs = self.rock_to_flight(&rs);

@@ -7,7 +7,9 @@
 //! - [`block`]: geometry and derived constants;
 //! - [`physics`]: the equations of each mode as plain functions;
 //! - [`impact`]: corner impacts (Newton and energy-consistent laws);
-//! - [`dopri`]: the Dormand–Prince 5(4) stepper with dense output;
+//! - [`taylor`]: Taylor-series steps of the rock equation (the default);
+//! - [`dopri`]: the Dormand–Prince 5(4) stepper with dense output (slide-rock,
+//!   and rock on request);
 //! - [`driver`]: the event loop (stops at samples, locates events, applies resets);
 //! - [`history`]: the optional full time history.
 
@@ -20,9 +22,10 @@ pub mod physics;
 pub mod roots;
 pub mod scan;
 pub mod settings;
+pub mod taylor;
 
 pub use block::Block;
 pub use driver::simulate;
 pub use history::{History, HistoryRow};
 pub use impact::ImpactLaw;
-pub use settings::{Analysis, Friction, Initial, Model, SolverSettings};
+pub use settings::{Analysis, Friction, Initial, Integrator, Model, SolverSettings};

@@ -96,7 +96,33 @@ pub fn newton(fd: impl Fn(f64) -> (f64, f64), a: f64, b: f64, fa: f64, fb: f64, 
     // Orient so that g = f·sign(fb) is < 0 at xl ("before") and > 0 at xh ("after").
     let sg = fb.signum();
     let (mut xl, mut xh) = (a, b);
+    // Start from the first root of the parabola with f(a), f′(a) and f(b):
+    // events on smooth paths (a corner's height in flight, an angle) are
+    // near-quadratic over a step, and a start at the midpoint would cost
+    // a halving per iteration while Newton is still far away.
     let mut t = 0.5 * (a + b);
+    let w = b - a;
+    let da = fd(a).1;
+    let c = 2.0 * (fb - fa - da * w) / (w * w);
+    let disc = da * da - 2.0 * c * fa;
+    if disc >= 0.0 && c != 0.0 {
+        // roots τ = (−da ± √disc)/c; the first in (0, w), computed stably
+        let q = -0.5 * (da + disc.sqrt().copysign(da));
+        let mut first = w;
+        for tau in [q / (0.5 * c), fa / q] {
+            if tau.is_finite() && tau > 0.0 && tau < first {
+                first = tau;
+            }
+        }
+        if first < w {
+            t = a + first;
+        }
+    } else if c == 0.0 && da != 0.0 {
+        let tau = -fa / da;
+        if tau > 0.0 && tau < w {
+            t = a + tau;
+        }
+    }
     let mut dx_old = (b - a).abs();
     let mut dx = dx_old;
     let (f, d) = fd(t);

@@ -61,6 +61,15 @@ fn descent(
             // covers a start with f′ = 0 and f″ > 0), then the descent after it.
             if da >= 0.0 {
                 if da > 0.0 && db < 0.0 {
+                    // the secant root of f′ (the apex of a near-parabola, as
+                    // in a short flight) is usually above zero already
+                    let ts = ta + da * (tb - ta) / (da - db);
+                    if ts > ta && ts < tb {
+                        let fs = fd(ts).0;
+                        if fs > 0.0 {
+                            return Some(newton(&fd, ts, tb, fs, fb, xtol));
+                        }
+                    }
                     let tm = brent(|t| fd(t).1, ta, tb, da, db, xtol);
                     let fm = fd(tm).0;
                     if fm > 0.0 {
