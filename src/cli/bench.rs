@@ -12,6 +12,9 @@ pub struct BenchArgs {
     /// Where to write `work_precision.md` and `work_precision.svg`.
     #[arg(long, value_name = "DIR", default_value = "figures")]
     pub out: PathBuf,
+    /// Also draw the figure as `work_precision.png`.
+    #[arg(long)]
+    pub png: bool,
 }
 
 /// Runs `rockfrag bench`.
@@ -35,6 +38,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         &reports,
         &args.out.join("work_precision.svg"),
     )?;
+    if args.png {
+        rockfrag::figures::work_precision::plot_work_precision(
+            &reports,
+            &args.out.join("work_precision.png"),
+        )?;
+    }
     print!("{text}");
     Ok(())
 }

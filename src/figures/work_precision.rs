@@ -83,7 +83,7 @@ impl Figure for WorkPrecision<'_> {
             .margin(style.ipx(6.0))
             .margin_right(style.ipx(10.0))
             .x_label_area_size(style.ipx(28.0))
-            .y_label_area_size(style.ipx(34.0))
+            .y_label_area_size(style.ipx(40.0))
             .build_cartesian_2d(
                 (xl..xh).log_scale().with_key_points(x_ticks),
                 (yl..yh).log_scale().with_key_points(y_ticks),
@@ -101,8 +101,8 @@ impl Figure for WorkPrecision<'_> {
             .y_label_formatter(&|v| format!("1e{}", v.log10().round()))
             .draw()?;
         // one line per integrator, labelled at its loosest and tightest rtol
-        let label_right = style.font(7.0).pos(Pos::new(HPos::Left, VPos::Center));
-        let label_left = style.font(7.0).pos(Pos::new(HPos::Right, VPos::Center));
+        let above = style.font(7.0).pos(Pos::new(HPos::Center, VPos::Bottom));
+        let below = style.font(7.0).pos(Pos::new(HPos::Center, VPos::Top));
         for (k, integrator) in [Integrator::Taylor, Integrator::Dopri5]
             .into_iter()
             .enumerate()
@@ -118,49 +118,59 @@ impl Figure for WorkPrecision<'_> {
                 continue;
             }
             let colour = style.series(k);
+            // segment by segment: a polyline's joins grow long spikes where
+            // noise in the cost turns it back on itself
+            for w in line.windows(2) {
+                chart.draw_series(LineSeries::new(
+                    [(w[0].0, w[0].1), (w[1].0, w[1].1)],
+                    colour,
+                ))?;
+            }
             chart
-                .draw_series(LineSeries::new(line.iter().map(|p| (p.0, p.1)), colour))?
+                .draw_series(std::iter::once(Circle::new(
+                    (line[0].0, line[0].1),
+                    style.ipx(2.0),
+                    colour.filled(),
+                )))?
                 .label(match integrator {
                     Integrator::Taylor => "Taylor series",
                     Integrator::Dopri5 => "Dormand–Prince 5(4)",
                 })
-                .legend(move |(x, y)| {
-                    plotters::prelude::PathElement::new(vec![(x, y), (x + 14, y)], colour)
-                });
+                .legend(move |(x, y)| Circle::new((x + 6, y), 3, colour.filled()));
             chart.draw_series(
                 line.iter()
                     .map(|&(x, y, _)| Circle::new((x, y), style.ipx(2.0), colour.filled())),
             )?;
+            // the loosest rtol labelled above its point, the tightest below:
+            // neighbours of equal error or equal cost then stay clear
             for (i, p) in [line.first(), line.last()]
                 .into_iter()
                 .flatten()
                 .enumerate()
             {
                 let text = format!("rtol {:.0e}", p.2);
-                let (x, st) = if (i == 0) == (k == 0) {
-                    (p.0 * 1.08, label_right.clone())
+                let (y, st) = if i == 0 {
+                    (p.1 * 3.0, above.clone())
                 } else {
-                    (p.0 / 1.08, label_left.clone())
+                    (p.1 / 3.0, below.clone())
                 };
-                chart.draw_series(std::iter::once(Text::new(text, (x, p.1), st)))?;
+                chart.draw_series(std::iter::once(Text::new(text, (p.0, y), st)))?;
             }
         }
         let lin = style.series(2);
         for p in pts.iter().filter(|p| p.2.settings.model == Model::Linear) {
-            chart.draw_series(std::iter::once(TriangleMarker::new(
-                (p.0, p.1),
-                style.ipx(3.0),
-                lin.filled(),
-            )))?;
-            chart.draw_series(std::iter::once(Text::new(
-                "linearised",
-                (p.0 * 1.08, p.1),
-                label_right.clone(),
-            )))?;
+            chart
+                .draw_series(std::iter::once(TriangleMarker::new(
+                    (p.0, p.1),
+                    style.ipx(3.0),
+                    lin.filled(),
+                )))?
+                .label("linearised model")
+                .legend(move |(x, y)| TriangleMarker::new((x + 6, y), 4, lin.filled()));
         }
         chart
             .configure_series_labels()
-            .position(plotters::chart::SeriesLabelPosition::UpperRight)
+            .position(plotters::chart::SeriesLabelPosition::UpperLeft)
             .label_font(style.font(7.0))
             .border_style(style.axis())
             .background_style(WHITE)
