@@ -6,17 +6,27 @@ use clap::ValueEnum;
 use rockfrag::motion::{self, G_STANDARD, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
-    Analysis, Block, Friction, History, ImpactLaw, Initial, Model, SolverSettings, simulate,
+    Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, SolverSettings,
+    simulate,
 };
 use std::path::PathBuf;
 
 /// Rock equation, as a CLI value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum ModelArg {
-    /// Nonlinear eq. (1) by Dormand–Prince 5(4).
+    /// Nonlinear eq. (1) (integrator: see --integrator).
     Nonlinear,
     /// Linearised in θ, piecewise exact.
     Linear,
+}
+
+/// Integrator of the nonlinear rock equation, as a CLI value.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum IntegratorArg {
+    /// Taylor series over each sample (fastest).
+    Taylor,
+    /// Dormand–Prince 5(4) with dense output.
+    Dopri5,
 }
 
 /// Impact law, as a CLI value.
@@ -94,6 +104,9 @@ pub struct SimulateArgs {
     /// Rock equation.
     #[arg(long, value_enum, default_value_t = ModelArg::Nonlinear)]
     pub model: ModelArg,
+    /// Integrator of the nonlinear rock equation.
+    #[arg(long, value_enum, default_value_t = IntegratorArg::Taylor)]
+    pub integrator: IntegratorArg,
     /// Impact law.
     #[arg(long, value_enum, default_value_t = ImpactArg::Newton)]
     pub impact: ImpactArg,
@@ -131,6 +144,10 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         model: match args.model {
             ModelArg::Nonlinear => Model::Nonlinear,
             ModelArg::Linear => Model::Linear,
+        },
+        integrator: match args.integrator {
+            IntegratorArg::Taylor => Integrator::Taylor,
+            IntegratorArg::Dopri5 => Integrator::Dopri5,
         },
         impact: match args.impact {
             ImpactArg::Newton => ImpactLaw::Newton,
