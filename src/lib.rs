@@ -44,6 +44,11 @@
 //! - Clough, R. W. and Penzien, J. (1975). *Dynamics of Structures*.
 //! - Dormand, J. R. and Prince, P. J. (1980). A family of embedded Runge–Kutta
 //!   formulae. *J. Comput. Appl. Math.* 6(1), 19–26.
+//! - Jorba, À. and Zou, M. (2005). A software package for the numerical
+//!   integration of ODEs by means of high-order Taylor methods. *Experimental
+//!   Mathematics* 14(1), 99–117 (the Taylor integrator of rock).
+//! - Baker, J. W. (2015). Efficient analytical fragility function fitting
+//!   using dynamic structural analysis. *Earthquake Spectra* 31(1), 579–599.
 
 // Declared in data-flow order: spec → motion → solver → outcome → study → figures.
 pub mod error;
