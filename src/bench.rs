@@ -21,6 +21,7 @@
 //! ensemble and counts outcome mismatches rather than trusting one run.
 
 use crate::error::Result;
+use crate::fragility::percentile;
 use crate::motion::{G_STANDARD, Record, SynthesisSettings, Synthesizer};
 use crate::outcome::Outcome;
 use crate::solver::{Analysis, Block, Friction, Integrator, Model, SolverSettings, simulate};
@@ -237,7 +238,12 @@ fn summarise(
         mean_rhs: rhs,
         overturn_mismatches: mismatches,
         theta_err: (median(&mut th), max(&th)),
-        theta_err_p95: quantile(&mut th, 0.95),
+        // `median` above left `th` sorted
+        theta_err_p95: if th.is_empty() {
+            0.0
+        } else {
+            percentile(&th, 0.95)
+        },
         mu_err: (median(&mut mu), max(&mu)),
         first_impact_err: (median(&mut fi), max(&fi)),
     }
@@ -249,14 +255,6 @@ fn median(v: &mut [f64]) -> f64 {
     }
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
-}
-
-fn quantile(v: &mut [f64], q: f64) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[((v.len() - 1) as f64 * q).round() as usize]
 }
 
 fn max(v: &[f64]) -> f64 {

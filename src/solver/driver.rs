@@ -723,23 +723,18 @@ impl<'a> Run<'a> {
             // the ends are asked for several times by the event checks: once each
             let start = (psi0, dpsi0, series.sin[0], series.cos[0]);
             let end = series.full_at(t1 - t0);
-            let full = |tt: f64| {
+            let cached = |tt: f64| {
                 if tt == t0 {
-                    start
+                    Some(start)
                 } else if tt == t1 {
-                    end
+                    Some(end)
                 } else {
-                    series.full_at(tt - t0)
+                    None
                 }
             };
+            let full = |tt: f64| cached(tt).unwrap_or_else(|| series.full_at(tt - t0));
             let path = |tt: f64| {
-                let (p, d) = if tt == t0 {
-                    (start.0, start.1)
-                } else if tt == t1 {
-                    (end.0, end.1)
-                } else {
-                    series.at(tt - t0)
-                };
+                let (p, d) = cached(tt).map_or_else(|| series.at(tt - t0), |c| (c.0, c.1));
                 (s * p, s * d)
             };
             let trig = |tt: f64| {
