@@ -100,8 +100,9 @@ fn frictionless_block_stays_put_in_space() {
 /// Check 2: with μs = μk = 100 the finite-friction solver reproduces the
 /// infinite-friction results on 25 records to 1e-6 (overturning, θmax,
 /// μ_mot) — wherever the infinite-friction demand stayed below 100. Where the
-/// demand exceeded 100 (F/N → ∞ as N → 0 near lift-off or overturning), the
-/// finite-friction block must slip there, and the overturning outcome agrees.
+/// demand exceeded 100 (F/N → ∞ as N → 0 near lift-off or overturning, also
+/// between the step ends where μ_mot is sampled), the finite-friction block
+/// must slip there, and the overturning outcome agrees.
 #[test]
 fn very_high_friction_reproduces_infinite_friction() {
     let mut compared = 0;
@@ -122,7 +123,12 @@ fn very_high_friction_reproduces_infinite_friction() {
             )
             .unwrap();
             assert_eq!(inf.overturned, fin.overturned, "{}", rec.name);
-            if inf.mu_motion < 100.0 && inf.mu_impact < 100.0 {
+            // μ_mot is sampled at step ends, and just before overturning
+            // F/N → ∞ between samples: the finite-friction run may meet μ = 100
+            // there while the sampled demand is lower (92.7 for seed 2, index 2)
+            let slipped = time_in(&fin, Mode::SlideRock) > 0.0 || fin.stick_holds > 0;
+            let steep = inf.overturned || inf.uplifted;
+            if inf.mu_motion < 100.0 && inf.mu_impact < 100.0 && !(slipped && steep) {
                 let rel = |a: f64, b: f64| (a - b).abs() / a.abs().max(1e-300);
                 assert!(
                     rel(inf.theta_max_over_theta_c, fin.theta_max_over_theta_c) < 1e-6,

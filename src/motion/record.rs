@@ -109,7 +109,10 @@ impl Record {
             self.acc_v.as_ref(),
         ];
         for (label, s) in ["acc", "vel", "disp", "acc_v"].iter().zip(series) {
+            // a branch-free pass first (it vectorises: simulate checks every
+            // record it is given), then the position only if there is one
             if let Some(s) = s
+                && !s.iter().fold(true, |ok, x| ok & x.is_finite())
                 && let Some(k) = s.iter().position(|x| !x.is_finite())
             {
                 return Err(bad(format!("{label} sample {k} is {}", s[k])));

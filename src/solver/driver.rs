@@ -5,10 +5,10 @@
 //! interval is a smooth stretch of forcing. Inside it:
 //! - **rest** needs no integration: the start of rocking is the exact crossing
 //!   of |ẍg| = (g + ÿg)·B/H on the linear forcing;
-//! - **rock** (1 DOF) is integrated by Dormand–Prince 5(4) (or solved in
-//!   closed form for the linearised model) and its events (impact θ = 0,
-//!   lift-off N = 0, overturning |θ| = π/2) are located by root finding on the
-//!   dense output;
+//! - **rock** (1 DOF) is integrated by a Taylor series of order 8 (or by
+//!   Dormand–Prince 5(4), or solved in closed form for the linearised model)
+//!   and its events (impact θ = 0, lift-off N = 0, overturning |θ| = π/2) are
+//!   located by root finding on the series (the dense output);
 //! - **flight** (3 DOF) has a closed form (G follows a cubic in time, θ̇ is
 //!   constant) and landings are located on it.
 //!
@@ -20,6 +20,23 @@
 //! approaches the ground, the single-corner impact law is applied at the one
 //! approaching fastest (sequential impacts), at most 64 times, after which
 //! the block is set down flat and still.
+//!
+//! Cascade rule (`settle_cascades`, e = 0 and infinite friction): after a rock
+//! impact, a block rocking on alternate corners with a shrinking speed u
+//! (uₙ₊₁ = η·uₙ on landing, η = 1 − 1.5 sin²θc) makes an endless cascade of
+//! ever shorter bounces that the ε rule only ends after dozens of impacts.
+//! Over a window of the record where the restoring accelerations Aₛ of
+//! eq. (1) at θ = 0 stay within [a_lo, a_hi] on each side (bounds that include
+//! the change of eq. (1) over the bounces' own height), each bounce lasts at
+//! most 2u/a_lo, lands at most √(a_hi/a_lo) faster than it left, and so the
+//! cascade ends within T = 2u₀/(a_lo (1 − ρ)), ρ = η·max √(a_hi/a_lo) < 1. If it
+//! ends inside the window, never rises above the peak rotation already
+//! reached, and N stays positive, the block is set to rest at once: the exact
+//! cascade is at rest by then too, and the record cannot lift the block in
+//! between, so the motion afterwards, the peak rotation and overturning are
+//! those of the cascade followed impact by impact. The cascade's own friction
+//! demand is taken at its window's ends (a rest-like demand, to O(u²)); its
+//! impacts are not counted in `impacts`; it counts one in `settles`.
 //!
 //! Lift-off rule under infinite friction: when N reaches 0 in rock, the pivot
 //! is released into flight only if it would then rise (q < 0, see
@@ -39,6 +56,7 @@ use super::taylor;
 use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::{Mode, Outcome};
+use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
 /// Rock about the corner on side −s (s = +1: left corner, θ ≥ 0).
@@ -231,6 +249,10 @@ struct Run<'a> {
     fric: Option<(f64, f64)>,
     /// The last release of a rock pivot into flight: (time, rock state).
     released: Option<(f64, RockState)>,
+    /// |ẍg| below which rest cannot break (the smaller of the rocking and
+    /// sliding thresholds, less a margin for rounding); 0 when rest is
+    /// decided sample by sample (vertical ground motion, or a history).
+    quiet: f64,
 }
 
 impl<'a> Run<'a> {
@@ -241,6 +263,7 @@ impl<'a> Run<'a> {
         hist: Option<&'a mut History>,
     ) -> Self {
         let bl = an.block;
+        let hist_none = hist.is_none();
         Run {
             bl,
             e: an.restitution,
@@ -265,6 +288,18 @@ impl<'a> Run<'a> {
                 Friction::Coulomb { mu_s, mu_k } => Some((mu_s, mu_k)),
             },
             released: None,
+            quiet: if rec.acc_v.is_none() && hist_none {
+                // rest breaks when |ẍg| > g tanθc (eq. (1) at θ = 0), or slides
+                // when |ẍg| > μs g; the margin covers the rounding of the
+                // interpolated forcing at a sample's end
+                let mu = match an.friction {
+                    Friction::Infinite => f64::INFINITY,
+                    Friction::Coulomb { mu_s, .. } => mu_s,
+                };
+                (bl.sin_c * bl.g / bl.cos_c).min(mu * bl.g) * (1.0 - 1e-9)
+            } else {
+                0.0
+            },
         }
     }
 
@@ -323,6 +358,22 @@ impl<'a> Run<'a> {
         self.push_row(t, &state, &seg0, false);
         self.note_theta(&state);
         while k + 1 < n {
+            if matches!(state, State::Rest) && self.quiet > 0.0 {
+                // Fast-forward over samples where the ground is too weak, at both
+                // ends, to break rest (the forcing is linear in between).
+                let k0 = k;
+                if self.acc[k].abs() < self.quiet {
+                    while k + 1 < n && self.acc[k + 1].abs() < self.quiet {
+                        k += 1;
+                    }
+                }
+                if k > k0 {
+                    let t_start = t;
+                    t = k as f64 * self.dt;
+                    self.out.time_in_mode[Mode::Rest.index()] += t - t_start;
+                    continue;
+                }
+            }
             let seg = self.segment(k);
             let t_end = (k + 1) as f64 * self.dt;
             let t_start = t;
@@ -370,14 +421,19 @@ impl<'a> Run<'a> {
                 None => {
                     t = t_end;
                     k += 1;
-                    let seg_end = if k + 1 < n {
-                        self.segment(k)
-                    } else {
-                        Segment { t0: t, ..seg }
-                    };
-                    self.push_row(t, &state, &seg_end, false);
+                    if self.hist.is_some() {
+                        let seg_end = if k + 1 < n {
+                            self.segment(k)
+                        } else {
+                            Segment { t0: t, ..seg }
+                        };
+                        self.push_row(t, &state, &seg_end, false);
+                    }
                     self.audit(&state);
-                    self.note_slip(&state);
+                    // the footprint moves between events only while slipping
+                    if matches!(state, State::Slide(_) | State::SlideRock(_)) {
+                        self.note_slip(&state);
+                    }
                 }
                 Some(ev) => {
                     self.out.stats.events += 1;
@@ -392,7 +448,11 @@ impl<'a> Run<'a> {
                     }
                     self.audit(&state);
                     self.push_row(t, &state, &seg, true);
-                    let before = self.energy(&state);
+                    let before = if self.set.audit_energy {
+                        self.energy(&state)
+                    } else {
+                        0.0
+                    };
                     let from = state.mode();
                     state = self.handle(ev, state, t)?;
                     let to = state.mode();
@@ -400,7 +460,9 @@ impl<'a> Run<'a> {
                         self.out.transitions[from.index()][to.index()] += 1;
                     }
                     self.note_slip(&state);
-                    self.jumps += self.energy(&state) - before;
+                    if self.set.audit_energy {
+                        self.jumps += self.energy(&state) - before;
+                    }
                     self.note_theta(&state);
                     self.push_row(t, &state, &seg, true);
                     if self.out.overturned {
@@ -707,7 +769,12 @@ impl<'a> Run<'a> {
                 v1: seg.v1,
             };
             let (psi0, dpsi0) = (s * rs.theta, s * rs.omega);
-            let series = taylor::RockSeries::new(bl.theta_c, k, s, psi0, dpsi0, &forcing);
+            let series = if psi0 == 0.0 {
+                // on the ground (after an impact): φ = θc
+                taylor::RockSeries::with_trig(bl.sin_c, bl.cos_c, k, s, psi0, dpsi0, &forcing)
+            } else {
+                taylor::RockSeries::new(bl.theta_c, k, s, psi0, dpsi0, &forcing)
+            };
             self.out.stats.rhs_calls += 1;
             let tol_psi = atol_th + self.set.rtol * psi0.abs();
             let tol_dpsi = atol_om + self.set.rtol * dpsi0.abs();
@@ -732,9 +799,35 @@ impl<'a> Run<'a> {
                     None
                 }
             };
-            let full = |tt: f64| cached(tt).unwrap_or_else(|| series.full_at(tt - t0));
+            // An event's time is evaluated again after it is found (by the
+            // contact forces, the peak and the new state): remember the last
+            // evaluation of each kind.
+            let last_full = Cell::new((f64::NAN, start));
+            let last_path = Cell::new((f64::NAN, (psi0, dpsi0)));
+            let full = |tt: f64| {
+                cached(tt).unwrap_or_else(|| {
+                    let (tl, v) = last_full.get();
+                    if tl == tt {
+                        return v;
+                    }
+                    let v = series.full_at(tt - t0);
+                    last_full.set((tt, v));
+                    v
+                })
+            };
             let path = |tt: f64| {
-                let (p, d) = cached(tt).map_or_else(|| series.at(tt - t0), |c| (c.0, c.1));
+                let (p, d) = cached(tt).map_or_else(
+                    || {
+                        let (tl, v) = last_path.get();
+                        if tl == tt {
+                            return v;
+                        }
+                        let v = series.at(tt - t0);
+                        last_path.set((tt, v));
+                        v
+                    },
+                    |c| (c.0, c.1),
+                );
                 (s * p, s * d)
             };
             let trig = |tt: f64| {
@@ -1175,9 +1268,16 @@ impl<'a> Run<'a> {
                 })
             }
             (Event::RockImpact, State::Rock(rs)) => {
-                let mut fs = self.rock_to_flight(&rs);
-                fs.theta = 0.0;
-                self.impacts(t, fs, rs.s)
+                // the impact happens at θ = 0 (the path's θ there is zero to
+                // within the root's tolerance)
+                let fs = self.rock_to_flight(&RockState { theta: 0.0, ..rs });
+                match self.impacts(t, fs, rs.s) {
+                    State::Rock(after) if self.cascade_settles(t, &after) => {
+                        self.out.settles += 1;
+                        State::Rest
+                    }
+                    st => st,
+                }
             }
             (Event::Landing(side), State::Flight(fs)) => self.impacts(t, fs, side),
             (Event::StartSlide(sigma), State::Rest) => {
@@ -1385,12 +1485,20 @@ impl<'a> Run<'a> {
             vy: pose.vy,
             omega: pose.omega,
         };
+        // the pose is fixed during the impacts: one sine and cosine (none at θ = 0,
+        // where a rock impact happens)
+        let (sn, cs) = if pose.theta == 0.0 {
+            (0.0, 1.0)
+        } else {
+            pose.theta.sin_cos()
+        };
+        let offset = |sd: f64| bl.corner_offset_sc(sd, sn, cs);
         let touching: [bool; 2] =
-            [-1.0, 1.0].map(|sd| bl.corner_height(sd, pose.y, pose.theta) <= self.h_touch);
+            [-1.0, 1.0].map(|sd| bl.h + pose.y + offset(sd).1 <= self.h_touch);
         let mut next = Some(side);
         let mut count = 0;
         while let Some(sd) = next {
-            let (rx, ry) = bl.corner_offset(sd, pose.theta);
+            let (rx, ry) = offset(sd);
             let law = self.set.impact;
             let hit = |e: f64| match self.fric {
                 None => {
@@ -1433,7 +1541,7 @@ impl<'a> Run<'a> {
             let mut worst = -self.v_settle;
             for (i, sd) in [-1.0, 1.0].into_iter().enumerate() {
                 if touching[i] {
-                    let (rx, ry) = bl.corner_offset(sd, pose.theta);
+                    let (rx, ry) = offset(sd);
                     let un = impact::point_velocity(&vel, rx, ry).1;
                     if un < worst {
                         worst = un;
@@ -1446,7 +1554,7 @@ impl<'a> Run<'a> {
         let staying: Vec2 = [-1.0, 1.0].map(|sd| {
             let i = if sd < 0.0 { 0 } else { 1 };
             touching[i] && {
-                let (rx, ry) = bl.corner_offset(sd, pose.theta);
+                let (rx, ry) = offset(sd);
                 impact::point_velocity(&vel, rx, ry).1 <= self.v_settle
             }
         });
@@ -1476,7 +1584,7 @@ impl<'a> Run<'a> {
                 let pivot = if staying[0] { -1.0 } else { 1.0 };
                 let s = -pivot;
                 if self.fric.is_some() {
-                    let (rx, ry) = bl.corner_offset(pivot, pose.theta);
+                    let (rx, ry) = offset(pivot);
                     let ut = impact::point_velocity(&vel, rx, ry).0;
                     if ut.abs() > self.v_settle {
                         let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
@@ -1504,6 +1612,105 @@ impl<'a> Run<'a> {
                 })
             }
         }
+    }
+
+    /// The cascade rule (module documentation): true if the rock impacts that
+    /// follow a rock impact at `t`, leaving the block in `rs` (θ = 0), provably
+    /// die out before the ground can lift the block. Then the cascade's
+    /// friction demand is noted and the caller sets the block to rest.
+    fn cascade_settles(&mut self, t: f64, rs: &RockState) -> bool {
+        /// Longest window, in record samples, over which the bounds are sought.
+        const MAX_SAMPLES: usize = 16;
+        let bl = self.bl;
+        // Housner's ratio of angular velocities at a rock impact with e = 0
+        let eta = impact::rock_impact_ratio(&bl, 0.0);
+        let n = self.acc.len();
+        if !self.set.settle_cascades
+            || self.fric.is_some()
+            || self.e != 0.0
+            || rs.theta != 0.0
+            || !(eta > 0.0 && eta < 1.0)
+            || n < 2
+        {
+            return false;
+        }
+        let u0 = rs.omega.abs();
+        let kk = 0.75 / bl.r; // eq. (1): I_O = 4mR²/3
+        // eq. (1) at θ = 0 on side s: ψ̈ = −A_s, A_s = k((g + ÿg) sinθc − s ẍg cosθc)
+        let restoring =
+            |s: f64, ax: f64, ay: f64| kk * ((bl.g + ay) * bl.sin_c - s * ax * bl.cos_c);
+        // Over the window: the smallest A_s (either side), the largest |ẍg| and
+        // |g + ÿg| (the forcing is linear between samples, so extremes are at
+        // the window's ends and at samples), and the largest |dA_s/dt|.
+        let (mut lo_min, mut ax_max, mut gy_max, mut rate) =
+            (f64::INFINITY, 0.0_f64, 0.0_f64, 0.0_f64);
+        let mut include = |ax: f64, ay: f64| {
+            lo_min = lo_min
+                .min(restoring(1.0, ax, ay))
+                .min(restoring(-1.0, ax, ay));
+            ax_max = ax_max.max(ax.abs());
+            gy_max = gy_max.max((bl.g + ay).abs());
+            (lo_min, ax_max, gy_max)
+        };
+        let k0 = ((t / self.dt) as usize).min(n - 2);
+        let (ax, ay) = self.segment(k0).at(t);
+        include(ax, ay);
+        for k in k0..(k0 + MAX_SAMPLES).min(n - 1) {
+            let seg = self.segment(k);
+            let tw = (k + 1) as f64 * self.dt;
+            let (ax, ay) = seg.at(tw);
+            let (lo_min, ax_max, gy_max) = include(ax, ay);
+            rate = rate.max(kk * (seg.v1.abs() * bl.sin_c + seg.a1.abs() * bl.cos_c));
+            if lo_min <= 0.0 {
+                // the ground can lift the block within the window
+                return false;
+            }
+            // A bounce leaving at u ≤ u0 on side s lasts τ, during which its
+            // restoring acceleration stays within A* ± x of the value A* ≥ lo_min
+            // at its start: x = rate·τ + δ, with δ = k ψm (|ẍg| + |g + ÿg|) the
+            // change of eq. (1) over the bounce's height ψ ≤ ψm (|Δsin|,
+            // |Δcos| ≤ ψm). While x ≤ lo_min/2, τ ≤ 2u/(A* − x) ≤ 4u0/lo_min and
+            // ψ ≤ u²/(2(A* − x)) ≤ u0²/lo_min = ψm, so both bounds hold.
+            let psi_m = u0 * u0 / lo_min;
+            let delta = kk * psi_m * (ax_max + gy_max);
+            let x = rate * 4.0 * u0 / lo_min + delta;
+            if x > 0.5 * lo_min {
+                return false;
+            }
+            // it lands at most √((A* + x)/(A* − x)) ≤ √((lo_min + x)/(lo_min − x))
+            // faster than it left, and the impact multiplies the speed by η
+            let rho = eta * ((lo_min + x) / (lo_min - x)).sqrt();
+            if rho >= 1.0 {
+                // a longer window only widens the bounds
+                return false;
+            }
+            // Σ τₙ ≤ Σ 2uₙ/(lo_min − x) with uₙ ≤ ρⁿ u0
+            let t_cascade = 2.0 * u0 / ((lo_min - x) * (1.0 - rho));
+            if t + t_cascade > tw {
+                continue;
+            }
+            if psi_m > self.out.theta_max_over_theta_c * bl.theta_c {
+                // the cascade might set the peak rotation: follow it
+                return false;
+            }
+            // Contact forces at θ = 0, θ̇ = 0 on either side at the cascade's
+            // ends: N must stay positive, and they give its friction demand.
+            let k1 = (((t + t_cascade) / self.dt) as usize).clamp(k0, k);
+            let ends = [self.segment(k0).at(t), self.segment(k1).at(t + t_cascade)];
+            let mut demand = 0.0_f64;
+            for (ax, ay) in ends {
+                for s in [-1.0, 1.0] {
+                    let c = ph::rock_contact_sc(&bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
+                    if c.n <= 0.5 * (bl.g + ay) {
+                        return false;
+                    }
+                    demand = demand.max(c.f.abs() / c.n);
+                }
+            }
+            self.out.mu_motion = self.out.mu_motion.max(demand);
+            return true;
+        }
+        false
     }
 
     /// Both corners down, no velocity: rest at the current footprint.

@@ -88,7 +88,12 @@ pub fn rock_release_q(bl: &Block, s: f64, theta: f64, omega: f64, ay: f64) -> f6
 /// ẋ = −R cosφ θ̇, ẏ = S R sinφ θ̇.
 #[inline]
 pub fn rock_kinematics(bl: &Block, s: f64, theta: f64, omega: f64) -> [f64; 4] {
-    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
+    // φ = θc − sθ; at θ = 0 (a rock impact) its sine and cosine are the block's
+    let (sp, cp) = if theta == 0.0 {
+        (bl.sin_c, bl.cos_c)
+    } else {
+        (bl.theta_c - s * theta).sin_cos()
+    };
     [
         s * (bl.r * sp - bl.b),
         -bl.r * cp * omega,

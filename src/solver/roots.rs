@@ -85,8 +85,14 @@ pub fn brent(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, fa: f64, fb: f64, xt
 /// leave it or converge too slowly (Press et al., *Numerical Recipes*,
 /// `rtsafe`). `fd(t)` returns (f, f′); f′ may be approximate (for instance
 /// the dense output of θ̇ for θ) since the bracket guarantees convergence.
+/// `da` is f′(a), which the caller has already evaluated with f(a).
 /// Returns the bracket end on the side of b's sign, like [`brent`].
-pub fn newton(fd: impl Fn(f64) -> (f64, f64), a: f64, b: f64, fa: f64, fb: f64, xtol: f64) -> f64 {
+pub fn newton(
+    fd: impl Fn(f64) -> (f64, f64),
+    (a, fa, da): (f64, f64, f64),
+    (b, fb): (f64, f64),
+    xtol: f64,
+) -> f64 {
     if fa == 0.0 {
         return a;
     }
@@ -102,7 +108,6 @@ pub fn newton(fd: impl Fn(f64) -> (f64, f64), a: f64, b: f64, fa: f64, fb: f64, 
     // a halving per iteration while Newton is still far away.
     let mut t = 0.5 * (a + b);
     let w = b - a;
-    let da = fd(a).1;
     let c = 2.0 * (fb - fa - da * w) / (w * w);
     let disc = da * da - 2.0 * c * fa;
     if disc >= 0.0 && c != 0.0 {
@@ -191,7 +196,7 @@ mod tests {
             n.set(n.get() + 1);
             (t.cos() - t, -t.sin() - 1.0)
         };
-        let r = newton(fd, 0.0, 1.0, 1.0, 1f64.cos() - 1.0, 1e-15);
+        let r = newton(fd, (0.0, 1.0, -1.0), (1.0, 1f64.cos() - 1.0), 1e-15);
         assert!((r - 0.7390851332151607).abs() < 1e-15, "{r}");
         assert!(r.cos() - r <= 0.0);
         assert!(n.get() <= 10, "{} evaluations", n.get());

@@ -53,7 +53,7 @@ fn descent(
         let (fb, db) = fd(tb);
         if fb <= 0.0 {
             if fa > 0.0 {
-                return Some(newton(&fd, ta, tb, fa, fb, xtol));
+                return Some(newton(&fd, (ta, fa, da), (tb, fb), xtol));
             }
             // Started touching and not approaching: the function may have
             // risen and come back inside the piece. Find a point above zero
@@ -65,23 +65,23 @@ fn descent(
                     // in a short flight) is usually above zero already
                     let ts = ta + da * (tb - ta) / (da - db);
                     if ts > ta && ts < tb {
-                        let fs = fd(ts).0;
+                        let (fs, ds) = fd(ts);
                         if fs > 0.0 {
-                            return Some(newton(&fd, ts, tb, fs, fb, xtol));
+                            return Some(newton(&fd, (ts, fs, ds), (tb, fb), xtol));
                         }
                     }
                     let tm = brent(|t| fd(t).1, ta, tb, da, db, xtol);
-                    let fm = fd(tm).0;
+                    let (fm, dm) = fd(tm);
                     if fm > 0.0 {
-                        return Some(newton(&fd, tm, tb, fm, fb, xtol));
+                        return Some(newton(&fd, (tm, fm, dm), (tb, fb), xtol));
                     }
                 }
                 let mut tm = tb;
                 for _ in 0..64 {
                     tm = ta + 0.5 * (tm - ta);
-                    let fm = fd(tm).0;
+                    let (fm, dm) = fd(tm);
                     if fm > 0.0 {
-                        return Some(newton(&fd, tm, tb, fm, fb, xtol));
+                        return Some(newton(&fd, (tm, fm, dm), (tb, fb), xtol));
                     }
                 }
             }
@@ -93,7 +93,7 @@ fn descent(
             let fm = fd(tm).0;
             if fm <= 0.0 {
                 if fa > 0.0 {
-                    return Some(newton(&fd, ta, tm, fa, fm, xtol));
+                    return Some(newton(&fd, (ta, fa, da), (tm, fm), xtol));
                 }
                 return Some(ta);
             }

@@ -69,6 +69,11 @@ pub struct SolverSettings {
     /// block within ε·θc of flat whose corners move slower than ε·√(gR)
     /// is set to rest.
     pub settle_tol: f64,
+    /// Settle a cascade of shrinking rock impacts at once when bounds prove it
+    /// dies out before the ground can lift the block again (e = 0, infinite
+    /// friction; default: true). The block's later motion is unchanged: see
+    /// the solver's module documentation.
+    pub settle_cascades: bool,
     /// Largest number of events in one analysis before it is abandoned as
     /// stalled (default: 1,000,000).
     pub max_events: u64,
@@ -85,6 +90,7 @@ impl Default for SolverSettings {
             atol: 1e-10,
             impact: ImpactLaw::Newton,
             settle_tol: 1e-6,
+            settle_cascades: true,
             max_events: 1_000_000,
             audit_energy: false,
         }
