@@ -97,13 +97,13 @@ fn free_rocking_matches_energy_quadrature_and_amplitude_decay() {
             ..Initial::default()
         };
         let mut hist = History::default();
-        let out = simulate(
-            &an,
-            &quiet_record(0.02, 8.0),
-            &SolverSettings::default(),
-            Some(&mut hist),
-        )
-        .unwrap();
+        // the amplitudes of the ring-down itself are checked: follow it impact
+        // by impact (the cascade rule would set H/B 2 to rest after two peaks)
+        let settings = SolverSettings {
+            settle_cascades: false,
+            ..SolverSettings::default()
+        };
+        let out = simulate(&an, &quiet_record(0.02, 8.0), &settings, Some(&mut hist)).unwrap();
         let expected = free_rocking_first_impact_time(&bl, theta0);
         let t1 = out.first_impact_time.unwrap();
         assert!(

@@ -78,45 +78,51 @@ impl Record {
     /// Checks that the record is usable: at least two samples, a positive
     /// finite Δt, equal lengths and finite values.
     pub fn validate(&self) -> Result<()> {
-        let bad = |message: String| Error::InvalidRecord {
-            name: self.name.clone(),
-            message,
-        };
+        self.validate_forcing()?;
+        if self.vel.len() != self.acc.len() || self.disp.len() != self.acc.len() {
+            return Err(self.invalid("acc, vel and disp have different lengths".into()));
+        }
+        self.check_finite("vel", &self.vel)?;
+        self.check_finite("disp", &self.disp)
+    }
+
+    /// The part of [`Record::validate`] the solver relies on: Δt, at least two
+    /// samples, and finite accelerations (horizontal, and vertical if given,
+    /// of the same length). The solver checks this for every analysis.
+    pub fn validate_forcing(&self) -> Result<()> {
         if !(self.dt.is_finite() && self.dt > 0.0) {
-            return Err(bad(format!(
+            return Err(self.invalid(format!(
                 "sample interval dt = {} must be positive and finite",
                 self.dt
             )));
         }
         if self.acc.len() < 2 {
-            return Err(bad(format!(
-                "{} samples; at least 2 are needed",
-                self.acc.len()
-            )));
+            return Err(self.invalid(format!("{} samples; at least 2 are needed", self.acc.len())));
         }
-        if self.vel.len() != self.acc.len() || self.disp.len() != self.acc.len() {
-            return Err(bad("acc, vel and disp have different lengths".into()));
-        }
-        if let Some(v) = &self.acc_v
-            && v.len() != self.acc.len()
-        {
-            return Err(bad("vertical acceleration has a different length".into()));
-        }
-        let series = [
-            Some(&self.acc),
-            Some(&self.vel),
-            Some(&self.disp),
-            self.acc_v.as_ref(),
-        ];
-        for (label, s) in ["acc", "vel", "disp", "acc_v"].iter().zip(series) {
-            // a branch-free pass first (it vectorises: simulate checks every
-            // record it is given), then the position only if there is one
-            if let Some(s) = s
-                && !s.iter().fold(true, |ok, x| ok & x.is_finite())
-                && let Some(k) = s.iter().position(|x| !x.is_finite())
-            {
-                return Err(bad(format!("{label} sample {k} is {}", s[k])));
+        self.check_finite("acc", &self.acc)?;
+        if let Some(v) = &self.acc_v {
+            if v.len() != self.acc.len() {
+                return Err(self.invalid("vertical acceleration has a different length".into()));
             }
+            self.check_finite("acc_v", v)?;
+        }
+        Ok(())
+    }
+
+    fn invalid(&self, message: String) -> Error {
+        Error::InvalidRecord {
+            name: self.name.clone(),
+            message,
+        }
+    }
+
+    /// Errors with the first non-finite sample of `series`, if any: a
+    /// branch-free pass first (it vectorises), the position only if needed.
+    fn check_finite(&self, label: &str, series: &[f64]) -> Result<()> {
+        if !series.iter().fold(true, |ok, x| ok & x.is_finite())
+            && let Some(k) = series.iter().position(|x| !x.is_finite())
+        {
+            return Err(self.invalid(format!("{label} sample {k} is {}", series[k])));
         }
         Ok(())
     }

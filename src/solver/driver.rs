@@ -198,7 +198,7 @@ pub fn simulate(
 ) -> Result<Outcome> {
     analysis.validate()?;
     settings.validate()?;
-    record.validate()?;
+    record.validate_forcing()?;
     if settings.model == Model::Linear && analysis.friction != Friction::Infinite {
         return Err(Error::invalid(
             "model",
@@ -1620,7 +1620,7 @@ impl<'a> Run<'a> {
     /// friction demand is noted and the caller sets the block to rest.
     fn cascade_settles(&mut self, t: f64, rs: &RockState) -> bool {
         /// Longest window, in record samples, over which the bounds are sought.
-        const MAX_SAMPLES: usize = 16;
+        const MAX_SAMPLES: usize = 64;
         let bl = self.bl;
         // Housner's ratio of angular velocities at a rock impact with e = 0
         let eta = impact::rock_impact_ratio(&bl, 0.0);
@@ -1669,14 +1669,16 @@ impl<'a> Run<'a> {
             // restoring acceleration stays within A* ± x of the value A* ≥ lo_min
             // at its start: x = rate·τ + δ, with δ = k ψm (|ẍg| + |g + ÿg|) the
             // change of eq. (1) over the bounce's height ψ ≤ ψm (|Δsin|,
-            // |Δcos| ≤ ψm). While x ≤ lo_min/2, τ ≤ 2u/(A* − x) ≤ 4u0/lo_min and
-            // ψ ≤ u²/(2(A* − x)) ≤ u0²/lo_min = ψm, so both bounds hold.
-            let psi_m = u0 * u0 / lo_min;
-            let delta = kk * psi_m * (ax_max + gy_max);
-            let x = rate * 4.0 * u0 / lo_min + delta;
-            if x > 0.5 * lo_min {
+            // |Δcos| ≤ ψm). First, while x ≤ lo_min/2: τ ≤ 2u/(A* − x) ≤
+            // 4u0/lo_min and ψ ≤ u²/(2(A* − x)) ≤ u0²/lo_min, which bounds x by x0.
+            let psi_m0 = u0 * u0 / lo_min;
+            let x0 = rate * 4.0 * u0 / lo_min + kk * psi_m0 * (ax_max + gy_max);
+            if x0 > 0.5 * lo_min {
                 return false;
             }
+            // Then, with x ≤ x0: τ ≤ 2u0/(lo_min − x0), ψ ≤ u0²/(2(lo_min − x0)).
+            let psi_m = 0.5 * u0 * u0 / (lo_min - x0);
+            let x = rate * 2.0 * u0 / (lo_min - x0) + kk * psi_m * (ax_max + gy_max);
             // it lands at most √((A* + x)/(A* − x)) ≤ √((lo_min + x)/(lo_min − x))
             // faster than it left, and the impact multiplies the speed by η
             let rho = eta * ((lo_min + x) / (lo_min - x)).sqrt();

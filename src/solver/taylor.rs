@@ -23,9 +23,21 @@
 //! is its own dense output: events are located on the polynomial, and the
 //! contact forces come from the sin φ and cos φ polynomials, with no further
 //! trigonometry. The step is cut when the last two terms exceed the tolerance.
+//!
+//! ψ needs sin φ and cos φ only to order ORDER − 2, and the dense output of
+//! sin φ and cos φ stops there too ([`TRIG_ORDER`]): their terms 7 and 8 are
+//! of the size of ψ's own (S_j ≈ −C_0 ψ_j + products of lower terms), which
+//! the step control keeps within the tolerance, so the contact forces keep
+//! the accuracy of ψ. (Measured on 810 analyses: μ_mot changes by 2e-10
+//! relative at most, θmax and the event counts not at all.) The energy audit
+//! extends them to its own order ([`RockSeries::work`]).
 
-/// Order of the series (terms τ⁰ … τ^ORDER).
+/// Order of the series of ψ (terms τ⁰ … τ^ORDER).
 pub const ORDER: usize = 8;
+
+/// Order of the series of sin φ and cos φ (terms τ⁰ … τ^TRIG_ORDER); the
+/// entries above it are 0.
+pub const TRIG_ORDER: usize = ORDER - 2;
 
 /// 1/j for j = 0..=ORDER (1/0 unused).
 const INV: [f64; ORDER + 1] = {
@@ -43,9 +55,9 @@ const INV: [f64; ORDER + 1] = {
 pub struct RockSeries {
     /// Coefficients of ψ = sθ.
     pub psi: [f64; ORDER + 1],
-    /// Coefficients of sin φ, φ = θc − ψ.
+    /// Coefficients of sin φ, φ = θc − ψ, to [`TRIG_ORDER`].
     pub sin: [f64; ORDER + 1],
-    /// Coefficients of cos φ.
+    /// Coefficients of cos φ, to [`TRIG_ORDER`].
     pub cos: [f64; ORDER + 1],
     /// Coefficients of ψ̇ ((j+1) ψ_{j+1}; the last is 0).
     pub dpsi: [f64; ORDER + 1],
@@ -107,7 +119,7 @@ impl RockSeries {
         // eq. (1), coefficient of τ^0
         psi[2] = (ka0 * cos0 - kv0 * sin0) * 0.5;
         ip[2] = 2.0 * psi[2];
-        // Order j of the recurrences, written out for j = 1..=ORDER so that
+        // Order j of the recurrences, written out for j = 1..=TRIG_ORDER so that
         // every index is a constant (no loops or bounds checks in the code);
         // `psi` also gives ψ_{j+2}, for j + 2 ≤ ORDER.
         macro_rules! order {
@@ -124,15 +136,16 @@ impl RockSeries {
                 ip[$j + 2] = ($j + 2) as f64 * psi[$j + 2];
             };
         }
-        const _: () = assert!(ORDER == 8, "the orders below are written out for ORDER = 8");
+        const _: () = assert!(
+            TRIG_ORDER == 6,
+            "the orders below are written out for ORDER = 8"
+        );
         order!(1, psi);
         order!(2, psi);
         order!(3, psi);
         order!(4, psi);
         order!(5, psi);
         order!(6, psi);
-        order!(7);
-        order!(8);
         let mut dpsi = [0.0; ORDER + 1];
         dpsi[..ORDER].copy_from_slice(&ip[1..]);
         RockSeries {
@@ -159,9 +172,9 @@ impl RockSeries {
     #[inline]
     pub fn full_at(&self, tau: f64) -> (f64, f64, f64, f64) {
         let (p, d) = self.at(tau);
-        let mut sn = self.sin[ORDER];
-        let mut cs = self.cos[ORDER];
-        for j in (0..ORDER).rev() {
+        let mut sn = self.sin[TRIG_ORDER];
+        let mut cs = self.cos[TRIG_ORDER];
+        for j in (0..TRIG_ORDER).rev() {
             sn = sn * tau + self.sin[j];
             cs = cs * tau + self.cos[j];
         }
@@ -229,14 +242,25 @@ impl RockSeries {
         for (j, dj) in d.iter_mut().enumerate() {
             *dj = (j + 1) as f64 * self.psi[j + 1];
         }
+        // sin φ and cos φ to order ORDER − 1, by the recurrences of `new`
+        let (mut sin, mut cos) = (self.sin, self.cos);
+        for j in TRIG_ORDER + 1..ORDER {
+            let (mut sj, mut cj) = (0.0, 0.0);
+            for i in (1..=j).rev() {
+                sj -= d[i - 1] * cos[j - i];
+                cj += d[i - 1] * sin[j - i];
+            }
+            sin[j] = sj * INV[j];
+            cos[j] = cj * INV[j];
+        }
         let mut w = [0.0; ORDER + 1];
         let (ay0, ay1) = (forcing.v0 - g, forcing.v1);
         let (mut cd_prev, mut sd_prev) = (0.0, 0.0);
         for j in 0..ORDER {
             let (mut cd, mut sd) = (0.0, 0.0);
             for i in 0..=j {
-                cd += self.cos[i] * d[j - i];
-                sd += self.sin[i] * d[j - i];
+                cd += cos[i] * d[j - i];
+                sd += sin[i] * d[j - i];
             }
             // power −ẍg ẋ − ÿg ẏ = R (s ẍg cos φ − ÿg sin φ) ψ̇, coefficient of τ^j
             let p = r * (s * (forcing.a0 * cd + forcing.a1 * cd_prev) - (ay0 * sd + ay1 * sd_prev));
