@@ -5,7 +5,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::{
     BindKeyPoints, ChartBuilder, Circle, DrawingArea, DrawingBackend, IntoLogRange, LineSeries,
-    Text, TriangleMarker, WHITE,
+    Rectangle, Text, TriangleMarker, WHITE,
 };
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -17,7 +17,8 @@ use crate::solver::{Integrator, Model};
 
 /// Draws the median relative error of θmax/θc against the median time per
 /// analysis (log–log): each integrator of the nonlinear model as a line
-/// through its tolerances (labelled at both ends), the linearised model as a
+/// through its tolerances (labelled at both ends), the default setting with
+/// the cascade rule off as a square, the linearised model as a
 /// triangle.
 /// Settings whose median error is 0 (exact to rounding) are drawn at 1e-16.
 pub fn plot_work_precision(reports: &[SettingReport], path: &Path) -> Result<()> {
@@ -110,7 +111,9 @@ impl Figure for WorkPrecision<'_> {
             let line: Vec<(f64, f64, f64)> = pts
                 .iter()
                 .filter(|p| {
-                    p.2.settings.model == Model::Nonlinear && p.2.settings.integrator == integrator
+                    p.2.settings.model == Model::Nonlinear
+                        && p.2.settings.integrator == integrator
+                        && p.2.settings.settle_cascades
                 })
                 .map(|p| (p.0, p.1, p.2.settings.rtol))
                 .collect();
@@ -157,6 +160,19 @@ impl Figure for WorkPrecision<'_> {
                 chart.draw_series(std::iter::once(Text::new(text, (p.0, y), st)))?;
             }
         }
+        // the default setting with every impact followed (cascade rule off)
+        let off = style.series(3);
+        for p in pts.iter().filter(|p| !p.2.settings.settle_cascades) {
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(p.0 / 1.02, p.1 / 1.6), (p.0 * 1.02, p.1 * 1.6)],
+                    off.filled(),
+                )))?
+                .label("Taylor, cascade rule off")
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x + 3, y - 3), (x + 9, y + 3)], off.filled())
+                });
+        }
         let lin = style.series(2);
         for p in pts.iter().filter(|p| p.2.settings.model == Model::Linear) {
             chart
@@ -170,7 +186,7 @@ impl Figure for WorkPrecision<'_> {
         }
         chart
             .configure_series_labels()
-            .position(plotters::chart::SeriesLabelPosition::UpperLeft)
+            .position(plotters::chart::SeriesLabelPosition::UpperRight)
             .label_font(style.font(7.0))
             .border_style(style.axis())
             .background_style(WHITE)
