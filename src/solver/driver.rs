@@ -1640,17 +1640,20 @@ impl<'a> Run<'a> {
         let restoring =
             |s: f64, ax: f64, ay: f64| kk * ((bl.g + ay) * bl.sin_c - s * ax * bl.cos_c);
         // Over the window: the smallest A_s (either side), the largest |ẍg| and
-        // |g + ÿg| (the forcing is linear between samples, so extremes are at
-        // the window's ends and at samples), and the largest |dA_s/dt|.
-        let (mut lo_min, mut ax_max, mut gy_max, mut rate) =
-            (f64::INFINITY, 0.0_f64, 0.0_f64, 0.0_f64);
+        // |g + ÿg|, the smallest N − (g + ÿg)/2 at θ = 0, θ̇ = 0 (all affine in
+        // the forcing, which is linear between samples, so extremes are at the
+        // window's ends and at samples), and the largest |dA_s/dt|.
+        let (mut lo_min, mut ax_max, mut gy_max, mut n_margin, mut rate) =
+            (f64::INFINITY, 0.0_f64, 0.0_f64, f64::INFINITY, 0.0_f64);
         let mut include = |ax: f64, ay: f64| {
-            lo_min = lo_min
-                .min(restoring(1.0, ax, ay))
-                .min(restoring(-1.0, ax, ay));
+            for s in [-1.0, 1.0] {
+                lo_min = lo_min.min(restoring(s, ax, ay));
+                let c = ph::rock_contact_sc(&bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
+                n_margin = n_margin.min(c.n - 0.5 * (bl.g + ay));
+            }
             ax_max = ax_max.max(ax.abs());
             gy_max = gy_max.max((bl.g + ay).abs());
-            (lo_min, ax_max, gy_max)
+            (lo_min, ax_max, gy_max, n_margin)
         };
         let k0 = ((t / self.dt) as usize).min(n - 2);
         let (ax, ay) = self.segment(k0).at(t);
@@ -1659,10 +1662,11 @@ impl<'a> Run<'a> {
             let seg = self.segment(k);
             let tw = (k + 1) as f64 * self.dt;
             let (ax, ay) = seg.at(tw);
-            let (lo_min, ax_max, gy_max) = include(ax, ay);
+            let (lo_min, ax_max, gy_max, n_margin) = include(ax, ay);
             rate = rate.max(kk * (seg.v1.abs() * bl.sin_c + seg.a1.abs() * bl.cos_c));
-            if lo_min <= 0.0 {
-                // the ground can lift the block within the window
+            if lo_min <= 0.0 || n_margin <= 0.0 {
+                // the ground can lift the block within the window, or the
+                // pivot's normal force comes near 0 (bounds on N below)
                 return false;
             }
             // A bounce leaving at u ≤ u0 on side s lasts τ, during which its
@@ -1695,17 +1699,21 @@ impl<'a> Run<'a> {
                 // the cascade might set the peak rotation: follow it
                 return false;
             }
-            // Contact forces at θ = 0, θ̇ = 0 on either side at the cascade's
-            // ends: N must stay positive, and they give its friction demand.
+            // The pivot stays in compression: N (eq. (1)'s reactions) exceeds
+            // (g + ÿg)/2 over the window at θ = 0, θ̇ = 0 by n_margin, and a
+            // bounce changes it by at most R u0² (the centripetal term) plus
+            // R (ψm |θ̈| + sinθc |Δθ̈|) ≤ 2 R k ψm (|ẍg| + |g + ÿg|).
+            if n_margin <= bl.r * (u0 * u0 + 2.0 * kk * psi_m * (ax_max + gy_max)) {
+                return false;
+            }
+            // The cascade's friction demand: the contact forces at θ = 0,
+            // θ̇ = 0 on either side at its two ends.
             let k1 = (((t + t_cascade) / self.dt) as usize).clamp(k0, k);
             let ends = [self.segment(k0).at(t), self.segment(k1).at(t + t_cascade)];
             let mut demand = 0.0_f64;
             for (ax, ay) in ends {
                 for s in [-1.0, 1.0] {
                     let c = ph::rock_contact_sc(&bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
-                    if c.n <= 0.5 * (bl.g + ay) {
-                        return false;
-                    }
                     demand = demand.max(c.f.abs() / c.n);
                 }
             }
