@@ -195,3 +195,30 @@ fn integrator_flag_chooses_the_rock_integrator() {
     );
     assert!(rd >= 6 * sd, "{rd} evaluations for {sd} steps");
 }
+
+/// `--follow-cascades` turns the cascade rule off: the same θmax/θc and
+/// overturning, bit for bit, with more events (the e = 0 ring-down tails
+/// followed impact by impact).
+#[test]
+fn follow_cascades_flag_keeps_the_motion_and_adds_events() {
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["simulate", "--seed", "1", "--pga", "0.6", "--json"];
+        args.extend_from_slice(extra);
+        let o = rockfrag(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_str(stdout(&o).trim()).unwrap()
+    };
+    let (ruled, followed) = (run(&[]), run(&["--follow-cascades"]));
+    assert_eq!(
+        ruled["theta_max_over_theta_c"],
+        followed["theta_max_over_theta_c"]
+    );
+    assert_eq!(ruled["overturned"], followed["overturned"]);
+    let events = |v: &serde_json::Value| v["stats"]["events"].as_u64().unwrap();
+    assert!(
+        events(&followed) > events(&ruled),
+        "{} events followed against {} ruled",
+        events(&followed),
+        events(&ruled)
+    );
+}

@@ -101,6 +101,11 @@ pub struct SimulateArgs {
     /// Ring-down settle threshold ε (rebounds below ε·√(gR) are plastic).
     #[arg(long, value_name = "X", default_value_t = SolverSettings::default().settle_tol, value_parser = open_unit_interval)]
     pub settle_tol: f64,
+    /// Follow every impact of an e = 0 ring-down instead of settling the
+    /// cascade once it provably dies out (the cascade rule; the later motion
+    /// is the same either way).
+    #[arg(long)]
+    pub follow_cascades: bool,
     /// Rock equation.
     #[arg(long, value_enum, default_value_t = ModelArg::Nonlinear)]
     pub model: ModelArg,
@@ -155,6 +160,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         },
         rtol: args.rtol,
         settle_tol: args.settle_tol,
+        settle_cascades: !args.follow_cascades,
         audit_energy: args.audit_energy,
         ..SolverSettings::default()
     };
