@@ -5,8 +5,8 @@
 //! followed impact by impact, bit for bit; and it must save most of the
 //! events of an e = 0 analysis (the reason it exists).
 
-use rockfrag::motion::{G_STANDARD as G, SynthesisSettings, Synthesizer};
-use rockfrag::outcome::Mode;
+use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
+use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::reference::quiet_record;
 use rockfrag::solver::{Analysis, Block, Initial, SolverSettings, simulate};
 
@@ -15,6 +15,24 @@ fn without_rule() -> SolverSettings {
         settle_cascades: false,
         ..SolverSettings::default()
     }
+}
+
+/// One analysis (2B = 0.5 m, e = 0, infinite friction) with and without the
+/// rule; asserts that θmax, overturning (and its time), lift-offs and holds
+/// agree exactly.
+fn both(aspect: f64, rec: &Record, what: &str) -> (Outcome, Outcome) {
+    let an = Analysis::new(Block::new(0.5, aspect, G).unwrap(), 0.0);
+    let on = simulate(&an, rec, &SolverSettings::default(), None).unwrap();
+    let off = simulate(&an, rec, &without_rule(), None).unwrap();
+    assert_eq!(
+        on.theta_max_over_theta_c, off.theta_max_over_theta_c,
+        "{what}"
+    );
+    assert_eq!(on.overturned, off.overturned, "{what}");
+    assert_eq!(on.overturn_time, off.overturn_time, "{what}");
+    assert_eq!(on.uplifts, off.uplifts, "{what}");
+    assert_eq!(on.liftoff_holds, off.liftoff_holds, "{what}");
+    (on, off)
 }
 
 /// 180 analyses (H/B 2, 4, 6; PGA 0.3, 0.6, 1.0 g; 20 records each; e = 0,
@@ -32,17 +50,8 @@ fn cascade_rule_changes_no_later_motion() {
         for i in 0..20 {
             let rec = syn.generate(41, i, pga * G).unwrap();
             for aspect in [2.0, 4.0, 6.0] {
-                let an = Analysis::new(Block::new(0.5, aspect, G).unwrap(), 0.0);
-                let on = simulate(&an, &rec, &SolverSettings::default(), None).unwrap();
-                let off = simulate(&an, &rec, &without_rule(), None).unwrap();
                 let what = format!("H/B {aspect}, {pga} g, record {i}");
-                assert_eq!(
-                    on.theta_max_over_theta_c, off.theta_max_over_theta_c,
-                    "{what}"
-                );
-                assert_eq!(on.overturned, off.overturned, "{what}");
-                assert_eq!(on.overturn_time, off.overturn_time, "{what}");
-                assert_eq!(on.uplifts, off.uplifts, "{what}");
+                let (on, off) = both(aspect, &rec, &what);
                 if !off.overturned {
                     let rel = (on.mu_motion - off.mu_motion).abs() / off.mu_motion.max(1e-300);
                     assert!(
@@ -91,7 +100,7 @@ fn free_ring_down_settles_in_a_few_impacts() {
     assert_eq!(on.theta_max_over_theta_c, off.theta_max_over_theta_c);
     assert!((on.theta_max_over_theta_c - 0.5).abs() < 1e-12);
     // both end at rest, the ruled one no later
-    let rest = |o: &rockfrag::outcome::Outcome| o.time_in_mode[Mode::Rest.index()];
+    let rest = |o: &Outcome| o.time_in_mode[Mode::Rest.index()];
     assert!(rest(&on) >= rest(&off) && rest(&off) > 0.0);
 }
 
@@ -108,17 +117,7 @@ fn cascade_rule_with_vertical_motion() {
         let other = syn.generate(43, i + 100, 0.6 * G).unwrap();
         rec.acc_v = Some(other.acc.iter().map(|a| 0.5 * a).collect());
         for aspect in [3.0, 4.0, 6.0] {
-            let an = Analysis::new(Block::new(0.5, aspect, G).unwrap(), 0.0);
-            let on = simulate(&an, &rec, &SolverSettings::default(), None).unwrap();
-            let off = simulate(&an, &rec, &without_rule(), None).unwrap();
-            let what = format!("H/B {aspect}, record {i}");
-            assert_eq!(
-                on.theta_max_over_theta_c, off.theta_max_over_theta_c,
-                "{what}"
-            );
-            assert_eq!(on.overturned, off.overturned, "{what}");
-            assert_eq!(on.uplifts, off.uplifts, "{what}");
-            assert_eq!(on.liftoff_holds, off.liftoff_holds, "{what}");
+            let (on, off) = both(aspect, &rec, &format!("H/B {aspect}, record {i}"));
             settled += (on.stats.events < off.stats.events) as usize;
         }
     }
