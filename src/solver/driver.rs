@@ -25,18 +25,21 @@
 //! impact, a block rocking on alternate corners with a shrinking speed u
 //! (uₙ₊₁ = η·uₙ on landing, η = 1 − 1.5 sin²θc) makes an endless cascade of
 //! ever shorter bounces that the ε rule only ends after dozens of impacts.
-//! Over a window of the record where the restoring accelerations Aₛ of
-//! eq. (1) at θ = 0 stay within [a_lo, a_hi] on each side (bounds that include
-//! the change of eq. (1) over the bounces' own height), each bounce lasts at
-//! most 2u/a_lo, lands at most √(a_hi/a_lo) faster than it left, and so the
-//! cascade ends within T = 2u₀/(a_lo (1 − ρ)), ρ = η·max √(a_hi/a_lo) < 1. If it
-//! ends inside the window, never rises above the peak rotation already
-//! reached, and N stays positive, the block is set to rest at once: the exact
-//! cascade is at rest by then too, and the record cannot lift the block in
-//! between, so the motion afterwards, the peak rotation and overturning are
-//! those of the cascade followed impact by impact. The cascade's own friction
-//! demand is taken at its window's ends (a rest-like demand, to O(u²)); its
-//! impacts are not counted in `impacts`; it counts one in `settles`.
+//! Over a window of the record let lo be the smallest restoring acceleration
+//! Aₛ of eq. (1) at θ = 0 on either side, and let x bound how far the
+//! acceleration of one bounce strays from its value A* at the bounce's start
+//! (the rate of change of Aₛ times the bounce's duration, plus the change of
+//! eq. (1) over the bounce's height). Then each bounce lasts at most
+//! 2u/(lo − x), lands at most √((lo + x)/(lo − x)) faster than it left, and so
+//! the cascade ends within T = 2u₀/((lo − x)(1 − ρ)), ρ = η·√((lo + x)/(lo − x))
+//! < 1. If it ends inside the window, never rises above the peak rotation
+//! already reached, and N stays positive, the block is set to rest at once:
+//! the exact cascade is at rest by then too, and the record cannot lift the
+//! block in between, so the motion afterwards, the peak rotation and
+//! overturning are those of the cascade followed impact by impact. The
+//! cascade's own friction demand is taken at its two ends (a rest-like
+//! demand, to O(u²)); its impacts are not counted in `impacts`; it counts one
+//! in `settles`.
 //!
 //! Lift-off rule under infinite friction: when N reaches 0 in rock, the pivot
 //! is released into flight only if it would then rise (q < 0, see
