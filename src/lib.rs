@@ -19,7 +19,7 @@
 //!   `outcomes.csv`, `summary.md` and `manifest.json`;
 //! - [`fragility`]: lognormal overturning fragility curves (probit MLE, bootstrap);
 //! - [`figures`]: publication figures drawn with an embedded font;
-//! - [`bench`]: the speed-against-error (work–precision) report.
+//! - [`bench`](mod@bench): the speed-against-error (work–precision) report.
 //!
 //! ## Governing equations
 //!
