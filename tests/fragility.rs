@@ -13,6 +13,7 @@ use rockfrag::fragility::{
     IntensityMeasure, Observation, Unfit, bootstrap, fit_case, fit_cases, fit_lognormal,
     lognormal_to_moments, moments_to_lognormal, nrml_string, read_outcomes, write_outputs,
 };
+use rockfrag::solver::Friction;
 
 /// Synthetic data and a small `outcomes.csv` writer, standing in for the study runner.
 mod fixture {
@@ -35,9 +36,7 @@ mod fixture {
             aspect,
             width: 0.5,
             restitution: 0.0,
-            friction: "inf".into(),
-            mu_s: None,
-            mu_k: None,
+            friction: Friction::Infinite,
         }
     }
 
@@ -451,7 +450,8 @@ fn bad_outcomes_are_clear_errors() {
     .unwrap();
     let err = read_outcomes(&path, IntensityMeasure::Pga).unwrap_err();
     assert!(
-        matches!(&err, Error::Parse { line: 3, message, .. } if message.contains("maybe")),
+        matches!(&err, Error::Parse { line: 3, message, .. }
+            if message.contains("`overturned`") && message.contains("maybe")),
         "{err}"
     );
     let err = read_outcomes(&path, IntensityMeasure::Pgv).unwrap_err();

@@ -1,25 +1,25 @@
 //! The study results the figures read: `outcomes.csv` (one row per analysis)
 //! and, optionally, `fragility_curves.csv` (fitted curves with their band).
 //!
-//! Columns are found by header name, so column order and extra columns do
-//! not matter. Rows whose `status` column (when present) is not `ok` are
-//! skipped: a failed analysis has no outcome. Rows are sorted once after
-//! reading, so every figure sees the same order whatever order the study (or
-//! a merge of its shards) wrote them in, and the figures are byte-identical.
+//! Both are read with [`OutcomesReader`] (columns by header name, the case
+//! columns as a [`CaseKey`]); failed analyses are skipped, having no
+//! outcome. Rows are sorted once after reading, so every figure sees the
+//! same order whatever order the study (or a merge of its shards) wrote them
+//! in, and the figures are byte-identical.
 
-use std::cmp::Ordering;
-use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::solver::Friction;
+use crate::study::CaseKey;
+use crate::study::outcomes_read::{OutcomesReader, cmp_friction};
 
 /// One analysis as the figures need it: the case, the intensity and the
 /// outcome quantities that are plotted.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OutcomeRow {
     /// The block and its contact (aspect, width, e, friction).
-    pub case: Case,
+    pub case: CaseKey,
     /// Peak ground acceleration of the record (g).
     pub pga: f64,
     /// Record index in the ensemble.
@@ -42,7 +42,7 @@ pub struct OutcomeRow {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CurvePoint {
     /// The block and its contact.
-    pub case: Case,
+    pub case: CaseKey,
     /// Intensity measure, PGA (g).
     pub im: f64,
     /// Fitted probability of overturning.
@@ -51,44 +51,6 @@ pub struct CurvePoint {
     pub p_lo: f64,
     /// Upper bound of the 90 % band.
     pub p_hi: f64,
-}
-
-/// A block with its contact properties: what one curve or one series is
-/// drawn for.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Case {
-    /// Aspect ratio H/B.
-    pub aspect: f64,
-    /// Base width 2B (m).
-    pub width: f64,
-    /// Coefficient of restitution e.
-    pub restitution: f64,
-    /// Friction model.
-    pub friction: Friction,
-}
-
-impl Case {
-    /// Total order: aspect, width, restitution, then friction (infinite
-    /// first, then Coulomb by μs, μk).
-    pub fn cmp_key(&self, other: &Case) -> Ordering {
-        self.aspect
-            .total_cmp(&other.aspect)
-            .then(self.width.total_cmp(&other.width))
-            .then(self.restitution.total_cmp(&other.restitution))
-            .then(cmp_friction(&self.friction, &other.friction))
-    }
-}
-
-/// Total order on friction models: infinite first, then Coulomb by (μs, μk).
-pub fn cmp_friction(a: &Friction, b: &Friction) -> Ordering {
-    let key = |f: &Friction| match *f {
-        Friction::Infinite => (0, 0.0, 0.0),
-        Friction::Coulomb { mu_s, mu_k } => (1, mu_s, mu_k),
-    };
-    let (ka, kb) = (key(a), key(b));
-    ka.0.cmp(&kb.0)
-        .then(ka.1.total_cmp(&kb.1))
-        .then(ka.2.total_cmp(&kb.2))
 }
 
 /// A friction model for legends: `μ = ∞` or `μₛ = 0.7, μₖ = 0.6`.
@@ -127,75 +89,59 @@ impl StudyData {
     }
 }
 
-/// Reads `outcomes.csv` by header name; skips rows whose `status` is not
-/// `ok`; returns the rows sorted by case, PGA and record.
+/// Reads `outcomes.csv` with [`OutcomesReader`]; skips failed rows; returns
+/// the rows sorted by case, PGA and record.
 ///
-/// Errors: [`Error::Io`] if the file cannot be read, [`Error::Parse`] naming
-/// the line for a missing column or an unreadable value.
+/// Errors: [`Error::Io`](crate::Error::Io) if the file cannot be read,
+/// [`Error::Parse`](crate::Error::Parse) naming the line for a missing
+/// column, or the line, column and value for an unreadable value.
 pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
-    let mut table = Table::open(path)?;
-    let status = table.optional("status");
-    let [
-        aspect,
-        width,
-        restitution,
-        friction,
-        mu_s,
-        mu_k,
-        pga,
-        record,
-        overturned,
-        uplifted,
-        theta,
-        mu_mot,
-        mu_imp,
-        impacts,
-    ] = table.columns([
-        "aspect",
-        "width",
-        "restitution",
-        "friction",
-        "mu_s",
-        "mu_k",
-        "pga",
-        "record",
-        "overturned",
-        "uplifted",
-        "theta_max_over_theta_c",
-        "mu_motion",
-        "mu_impact",
-        "impacts",
-    ])?;
-    let case_cols = CaseColumns {
-        aspect,
-        width,
-        restitution,
-        friction,
-        mu_s,
-        mu_k,
-    };
+    let (
+        mut table,
+        [
+            pga,
+            record,
+            overturned,
+            uplifted,
+            theta,
+            mu_mot,
+            mu_imp,
+            impacts,
+        ],
+    ) = OutcomesReader::open(
+        path,
+        [
+            "pga",
+            "record",
+            "overturned",
+            "uplifted",
+            "theta_max_over_theta_c",
+            "mu_motion",
+            "mu_impact",
+            "impacts",
+        ],
+        "the figures",
+    )?;
     let mut rows = Vec::new();
-    while let Some(rec) = table.next_record()? {
-        if let Some(s) = status
-            && rec.field(s).trim() != "ok"
-        {
+    while let Some(row) = table.next_row()? {
+        if row.failed() {
             continue;
         }
         rows.push(OutcomeRow {
-            case: rec.case(&case_cols)?,
-            pga: rec.number(pga)?,
-            record: rec.integer(record)?,
-            overturned: rec.boolean(overturned)?,
-            uplifted: rec.boolean(uplifted)?,
-            theta_max_over_theta_c: rec.number(theta)?,
-            mu_motion: rec.number(mu_mot)?,
-            mu_impact: rec.number(mu_imp)?,
-            impacts: rec.integer(impacts)?,
+            case: row.case()?,
+            pga: row.number(pga)?,
+            record: row.integer(record)?,
+            overturned: row.boolean(overturned)?,
+            uplifted: row.boolean(uplifted)?,
+            theta_max_over_theta_c: row.number(theta)?,
+            mu_motion: row.number(mu_mot)?,
+            mu_impact: row.number(mu_imp)?,
+            impacts: row.integer(impacts)?,
         });
     }
     rows.sort_by(|a, b| {
         a.case
-            .cmp_key(&b.case)
+            .total_cmp(&b.case)
             .then(a.pga.total_cmp(&b.pga))
             .then(a.record.cmp(&b.record))
     });
@@ -203,231 +149,42 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
 }
 
 /// Reads `fragility_curves.csv` (as written by [`crate::fragility`]) by
-/// header name (`aspect, width, restitution, friction, mu_s, mu_k, im,
-/// im_value, p, p_lo, p_hi`): the fitted probability and its 90 % band on an
-/// IM grid. Only curves fitted against PGA (`im` = `pga`) are kept, since the
-/// figure draws them over the PGA stripes; an empty band (no bootstrap) reads
-/// as the curve itself. Returns the points sorted by case and IM.
+/// header name (the case columns and `im, im_value, p, p_lo, p_hi`): the
+/// fitted probability and its 90 % band on an IM grid. Only curves fitted
+/// against PGA (`im` = `pga`) are kept, since the figure draws them over the
+/// PGA stripes; an empty band (no bootstrap) reads as the curve itself.
+/// Returns the points sorted by case and IM.
 ///
-/// This is the one place that knows the fragility file's layout.
+/// This is the one place that reads the fragility file's layout.
 pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
-    let mut table = Table::open(path)?;
-    let [
-        aspect,
-        width,
-        restitution,
-        friction,
-        mu_s,
-        mu_k,
-        im_name,
-        im,
-        p,
-        lo,
-        hi,
-    ] = table.columns([
-        "aspect",
-        "width",
-        "restitution",
-        "friction",
-        "mu_s",
-        "mu_k",
-        "im",
-        "im_value",
-        "p",
-        "p_lo",
-        "p_hi",
-    ])?;
-    let case_cols = CaseColumns {
-        aspect,
-        width,
-        restitution,
-        friction,
-        mu_s,
-        mu_k,
-    };
+    let (mut table, [im_name, im, p, lo, hi]) = OutcomesReader::open(
+        path,
+        ["im", "im_value", "p", "p_lo", "p_hi"],
+        "the fragility figure",
+    )?;
     let mut points = Vec::new();
-    while let Some(rec) = table.next_record()? {
-        if rec.field(im_name).trim() != "pga" {
+    while let Some(row) = table.next_row()? {
+        if row.field(im_name) != "pga" {
             continue;
         }
-        let p = rec.number(p)?;
+        let p = row.number(p)?;
         let band = |i: usize| {
-            if rec.field(i).trim().is_empty() {
+            if row.field(i).is_empty() {
                 Ok(p)
             } else {
-                rec.number(i)
+                row.number(i)
             }
         };
         points.push(CurvePoint {
-            case: rec.case(&case_cols)?,
-            im: rec.number(im)?,
+            case: row.case()?,
+            im: row.number(im)?,
             p,
             p_lo: band(lo)?,
             p_hi: band(hi)?,
         });
     }
-    points.sort_by(|a, b| a.case.cmp_key(&b.case).then(a.im.total_cmp(&b.im)));
+    points.sort_by(|a, b| a.case.total_cmp(&b.case).then(a.im.total_cmp(&b.im)));
     Ok(points)
-}
-
-/// Column indices of the case columns.
-struct CaseColumns {
-    aspect: usize,
-    width: usize,
-    restitution: usize,
-    friction: usize,
-    mu_s: usize,
-    mu_k: usize,
-}
-
-/// A CSV file with a header, read record by record with line numbers for
-/// errors.
-struct Table {
-    path: PathBuf,
-    reader: csv::Reader<std::fs::File>,
-    columns: HashMap<String, usize>,
-    record: csv::StringRecord,
-}
-
-/// One record of a [`Table`].
-struct Row<'a> {
-    path: &'a Path,
-    line: usize,
-    record: &'a csv::StringRecord,
-    header: &'a HashMap<String, usize>,
-}
-
-impl Table {
-    fn open(path: &Path) -> Result<Table> {
-        let file = std::fs::File::open(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let mut reader = csv::ReaderBuilder::new().flexible(false).from_reader(file);
-        let headers = reader
-            .headers()
-            .map_err(|e| parse_error(path, 1, e.to_string()))?;
-        let columns = headers
-            .iter()
-            .enumerate()
-            .map(|(i, h)| (h.trim().to_string(), i))
-            .collect();
-        Ok(Table {
-            path: path.to_path_buf(),
-            reader,
-            columns,
-            record: csv::StringRecord::new(),
-        })
-    }
-
-    fn optional(&self, name: &str) -> Option<usize> {
-        self.columns.get(name).copied()
-    }
-
-    /// The indices of `names`; an error listing every missing one.
-    fn columns<const N: usize>(&self, names: [&str; N]) -> Result<[usize; N]> {
-        let missing: Vec<String> = names
-            .iter()
-            .filter(|n| self.optional(n).is_none())
-            .map(|n| format!("`{n}`"))
-            .collect();
-        if !missing.is_empty() {
-            return Err(parse_error(
-                &self.path,
-                1,
-                format!("no column {} in the header", missing.join(", ")),
-            ));
-        }
-        Ok(names.map(|n| self.optional(n).expect("checked above")))
-    }
-
-    fn next_record(&mut self) -> Result<Option<Row<'_>>> {
-        match self.reader.read_record(&mut self.record) {
-            Ok(false) => Ok(None),
-            Ok(true) => Ok(Some(Row {
-                path: &self.path,
-                line: self.record.position().map_or(0, |p| p.line() as usize),
-                record: &self.record,
-                header: &self.columns,
-            })),
-            Err(e) => {
-                let line = e.position().map_or(0, |p| p.line() as usize);
-                Err(parse_error(&self.path, line, e.to_string()))
-            }
-        }
-    }
-}
-
-impl Row<'_> {
-    fn field(&self, i: usize) -> &str {
-        self.record.get(i).unwrap_or("")
-    }
-
-    fn name(&self, i: usize) -> &str {
-        self.header
-            .iter()
-            .find(|&(_, &j)| j == i)
-            .map_or("?", |(n, _)| n.as_str())
-    }
-
-    fn error(&self, i: usize, expected: &str) -> Error {
-        parse_error(
-            self.path,
-            self.line,
-            format!(
-                "column `{}` = {:?}: expected {expected}",
-                self.name(i),
-                self.field(i)
-            ),
-        )
-    }
-
-    fn number(&self, i: usize) -> Result<f64> {
-        match self.field(i).trim() {
-            "inf" => Ok(f64::INFINITY),
-            s => s.parse().map_err(|_| self.error(i, "a number")),
-        }
-    }
-
-    fn integer(&self, i: usize) -> Result<u64> {
-        self.field(i)
-            .trim()
-            .parse()
-            .map_err(|_| self.error(i, "a whole number ≥ 0"))
-    }
-
-    fn boolean(&self, i: usize) -> Result<bool> {
-        match self.field(i).trim() {
-            "true" => Ok(true),
-            "false" => Ok(false),
-            _ => Err(self.error(i, "true or false")),
-        }
-    }
-
-    fn case(&self, c: &CaseColumns) -> Result<Case> {
-        let friction = match self.field(c.friction).trim() {
-            "inf" => Friction::Infinite,
-            "coulomb" => Friction::Coulomb {
-                mu_s: self.number(c.mu_s)?,
-                mu_k: self.number(c.mu_k)?,
-            },
-            _ => return Err(self.error(c.friction, "inf or coulomb")),
-        };
-        Ok(Case {
-            aspect: self.number(c.aspect)?,
-            width: self.number(c.width)?,
-            restitution: self.number(c.restitution)?,
-            friction,
-        })
-    }
-}
-
-fn parse_error(path: &Path, line: usize, message: String) -> Error {
-    Error::Parse {
-        path: path.to_path_buf(),
-        line,
-        message,
-    }
 }
 
 /// The distinct values of `values`, sorted (values equal as `f64` are one).
@@ -477,17 +234,5 @@ mod tests {
             }
         );
         assert_eq!(rows[1].impacts, 4);
-    }
-
-    #[test]
-    fn a_missing_column_is_named() {
-        // The error names the file, line 1 and every missing column.
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("outcomes.csv");
-        std::fs::write(&path, "aspect,width\n4,0.5\n").unwrap();
-        let err = read_outcomes(&path).unwrap_err().to_string();
-        assert!(err.contains("outcomes.csv:1:"), "{err}");
-        assert!(err.contains("`restitution`, `friction`"), "{err}");
-        assert!(err.contains("`pga`"), "{err}");
     }
 }

@@ -12,11 +12,12 @@ use plotters::coord::Shift;
 use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, Polygon, Text};
 use plotters::style::{BLACK, Color};
 
-use super::data::{Case, StudyData, distinct, distinct_friction, friction_label};
+use super::data::{StudyData, distinct, distinct_friction, friction_label};
 use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
 use super::style::{PAGE_WIDTH_IN, Style, tick_label};
 use super::{DrawResult, Figure};
 use crate::solver::Friction;
+use crate::study::CaseKey;
 
 /// Figure height (in), before legend rows beyond the first.
 const HEIGHT_IN: f64 = 2.9;
@@ -71,7 +72,7 @@ impl FragilityFigure {
             .iter()
             .map(|r| r.case)
             .chain(curves.iter().map(|c| c.case));
-        let cases: Vec<Case> = cases.collect();
+        let cases: Vec<CaseKey> = cases.collect();
         let restitutions = distinct(cases.iter().map(|c| c.restitution));
         let frictions = distinct_friction(cases.iter().map(|c| c.friction));
         let blocks = distinct_blocks(&cases);
@@ -82,7 +83,7 @@ impl FragilityFigure {
             let mut series = Vec::new();
             for (ie, &e) in restitutions.iter().enumerate() {
                 for (jf, f) in frictions.iter().enumerate() {
-                    let case = Case {
+                    let case = CaseKey {
                         aspect,
                         width,
                         restitution: e,
@@ -177,7 +178,7 @@ pub fn restitution_colour(i: usize) -> plotters::style::RGBColor {
 }
 
 /// The distinct (aspect, width) pairs, sorted.
-fn distinct_blocks(cases: &[Case]) -> Vec<(f64, f64)> {
+fn distinct_blocks(cases: &[CaseKey]) -> Vec<(f64, f64)> {
     let mut v: Vec<(f64, f64)> = cases.iter().map(|c| (c.aspect, c.width)).collect();
     v.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     v.dedup();

@@ -14,12 +14,13 @@ use plotters::coord::Shift;
 use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend};
 use plotters::style::{BLACK, Color};
 
-use super::data::{Case, StudyData, distinct, distinct_friction, friction_label};
+use super::data::{StudyData, distinct, distinct_friction, friction_label};
 use super::friction::{level_colour, shown_levels};
 use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
 use super::{DrawResult, Figure};
 use crate::solver::Friction;
+use crate::study::CaseKey;
 use crate::study::paper::{RECORDS, TABLES};
 
 /// Figure height (in).
@@ -87,7 +88,7 @@ impl RestitutionFigure {
                     let mut overturned = Vec::new();
                     let mut theta = Vec::new();
                     for &e in &es {
-                        let case = Case {
+                        let case = CaseKey {
                             aspect,
                             width,
                             restitution: e,

@@ -68,10 +68,11 @@ use std::path::Path;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+pub use crate::study::CaseKey;
 pub use bootstrap::{
     BootstrapSummary, BootstrapUnit, Interval, bootstrap, percentile, replicate_seed,
 };
-pub use data::{Analysis, CaseData, CaseKey, Outcomes, read_outcomes};
+pub use data::{Analysis, CaseData, Outcomes, read_outcomes};
 pub use fit::{LognormalFit, Observation, Unfit, fit_lognormal};
 pub use nrml::{
     lognormal_to_moments, moments_to_lognormal, nrml_string, openquake_imt, write_nrml,
@@ -254,7 +255,7 @@ pub fn fit_case(case: &CaseData, options: &FragilityOptions) -> CaseFit {
         });
     }
     CaseFit {
-        key: case.key.clone(),
+        key: case.key,
         im: options.im,
         n_analyses: case.analyses.len(),
         n_overturned: case.analyses.iter().filter(|a| a.overturned).count(),

@@ -122,12 +122,12 @@ fn function_id(k: &CaseKey) -> String {
         num(k.aspect),
         num(k.width),
         num(k.restitution),
-        k.friction
+        k.friction_name()
     );
-    if let Some(mu) = k.mu_s {
+    if let Some(mu) = k.mu_s() {
         id.push_str(&format!("-ms{}", num(mu)));
     }
-    if let Some(mu) = k.mu_k {
+    if let Some(mu) = k.mu_k() {
         id.push_str(&format!("-mk{}", num(mu)));
     }
     id
@@ -136,6 +136,7 @@ fn function_id(k: &CaseKey) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::solver::Friction;
 
     /// Ids keep to NRML's alphabet.
     #[test]
@@ -144,9 +145,10 @@ mod tests {
             aspect: 4.0,
             width: 0.5,
             restitution: 0.25,
-            friction: "coulomb".into(),
-            mu_s: Some(0.6),
-            mu_k: Some(f64::INFINITY),
+            friction: Friction::Coulomb {
+                mu_s: 0.6,
+                mu_k: f64::INFINITY,
+            },
         };
         let id = function_id(&key);
         assert_eq!(id, "block-a4-w0p5-e0p25-coulomb-ms0p6-mkinf");

@@ -142,9 +142,9 @@ fn key_fields(k: &CaseKey) -> String {
         k.aspect,
         k.width,
         k.restitution,
-        k.friction,
-        opt(k.mu_s),
-        opt(k.mu_k)
+        k.friction_name(),
+        opt(k.mu_s()),
+        opt(k.mu_k())
     )
 }
 

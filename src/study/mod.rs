@@ -28,6 +28,7 @@
 pub mod manifest;
 mod merge;
 pub mod outcomes_csv;
+pub mod outcomes_read;
 pub mod paper;
 pub mod plan;
 pub mod source;
@@ -35,6 +36,7 @@ pub mod summary;
 
 pub use manifest::Manifest;
 pub use merge::merge;
+pub use outcomes_read::{CaseKey, OutcomesReader};
 pub use plan::{Case, Shard, Unit};
 pub use summary::{Counts, Tally};
 

@@ -22,6 +22,8 @@
 //! - absent times (no overturn, no impact) are empty;
 //! - floats use Rust's shortest round-trip form, so the file holds the exact
 //!   `f64` values, and the same run gives the same bytes.
+//!
+//! The file is read back with [`super::outcomes_read`].
 
 use super::plan::Case;
 use crate::outcome::Outcome;

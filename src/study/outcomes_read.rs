@@ -1,0 +1,405 @@
+//! Reading `outcomes.csv` back: the one place that parses its case columns,
+//! finds columns by header name, tells failed rows apart and words the
+//! errors. The fragility fit and the figures build their own records on top
+//! of [`OutcomesReader`]; files keyed by the same case columns (the
+//! fragility command's `fragility_curves.csv`) are read with it too.
+//!
+//! - Columns are found by header name: order and extra columns do not matter.
+//!   Headers and fields are trimmed.
+//! - The case is the six columns `aspect, width, restitution, friction, mu_s,
+//!   mu_k` (see [`super::outcomes_csv`]), read into a [`CaseKey`]: H/B and 2B
+//!   finite and > 0, e finite, `friction` `inf` (μ columns empty) or
+//!   `coulomb` (μs, μk numbers, `inf` allowed).
+//! - A row is failed ([`Row::failed`]) when its `status` column, if any, is
+//!   not `ok`, or its `error` column, if any, is not empty: its outcome
+//!   columns are empty and must not be read.
+//! - Every error is an [`Error::Parse`] naming the file and line; for a bad
+//!   value, the message names the column and quotes the value.
+
+use std::cmp::Ordering;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::solver::Friction;
+
+/// The case columns, in the order `outcomes.csv` has them.
+pub const CASE_COLUMNS: [&str; 6] = ["aspect", "width", "restitution", "friction", "mu_s", "mu_k"];
+
+/// One block configuration, as the case columns of `outcomes.csv` give it:
+/// what a fragility curve is fitted for and a figure's series is drawn for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CaseKey {
+    /// Aspect ratio H/B.
+    pub aspect: f64,
+    /// Base width 2B (m).
+    pub width: f64,
+    /// Coefficient of restitution e.
+    pub restitution: f64,
+    /// Friction model.
+    pub friction: Friction,
+}
+
+impl CaseKey {
+    /// The `friction` column's value: `inf` or `coulomb`.
+    pub fn friction_name(&self) -> &'static str {
+        match self.friction {
+            Friction::Infinite => "inf",
+            Friction::Coulomb { .. } => "coulomb",
+        }
+    }
+
+    /// Static friction coefficient μs (`None` under infinite friction).
+    pub fn mu_s(&self) -> Option<f64> {
+        match self.friction {
+            Friction::Infinite => None,
+            Friction::Coulomb { mu_s, .. } => Some(mu_s),
+        }
+    }
+
+    /// Kinetic friction coefficient μk (`None` under infinite friction).
+    pub fn mu_k(&self) -> Option<f64> {
+        match self.friction {
+            Friction::Infinite => None,
+            Friction::Coulomb { mu_k, .. } => Some(mu_k),
+        }
+    }
+
+    /// Total order: aspect, width, restitution, then friction (see
+    /// [`cmp_friction`]).
+    pub fn total_cmp(&self, other: &CaseKey) -> Ordering {
+        self.aspect
+            .total_cmp(&other.aspect)
+            .then(self.width.total_cmp(&other.width))
+            .then(self.restitution.total_cmp(&other.restitution))
+            .then(cmp_friction(&self.friction, &other.friction))
+    }
+}
+
+impl std::fmt::Display for CaseKey {
+    /// `H/B=4 2B=0.5 e=0 inf`, or `… coulomb μs=0.7 μk=0.6`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "H/B={} 2B={} e={} {}",
+            self.aspect,
+            self.width,
+            self.restitution,
+            self.friction_name()
+        )?;
+        if let Friction::Coulomb { mu_s, mu_k } = self.friction {
+            write!(f, " μs={mu_s} μk={mu_k}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Total order on friction models: infinite first, then Coulomb by (μs, μk).
+pub fn cmp_friction(a: &Friction, b: &Friction) -> Ordering {
+    let key = |f: &Friction| match *f {
+        Friction::Infinite => (0, 0.0, 0.0),
+        Friction::Coulomb { mu_s, mu_k } => (1, mu_s, mu_k),
+    };
+    let (ka, kb) = (key(a), key(b));
+    ka.0.cmp(&kb.0)
+        .then(ka.1.total_cmp(&kb.1))
+        .then(ka.2.total_cmp(&kb.2))
+}
+
+/// A CSV file keyed by the case columns (`outcomes.csv`,
+/// `fragility_curves.csv`), read row by row with line numbers for errors.
+pub struct OutcomesReader {
+    path: PathBuf,
+    reader: csv::Reader<std::fs::File>,
+    header: Vec<String>,
+    case: [usize; 6],
+    status: Option<usize>,
+    error: Option<usize>,
+    record: csv::StringRecord,
+}
+
+impl OutcomesReader {
+    /// Opens `path` and finds the case columns and `columns` in its header;
+    /// returns the reader and the indices of `columns`, in order.
+    ///
+    /// Errors: [`Error::Io`] if the file cannot be opened; [`Error::Parse`]
+    /// at line 1 for an unreadable header or naming every missing column
+    /// and what needs them (`purpose`, e.g. "the fragility fit").
+    pub fn open<const N: usize>(
+        path: &Path,
+        columns: [&str; N],
+        purpose: &str,
+    ) -> Result<(OutcomesReader, [usize; N])> {
+        let file = std::fs::File::open(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut reader = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .from_reader(file);
+        let header: Vec<String> = reader
+            .headers()
+            .map_err(|e| parse_error(path, 1, format!("cannot read the header: {e}")))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        let find = |name: &str| header.iter().position(|h| h == name);
+        let missing: Vec<String> = CASE_COLUMNS
+            .iter()
+            .chain(&columns)
+            .filter(|n| find(n).is_none())
+            .map(|n| format!("`{n}`"))
+            .collect();
+        if !missing.is_empty() {
+            return Err(parse_error(
+                path,
+                1,
+                format!(
+                    "no column {} in the header (needed for {purpose})",
+                    missing.join(", ")
+                ),
+            ));
+        }
+        let case = CASE_COLUMNS.map(|n| find(n).expect("checked above"));
+        let indices = columns.map(|n| find(n).expect("checked above"));
+        let (status, error) = (find("status"), find("error"));
+        let table = OutcomesReader {
+            path: path.to_path_buf(),
+            reader,
+            header,
+            case,
+            status,
+            error,
+            record: csv::StringRecord::new(),
+        };
+        Ok((table, indices))
+    }
+
+    /// The index of an optional column.
+    pub fn column(&self, name: &str) -> Option<usize> {
+        self.header.iter().position(|h| h == name)
+    }
+
+    /// An error at line 1 (the header) of this file.
+    pub fn header_error(&self, message: String) -> Error {
+        parse_error(&self.path, 1, message)
+    }
+
+    /// The next row, `None` at the end of the file.
+    ///
+    /// Errors: [`Error::Parse`] for malformed CSV (e.g. a row with a
+    /// different number of fields than the header).
+    pub fn next_row(&mut self) -> Result<Option<Row<'_>>> {
+        match self.reader.read_record(&mut self.record) {
+            Ok(false) => Ok(None),
+            Ok(true) => Ok(Some(Row {
+                table: self,
+                line: self.record.position().map_or(0, |p| p.line() as usize),
+            })),
+            Err(e) => {
+                let line = e.position().map_or(0, |p| p.line() as usize);
+                Err(parse_error(&self.path, line, e.to_string()))
+            }
+        }
+    }
+}
+
+/// One row of an [`OutcomesReader`]; its accessors take column indices from
+/// [`OutcomesReader::open`] or [`OutcomesReader::column`].
+pub struct Row<'a> {
+    table: &'a OutcomesReader,
+    line: usize,
+}
+
+impl Row<'_> {
+    /// The 1-based line of the row in the file.
+    pub fn line(&self) -> usize {
+        self.line
+    }
+
+    /// The (trimmed) text of column `i`; empty if the row has no such field.
+    pub fn field(&self, i: usize) -> &str {
+        self.table.record.get(i).unwrap_or("")
+    }
+
+    /// Whether the analysis failed: `status` (if present) is not `ok`, or
+    /// `error` (if present) is not empty.
+    pub fn failed(&self) -> bool {
+        let t = self.table;
+        t.status
+            .is_some_and(|i| !self.field(i).eq_ignore_ascii_case("ok"))
+            || t.error.is_some_and(|i| !self.field(i).is_empty())
+    }
+
+    /// The case of this row (see the [module docs](self) for the rules).
+    pub fn case(&self) -> Result<CaseKey> {
+        let [aspect, width, restitution, friction, mu_s, mu_k] = self.table.case;
+        let friction = match self.field(friction) {
+            "inf" => {
+                for i in [mu_s, mu_k] {
+                    if !self.field(i).is_empty() {
+                        return Err(self.error(i, "empty under friction inf"));
+                    }
+                }
+                Friction::Infinite
+            }
+            "coulomb" => {
+                let mu = |i| {
+                    self.field(i)
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|x| !x.is_nan())
+                        .ok_or_else(|| self.error(i, "a number or inf under friction coulomb"))
+                };
+                Friction::Coulomb {
+                    mu_s: mu(mu_s)?,
+                    mu_k: mu(mu_k)?,
+                }
+            }
+            _ => return Err(self.error(friction, "inf or coulomb")),
+        };
+        Ok(CaseKey {
+            aspect: self.positive(aspect)?,
+            width: self.positive(width)?,
+            restitution: self.finite(restitution)?,
+            friction,
+        })
+    }
+
+    /// An error naming the file, the line, column `i` and its value, and
+    /// what was `expected` there.
+    pub fn error(&self, i: usize, expected: &str) -> Error {
+        let name = self.table.header.get(i).map_or("?", String::as_str);
+        parse_error(
+            &self.table.path,
+            self.line,
+            format!("column `{name}` = {:?}: expected {expected}", self.field(i)),
+        )
+    }
+
+    /// Column `i` as a number (`inf` and `NaN` included).
+    pub fn number(&self, i: usize) -> Result<f64> {
+        self.field(i).parse().map_err(|_| self.error(i, "a number"))
+    }
+
+    /// Column `i` as a finite number.
+    pub fn finite(&self, i: usize) -> Result<f64> {
+        self.field(i)
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| self.error(i, "a finite number"))
+    }
+
+    /// Column `i` as a finite number > 0.
+    pub fn positive(&self, i: usize) -> Result<f64> {
+        self.field(i)
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite() && *x > 0.0)
+            .ok_or_else(|| self.error(i, "a finite number > 0"))
+    }
+
+    /// Column `i` as a whole number ≥ 0.
+    pub fn integer(&self, i: usize) -> Result<u64> {
+        self.field(i)
+            .parse()
+            .map_err(|_| self.error(i, "a whole number ≥ 0"))
+    }
+
+    /// Column `i` as a flag: `true`/`1` or `false`/`0`.
+    pub fn boolean(&self, i: usize) -> Result<bool> {
+        match self.field(i) {
+            "true" | "1" => Ok(true),
+            "false" | "0" => Ok(false),
+            _ => Err(self.error(i, "true or false")),
+        }
+    }
+
+    /// Column `i` as text that is not empty.
+    pub fn text(&self, i: usize) -> Result<&str> {
+        match self.field(i) {
+            "" => Err(self.error(i, "a value")),
+            s => Ok(s),
+        }
+    }
+}
+
+fn parse_error(path: &Path, line: usize, message: String) -> Error {
+    Error::Parse {
+        path: path.to_path_buf(),
+        line,
+        message,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,pga,status,error\n";
+
+    fn read(text: &str) -> Result<Vec<(bool, Result<CaseKey>)>> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("outcomes.csv");
+        std::fs::write(&path, text).unwrap();
+        let (mut t, [_pga]) = OutcomesReader::open(&path, ["pga"], "the test")?;
+        let mut out = Vec::new();
+        while let Some(row) = t.next_row()? {
+            out.push((row.failed(), row.case()));
+        }
+        Ok(out)
+    }
+
+    #[test]
+    fn cases_and_failed_rows() {
+        let rows = read(&format!(
+            "{HEADER}4,0.5,0,inf,,,0.3,ok,\n 6 ,0.5,0.2,coulomb,0.7,inf,0.3,OK,\n\
+             4,0.5,0,inf,,,0.3,failed,boom\n4,0.5,0,inf,,,0.3,ok,boom\n"
+        ))
+        .unwrap();
+        let flags: Vec<bool> = rows.iter().map(|r| r.0).collect();
+        assert_eq!(flags, [false, false, true, true]);
+        let key = rows[1].1.as_ref().unwrap();
+        assert_eq!(
+            key.friction,
+            Friction::Coulomb {
+                mu_s: 0.7,
+                mu_k: f64::INFINITY
+            }
+        );
+        assert_eq!(key.to_string(), "H/B=6 2B=0.5 e=0.2 coulomb μs=0.7 μk=inf");
+        assert_eq!(
+            rows[0].1.as_ref().unwrap().to_string(),
+            "H/B=4 2B=0.5 e=0 inf"
+        );
+        assert_eq!(
+            key.total_cmp(rows[0].1.as_ref().unwrap()),
+            Ordering::Greater
+        );
+    }
+
+    #[test]
+    fn bad_case_values_name_file_line_column_and_value() {
+        for (row, column, value) in [
+            ("0,0.5,0,inf,,,0.3,ok,", "aspect", "\"0\""),
+            ("4,wide,0,inf,,,0.3,ok,", "width", "\"wide\""),
+            ("4,0.5,NaN,inf,,,0.3,ok,", "restitution", "\"NaN\""),
+            ("4,0.5,0,dry,,,0.3,ok,", "friction", "\"dry\""),
+            ("4,0.5,0,coulomb,0.7,,0.3,ok,", "mu_k", "\"\""),
+            ("4,0.5,0,inf,0.7,,0.3,ok,", "mu_s", "\"0.7\""),
+        ] {
+            let rows = read(&format!("{HEADER}4,0.5,0,inf,,,0.3,ok,\n{row}\n")).unwrap();
+            let err = rows[1].1.as_ref().unwrap_err().to_string();
+            assert!(err.contains("outcomes.csv:3:"), "{err}");
+            assert!(err.contains(&format!("`{column}` = {value}")), "{err}");
+        }
+    }
+
+    #[test]
+    fn missing_columns_are_all_named() {
+        let err = read("aspect,width\n4,0.5\n").err().unwrap().to_string();
+        assert!(err.contains("outcomes.csv:1:"), "{err}");
+        assert!(err.contains("`restitution`, `friction`"), "{err}");
+        assert!(err.contains("`pga`") && err.contains("the test"), "{err}");
+    }
+}
