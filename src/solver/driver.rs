@@ -59,7 +59,6 @@ use super::taylor;
 use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::{Mode, Outcome};
-use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
 /// Rock about the corner on side −s (s = +1: left corner, θ ≥ 0).
@@ -802,35 +801,9 @@ impl<'a> Run<'a> {
                     None
                 }
             };
-            // An event's time is evaluated again after it is found (by the
-            // contact forces, the peak and the new state): remember the last
-            // evaluation of each kind.
-            let last_full = Cell::new((f64::NAN, start));
-            let last_path = Cell::new((f64::NAN, (psi0, dpsi0)));
-            let full = |tt: f64| {
-                cached(tt).unwrap_or_else(|| {
-                    let (tl, v) = last_full.get();
-                    if tl == tt {
-                        return v;
-                    }
-                    let v = series.full_at(tt - t0);
-                    last_full.set((tt, v));
-                    v
-                })
-            };
+            let full = |tt: f64| cached(tt).unwrap_or_else(|| series.full_at(tt - t0));
             let path = |tt: f64| {
-                let (p, d) = cached(tt).map_or_else(
-                    || {
-                        let (tl, v) = last_path.get();
-                        if tl == tt {
-                            return v;
-                        }
-                        let v = series.at(tt - t0);
-                        last_path.set((tt, v));
-                        v
-                    },
-                    |c| (c.0, c.1),
-                );
+                let (p, d) = cached(tt).map_or_else(|| series.at(tt - t0), |c| (c.0, c.1));
                 (s * p, s * d)
             };
             let trig = |tt: f64| {
