@@ -72,6 +72,19 @@ impl Block {
         })
     }
 
+    /// sin φ and cos φ of φ = θc − ψ, the angle of the pivot's diagonal from
+    /// the vertical while rocking at ψ = sθ ≥ 0 (eq. (1)). On the ground
+    /// (ψ = 0, a rock impact or the start of rocking) they are the block's own
+    /// sin θc and cos θc, with no trigonometry and the same bits.
+    #[inline]
+    pub fn phi_sin_cos(&self, psi: f64) -> (f64, f64) {
+        if psi == 0.0 {
+            (self.sin_c, self.cos_c)
+        } else {
+            (self.theta_c - psi).sin_cos()
+        }
+    }
+
     /// Offset (x, y) of corner `side` (+1 right, −1 left) from the centre of
     /// mass when the block is rotated by θ (counter-clockwise positive).
     #[inline]

@@ -43,7 +43,7 @@
 //!
 //! Lift-off rule under infinite friction: when N reaches 0 in rock, the pivot
 //! is released into flight only if it would then rise (q < 0, see
-//! [`physics::rock_release_q`](super::physics::rock_release_q)); otherwise
+//! [`RockContact::q`](super::physics::RockContact::q)); otherwise
 //! the pivot is held (a tensile contact, counted in `liftoff_holds`) until
 //! N > 0 again or the release becomes consistent.
 
@@ -771,12 +771,8 @@ impl<'a> Run<'a> {
                 v1: seg.v1,
             };
             let (psi0, dpsi0) = (s * rs.theta, s * rs.omega);
-            let series = if psi0 == 0.0 {
-                // on the ground (after an impact): φ = θc
-                taylor::RockSeries::with_trig(bl.sin_c, bl.cos_c, k, s, psi0, dpsi0, &forcing)
-            } else {
-                taylor::RockSeries::new(bl.theta_c, k, s, psi0, dpsi0, &forcing)
-            };
+            let (sin0, cos0) = bl.phi_sin_cos(psi0);
+            let series = taylor::RockSeries::new(sin0, cos0, k, s, psi0, dpsi0, &forcing);
             self.out.stats.rhs_calls += 1;
             let tol_psi = atol_th + self.set.rtol * psi0.abs();
             let tol_dpsi = atol_om + self.set.rtol * dpsi0.abs();
@@ -1612,9 +1608,6 @@ impl<'a> Run<'a> {
         }
         let u0 = rs.omega.abs();
         let kk = 0.75 / bl.r; // eq. (1): I_O = 4mR²/3
-        // eq. (1) at θ = 0 on side s: ψ̈ = −A_s, A_s = k((g + ÿg) sinθc − s ẍg cosθc)
-        let restoring =
-            |s: f64, ax: f64, ay: f64| kk * ((bl.g + ay) * bl.sin_c - s * ax * bl.cos_c);
         // Over the window: the smallest A_s (either side), the largest |ẍg| and
         // |g + ÿg|, the smallest N − (g + ÿg)/2 at θ = 0, θ̇ = 0 (all affine in
         // the forcing, which is linear between samples, so extremes are at the
@@ -1623,8 +1616,9 @@ impl<'a> Run<'a> {
             (f64::INFINITY, 0.0_f64, 0.0_f64, f64::INFINITY, 0.0_f64);
         let mut include = |ax: f64, ay: f64| {
             for s in [-1.0, 1.0] {
-                lo_min = lo_min.min(restoring(s, ax, ay));
                 let c = ph::rock_contact_sc(&bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
+                // eq. (1) at θ = 0 on side s: ψ̈ = sθ̈ = −A_s
+                lo_min = lo_min.min(-s * c.alpha);
                 n_margin = n_margin.min(c.n - 0.5 * (bl.g + ay));
             }
             ax_max = ax_max.max(ax.abs());
@@ -1779,8 +1773,8 @@ impl<'a> Run<'a> {
             },
             State::Rock(r) => {
                 let [x, vx, y, vy] = ph::rock_kinematics(bl, r.s, r.theta, r.omega);
-                let alpha = ph::rock_accel(bl, r.s, r.theta, ax, ay);
-                let (f, n) = ph::rock_reactions(bl, r.s, r.theta, r.omega, alpha, ax, ay);
+                let ph::RockContact { f, n, .. } =
+                    ph::rock_contact(bl, r.s, r.theta, r.omega, ax, ay);
                 HistoryRow {
                     t,
                     mode: Mode::Rock,

@@ -8,26 +8,14 @@ use super::block::Block;
 /// I_O θ̈ = mR cos(θc−|θ|) ẍg − S mR sin(θc−|θ|)(g+ÿg), paper eq. (1), I_O = 4mR²/3.
 #[inline]
 pub fn rock_accel(bl: &Block, s: f64, theta: f64, ax: f64, ay: f64) -> f64 {
-    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
-    s * (0.75 / bl.r) * (cp * (s * ax) - sp * (bl.g + ay))
+    let (sp, cp) = bl.phi_sin_cos(s * theta);
+    rock_accel_sc(bl, s, sp, cp, ax, ay)
 }
 
-/// Contact reactions (F, N) per unit mass during rock (physics.md, checked):
-/// F = ẍg − R cosφ θ̈ − S R sinφ θ̇², N = g + ÿg − R cosφ θ̇² + S R sinφ θ̈, φ = θc − |θ|.
+/// [`rock_accel`] from sin φ and cos φ, φ = θc − |θ|, already known.
 #[inline]
-pub fn rock_reactions(
-    bl: &Block,
-    s: f64,
-    theta: f64,
-    omega: f64,
-    alpha: f64,
-    ax: f64,
-    ay: f64,
-) -> (f64, f64) {
-    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
-    let f = ax - bl.r * cp * alpha - s * bl.r * sp * omega * omega;
-    let n = bl.g + ay - bl.r * cp * omega * omega + s * bl.r * sp * alpha;
-    (f, n)
+pub fn rock_accel_sc(bl: &Block, s: f64, sp: f64, cp: f64, ax: f64, ay: f64) -> f64 {
+    s * (0.75 / bl.r) * (cp * (s * ax) - sp * (bl.g + ay)) // eq. (1)
 }
 
 /// Everything the rock events need at one state, from one sine and cosine:
@@ -40,14 +28,19 @@ pub struct RockContact {
     pub f: f64,
     /// Normal reaction per unit mass (m/s²).
     pub n: f64,
-    /// N without its θ̈ term (see [`rock_release_q`]).
+    /// The part of N without θ̈: q = g + ÿg − R cosφ θ̇². If the pivot were
+    /// released, its vertical acceleration in flight would be −q, so lift-off
+    /// is consistent only when q < 0 (physics.md, "Lift-off under infinite
+    /// friction").
     pub q: f64,
 }
 
-/// [`rock_accel`], [`rock_reactions`] and [`rock_release_q`] at once.
+/// θ̈ (eq. 1) and the contact reactions at one rock state (physics.md,
+/// checked): F = ẍg − R cosφ θ̈ − S R sinφ θ̇², N = q + S R sinφ θ̈ with
+/// q = g + ÿg − R cosφ θ̇², φ = θc − |θ|.
 #[inline]
 pub fn rock_contact(bl: &Block, s: f64, theta: f64, omega: f64, ax: f64, ay: f64) -> RockContact {
-    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
+    let (sp, cp) = bl.phi_sin_cos(s * theta);
     rock_contact_sc(bl, s, sp, cp, omega, ax, ay)
 }
 
@@ -63,7 +56,7 @@ pub fn rock_contact_sc(
     ax: f64,
     ay: f64,
 ) -> RockContact {
-    let alpha = s * (0.75 / bl.r) * (cp * (s * ax) - sp * (bl.g + ay)); // eq. (1)
+    let alpha = rock_accel_sc(bl, s, sp, cp, ax, ay);
     let w2 = omega * omega;
     let q = bl.g + ay - bl.r * cp * w2;
     RockContact {
@@ -74,26 +67,12 @@ pub fn rock_contact_sc(
     }
 }
 
-/// The part of N without θ̈: q = g + ÿg − R cosφ θ̇². If the pivot were
-/// released, its vertical acceleration in flight would be −q, so lift-off is
-/// consistent only when q < 0 (physics.md, "Lift-off under infinite friction").
-#[inline]
-pub fn rock_release_q(bl: &Block, s: f64, theta: f64, omega: f64, ay: f64) -> f64 {
-    let cp = (bl.theta_c - s * theta).cos();
-    bl.g + ay - bl.r * cp * omega * omega
-}
-
 /// Centre-of-mass position and velocity (x, ẋ, y, ẏ) relative to its rest
 /// position while rocking: x = S(R sinφ − B), y = R cosφ − H,
 /// ẋ = −R cosφ θ̇, ẏ = S R sinφ θ̇.
 #[inline]
 pub fn rock_kinematics(bl: &Block, s: f64, theta: f64, omega: f64) -> [f64; 4] {
-    // φ = θc − sθ; at θ = 0 (a rock impact) its sine and cosine are the block's
-    let (sp, cp) = if theta == 0.0 {
-        (bl.sin_c, bl.cos_c)
-    } else {
-        (bl.theta_c - s * theta).sin_cos()
-    };
+    let (sp, cp) = bl.phi_sin_cos(s * theta);
     [
         s * (bl.r * sp - bl.b),
         -bl.r * cp * omega,
@@ -168,7 +147,7 @@ pub fn slide_rock_accel(
     ax: f64,
     ay: f64,
 ) -> SlideRockAccel {
-    let (sp, cp) = (bl.theta_c - s * theta).sin_cos();
+    let (sp, cp) = bl.phi_sin_cos(s * theta);
     let r = bl.r;
     let w2 = omega * omega;
     let q = bl.g + ay - r * cp * w2;

@@ -77,25 +77,11 @@ pub struct LinearForcing {
 }
 
 impl RockSeries {
-    /// The series from ψ(0) = `psi0`, ψ̇(0) = `dpsi0` for a block of critical
-    /// angle `theta_c` and k = 3/(4R), rocking on side `s`, under `forcing`.
+    /// The series from ψ(0) = `psi0`, ψ̇(0) = `dpsi0`, with sin φ(0) = `sin0`
+    /// and cos φ(0) = `cos0` (φ = θc − ψ; see `Block::phi_sin_cos`), for a
+    /// block with k = 3/(4R) rocking on side `s` under `forcing`.
     #[inline]
     pub fn new(
-        theta_c: f64,
-        k: f64,
-        s: f64,
-        psi0: f64,
-        dpsi0: f64,
-        forcing: &LinearForcing,
-    ) -> RockSeries {
-        let (sin0, cos0) = (theta_c - psi0).sin_cos();
-        RockSeries::with_trig(sin0, cos0, k, s, psi0, dpsi0, forcing)
-    }
-
-    /// [`RockSeries::new`] with sin φ(0) and cos φ(0) already known (at
-    /// ψ0 = 0 they are the block's sin θc and cos θc).
-    #[inline]
-    pub fn with_trig(
         sin0: f64,
         cos0: f64,
         k: f64,
@@ -123,13 +109,8 @@ impl RockSeries {
         // every index is a constant (no loops or bounds checks in the code);
         // `psi` also gives ψ_{j+2}, for j + 2 ≤ ORDER.
         macro_rules! order {
-            ($j:literal) => {
-                // d/dτ sin φ = cos φ φ′, d/dτ cos φ = −sin φ φ′, φ′ = −ψ′
-                sin[$j] = -conv::<$j>(&ip, &cos) * INV[$j];
-                cos[$j] = conv::<$j>(&ip, &sin) * INV[$j];
-            };
             ($j:literal, psi) => {
-                order!($j);
+                trig_term::<$j>(&ip, &mut sin, &mut cos);
                 // eq. (1), coefficient of τ^j
                 let rhs = (ka1 * cos[$j - 1] - kv1 * sin[$j - 1]) + (ka0 * cos[$j] - kv0 * sin[$j]);
                 psi[$j + 2] = rhs * (INV[$j + 1] * INV[$j + 2]);
@@ -238,21 +219,13 @@ impl RockSeries {
     /// ẋ = −s R cos φ ψ̇ and ẏ = R sin φ ψ̇ (the rock kinematics).
     pub fn work(&self, r: f64, s: f64, forcing: &LinearForcing, g: f64) -> [f64; ORDER + 1] {
         // D = ψ̇, CD = cos φ ψ̇, SD = sin φ ψ̇, truncated at τ^(ORDER−1)
-        let mut d = [0.0; ORDER];
-        for (j, dj) in d.iter_mut().enumerate() {
-            *dj = (j + 1) as f64 * self.psi[j + 1];
-        }
+        let d = &self.dpsi;
         // sin φ and cos φ to order ORDER − 1, by the recurrences of `new`
         let (mut sin, mut cos) = (self.sin, self.cos);
-        for j in TRIG_ORDER + 1..ORDER {
-            let (mut sj, mut cj) = (0.0, 0.0);
-            for i in (1..=j).rev() {
-                sj -= d[i - 1] * cos[j - i];
-                cj += d[i - 1] * sin[j - i];
-            }
-            sin[j] = sj * INV[j];
-            cos[j] = cj * INV[j];
-        }
+        let mut ip = [0.0; ORDER + 1];
+        ip[1..].copy_from_slice(&d[..ORDER]);
+        const _: () = assert!(TRIG_ORDER + 2 == ORDER, "one term to add: order 7");
+        trig_term::<7>(&ip, &mut sin, &mut cos);
         let mut w = [0.0; ORDER + 1];
         let (ay0, ay1) = (forcing.v0 - g, forcing.v1);
         let (mut cd_prev, mut sd_prev) = (0.0, 0.0);
@@ -269,6 +242,18 @@ impl RockSeries {
         }
         w
     }
+}
+
+/// The terms of order J of sin φ and cos φ from those below it and from
+/// `ip` (i ψ_i): d/dτ sin φ = cos φ φ′, d/dτ cos φ = −sin φ φ′, φ′ = −ψ′.
+#[inline(always)]
+fn trig_term<const J: usize>(
+    ip: &[f64; ORDER + 1],
+    sin: &mut [f64; ORDER + 1],
+    cos: &mut [f64; ORDER + 1],
+) {
+    sin[J] = -conv::<J>(ip, cos) * INV[J];
+    cos[J] = conv::<J>(ip, sin) * INV[J];
 }
 
 /// Σ_{i=1..J} a_i b_{J−i}, summed from the oldest term (i = J) to the newest
@@ -293,6 +278,19 @@ pub fn eval(c: &[f64; ORDER + 1], tau: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The series from ψ0 with sin φ(0), cos φ(0) of θc − ψ0.
+    fn series(
+        theta_c: f64,
+        k: f64,
+        s: f64,
+        psi0: f64,
+        dpsi0: f64,
+        f: &LinearForcing,
+    ) -> RockSeries {
+        let (sin0, cos0) = (theta_c - psi0).sin_cos();
+        RockSeries::new(sin0, cos0, k, s, psi0, dpsi0, f)
+    }
 
     /// Reference: ψ̈ from eq. (1) integrated by classical RK4 with a tiny step.
     fn rk4(theta_c: f64, k: f64, s: f64, y: (f64, f64), f: &LinearForcing, t: f64) -> (f64, f64) {
@@ -332,7 +330,7 @@ mod tests {
         };
         for tol in [1e-6, 1e-9, 1e-12] {
             for (s, y) in [(1.0, (0.05, 0.3)), (-1.0, (0.1, -0.2)), (1.0, (0.0, 0.0))] {
-                let series = RockSeries::new(theta_c, k, s, y.0, y.1, &f);
+                let series = series(theta_c, k, s, y.0, y.1, &f);
                 let h = series.step(0.02, tol, tol);
                 assert!(h > 0.002, "step {h} for tol {tol}");
                 let (p, d) = series.at(h);
@@ -365,7 +363,7 @@ mod tests {
             (-1.0, 0.0, 0.01),
             (1.0, 0.2, 0.0),
         ] {
-            let series = RockSeries::new(theta_c, 0.75 / r, s, psi0, dpsi0, &f);
+            let series = series(theta_c, 0.75 / r, s, psi0, dpsi0, &f);
             for h in [0.02, 0.2] {
                 let (lo, hi) = series.psi_bounds(h, 0.0);
                 let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -389,7 +387,7 @@ mod tests {
         // moving away from ψ = 0 over a sample, the lower bound stays near ψ0,
         // so the impact search is skipped (the cruder bound, 0.004 − 0.3·0.02,
         // is below 0)
-        let series = RockSeries::new(theta_c, 0.75 / r, 1.0, 0.004, 0.3, &f);
+        let series = series(theta_c, 0.75 / r, 1.0, 0.004, 0.3, &f);
         assert!(series.psi_bounds(0.02, 0.0).0 > 0.0);
     }
 
@@ -407,7 +405,7 @@ mod tests {
             v0: g,
             v1: 0.0,
         };
-        let series = RockSeries::new(theta_c, 0.75 / r, 1.0, 0.1, 0.5, &f);
+        let series = series(theta_c, 0.75 / r, 1.0, 0.1, 0.5, &f);
         assert_eq!(series.step(0.02, 2.4e-9, 2.4e-9), 0.02);
         let h = series.step(1.0, 1e-12, 1e-12);
         assert!(h < 0.5, "{h}");
