@@ -1626,8 +1626,8 @@ impl<'a> Run<'a> {
             (lo_min, ax_max, gy_max, n_margin)
         };
         let k0 = ((t / self.dt) as usize).min(n - 2);
-        let (ax, ay) = self.segment(k0).at(t);
-        include(ax, ay);
+        let at_start = self.segment(k0).at(t);
+        include(at_start.0, at_start.1);
         for k in k0..(k0 + MAX_SAMPLES).min(n - 1) {
             let seg = self.segment(k);
             let tw = (k + 1) as f64 * self.dt;
@@ -1679,7 +1679,7 @@ impl<'a> Run<'a> {
             // The cascade's friction demand: the contact forces at θ = 0,
             // θ̇ = 0 on either side at its two ends.
             let k1 = (((t + t_cascade) / self.dt) as usize).clamp(k0, k);
-            let ends = [self.segment(k0).at(t), self.segment(k1).at(t + t_cascade)];
+            let ends = [at_start, self.segment(k1).at(t + t_cascade)];
             let mut demand = 0.0_f64;
             for (ax, ay) in ends {
                 for s in [-1.0, 1.0] {
