@@ -932,13 +932,15 @@ impl<'a> Run<'a> {
         // corner can be driven straight back into the ground, so release
         // asks for q below −1e-9 g; otherwise the pivot is held.
         let q_tol = 1e-9 * bl.g;
+        // the release indicator: < 0 when release is consistent
+        let release_q = |c: &ph::RockContact| c.q + q_tol;
         let normal = |tt: f64| contact(tt).n;
-        let release = |tt: f64| contact(tt).q + q_tol;
+        let release = |tt: f64| release_q(&contact(tt));
         let c_a = match rs.last {
             Some((t_last, c)) if t_last == ta => c,
             _ => contact(ta),
         };
-        let (mut n0, mut q0) = (c_a.n, c_a.q + q_tol);
+        let (mut n0, mut q0) = (c_a.n, release_q(&c_a));
         let mut c_end: Option<ph::RockContact> = None;
         if let Some((mu_s, mu_k)) = self.fric {
             // Stuck pivot under Coulomb friction: slip starts when |F| reaches
@@ -948,7 +950,6 @@ impl<'a> Run<'a> {
             // consistent, or the pivot can be released into flight.
             let margin = |c: &ph::RockContact| mu_s * c.n - c.f.abs();
             let mut m0 = margin(&c_a);
-            let mut q0 = c_a.q + q_tol;
             if !rs.hold && m0 < 0.0 {
                 return Some((ta, Event::SlipStart));
             }
@@ -971,10 +972,11 @@ impl<'a> Run<'a> {
                         let te = brent(|tt| margin(&contact(tt)), t0, t1, m0, m1, xtol);
                         earliest(&mut best, Some(te), Event::HoldEnd);
                     }
-                    if q0 >= 0.0 && c1.q + q_tol < 0.0 && c1.n < 0.0 {
+                    let q1 = release_q(&c1);
+                    if q0 >= 0.0 && q1 < 0.0 && c1.n < 0.0 {
                         earliest(
                             &mut best,
-                            Some(brent(release, t0, t1, q0, c1.q + q_tol, xtol)),
+                            Some(brent(release, t0, t1, q0, q1, xtol)),
                             Event::Release,
                         );
                     }
@@ -995,7 +997,7 @@ impl<'a> Run<'a> {
                 }
                 t0 = t1;
                 m0 = m1;
-                q0 = c1.q + q_tol;
+                q0 = release_q(&c1);
             }
         } else if !rs.hold && n0 < 0.0 {
             // Entered rock with the pivot already in tension (after an impact
@@ -1018,7 +1020,7 @@ impl<'a> Run<'a> {
             if i == n {
                 c_end = Some(c1);
             }
-            let (n1, q1) = (c1.n, c1.q + q_tol);
+            let (n1, q1) = (c1.n, release_q(&c1));
             if !rs.hold && n0 >= 0.0 && n1 < 0.0 {
                 let te = brent(normal, t0, t1, n0, n1, xtol);
                 let ev = if release(te) < 0.0 {
