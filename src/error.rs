@@ -4,7 +4,7 @@
 //! the line or field, the offending value and what would have been accepted.
 //! Overturning is an *outcome*, never an error.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Errors raised by rockfrag's library.
 #[derive(Debug, thiserror::Error)]
@@ -87,6 +87,14 @@ impl Error {
             field: field.to_string(),
             value: value.to_string(),
             expected: expected.to_string(),
+        }
+    }
+
+    /// Wraps an I/O error on `path`: `.map_err(Error::io(path))`.
+    pub fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+        move |source| Error::Io {
+            path: path.to_path_buf(),
+            source,
         }
     }
 }

@@ -1,4 +1,5 @@
-//! Small file helpers shared by every writer: nothing half-written is left behind.
+//! Small helpers shared by every writer: nothing half-written is left
+//! behind, and numbers are written so they read back exactly.
 
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -33,5 +34,17 @@ pub fn write_atomic(
             let _ = std::fs::remove_file(&tmp);
             Err(e)
         }
+    }
+}
+
+/// The shortest text that reads back as exactly `x`: plain for ordinary
+/// magnitudes, with an exponent below 1e-4 or from 1e15 (so that a tail
+/// probability of 1e-300 is not 300 zeros).
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
     }
 }

@@ -3,11 +3,19 @@
 //! Monte Carlo fragility analysis of free-standing rigid blocks under
 //! earthquakes.
 //!
-//! Data flows one way, and the modules are declared in that order:
+//! Data flows one way:
 //!
 //! ```text
 //! spec ─▶ motion ─▶ solver ─▶ outcome ─▶ study ─▶ fragility ─▶ figures
 //! ```
+//!
+//! and imports go one way too: each module uses only modules declared above
+//! it in this file (`tests/architecture.rs` checks it), so none imports one
+//! that imports it back. A stage's vocabulary comes before the stages that
+//! use it: the [`outcome`] type before the [`solver`] that fills it, the
+//! [`outcomes_csv`] table before the [`fragility`] fit that reads it, and
+//! every stage's settings before the [`spec`] that reads them from TOML and
+//! the [`study`] that runs them.
 //!
 //! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
@@ -15,6 +23,8 @@
 //! - [`solver`]: the event-driven block solver (rest, slide, rock, slide-rock,
 //!   free flight; impacts with restitution and Coulomb friction);
 //! - [`outcome`]: what one analysis produces;
+//! - [`outcomes_csv`]: the `outcomes.csv` table of a study's analyses, its
+//!   columns defined once for the writer and every reader;
 //! - [`study`]: running a study (parallel, resumable, shardable) into
 //!   `outcomes.csv`, `summary.md` and `manifest.json`;
 //! - [`fragility`]: lognormal overturning fragility curves (probit MLE, bootstrap);
@@ -50,17 +60,18 @@
 //! - Baker, J. W. (2015). Efficient analytical fragility function fitting
 //!   using dynamic structural analysis. *Earthquake Spectra* 31(1), 579–599.
 
-// Declared in data-flow order: spec → motion → solver → outcome → study → figures.
+// Each module uses only the modules declared above it (tests/architecture.rs).
 pub mod error;
 mod io_util;
-pub mod spec;
 pub mod motion;
-pub mod solver;
 pub mod outcome;
-pub mod study;
+pub mod solver;
+pub mod outcomes_csv;
 pub mod fragility;
-pub mod figures;
+pub mod spec;
+pub mod study;
 pub mod bench;
+pub mod figures;
 pub mod reference;
 
 pub use error::{Error, Result};

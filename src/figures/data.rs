@@ -10,9 +10,8 @@
 use std::path::Path;
 
 use crate::error::Result;
+use crate::outcomes_csv::{CaseKey, Column, OutcomesReader, cmp_friction};
 use crate::solver::Friction;
-use crate::study::CaseKey;
-use crate::study::outcomes_read::{OutcomesReader, cmp_friction};
 
 /// One analysis as the figures need it: the case, the intensity and the
 /// outcome quantities that are plotted.
@@ -111,14 +110,14 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
     ) = OutcomesReader::open(
         path,
         [
-            "pga",
-            "record",
-            "overturned",
-            "uplifted",
-            "theta_max_over_theta_c",
-            "mu_motion",
-            "mu_impact",
-            "impacts",
+            Column::Pga,
+            Column::Record,
+            Column::Overturned,
+            Column::Uplifted,
+            Column::ThetaMaxOverThetaC,
+            Column::MuMotion,
+            Column::MuImpact,
+            Column::Impacts,
         ],
         "the figures",
     )?;

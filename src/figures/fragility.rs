@@ -16,8 +16,8 @@ use super::data::{StudyData, distinct, distinct_friction, friction_label};
 use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
 use super::style::{PAGE_WIDTH_IN, Style, tick_label};
 use super::{DrawResult, Figure};
+use crate::outcomes_csv::CaseKey;
 use crate::solver::Friction;
-use crate::study::CaseKey;
 
 /// Figure height (in), before legend rows beyond the first.
 const HEIGHT_IN: f64 = 2.9;

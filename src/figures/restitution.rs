@@ -19,8 +19,8 @@ use super::friction::{level_colour, shown_levels};
 use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
 use super::{DrawResult, Figure};
+use crate::outcomes_csv::CaseKey;
 use crate::solver::Friction;
-use crate::study::CaseKey;
 use crate::study::paper::{RECORDS, TABLES};
 
 /// Figure height (in).

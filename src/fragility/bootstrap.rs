@@ -11,26 +11,10 @@ use std::collections::BTreeMap;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use super::data::CaseData;
 use super::fit::{LognormalFit, Observation, Unfit, fit_lognormal};
-
-/// What a bootstrap replicate resamples.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum BootstrapUnit {
-    /// Whole records (default): as many records as the case has are drawn
-    /// with replacement, and a drawn record brings its analyses at *every*
-    /// stripe. Right for a study that scales the same records to each stripe,
-    /// where one record's outcomes at different stripes are correlated.
-    #[default]
-    Records,
-    /// Analyses, independently within each stripe (each stripe keeps its
-    /// size). Right only when analyses are independent trials, e.g. a
-    /// different record for every analysis.
-    Analyses,
-}
+use super::options::BootstrapUnit;
 
 /// A two-sided percentile interval.
 #[derive(Clone, Copy, Debug, PartialEq)]

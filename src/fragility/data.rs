@@ -4,10 +4,10 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::IntensityMeasure;
+use super::options::IntensityMeasure;
 use crate::error::Result;
+use crate::outcomes_csv::{CaseKey, Column, OutcomesReader};
 use crate::solver::Friction;
-use crate::study::{CaseKey, OutcomesReader};
 
 /// One successful analysis of a case.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,13 +68,16 @@ pub struct Outcomes {
 
 /// Reads `outcomes.csv` with [`OutcomesReader`], keeping what the fragility
 /// fit needs: `pga`, `record`, `overturned` (and `pgv` for the PGV intensity
-/// measure). A failed analysis (see [`Row::failed`](crate::study::outcomes_read::Row::failed))
+/// measure). A failed analysis (see [`Row::failed`](crate::outcomes_csv::Row::failed))
 /// is skipped and counted in [`CaseData::failed`], or in
 /// [`Outcomes::failed_unattributed`] if its case cannot be read.
 pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
-    let (mut table, [pga_col, record_col, overturned_col]) =
-        OutcomesReader::open(path, ["pga", "record", "overturned"], "the fragility fit")?;
-    let pgv = table.column("pgv");
+    let (mut table, [pga_col, record_col, overturned_col]) = OutcomesReader::open(
+        path,
+        [Column::Pga, Column::Record, Column::Overturned],
+        "the fragility fit",
+    )?;
+    let pgv = table.column(Column::Pgv);
     if im == IntensityMeasure::Pgv && pgv.is_none() {
         return Err(
             table.header_error("no `pgv` column, which the PGV intensity measure needs".into())

@@ -18,10 +18,12 @@
 
 use std::path::Path;
 
-use super::output::number;
-use super::{CaseFit, CaseKey, IntensityMeasure};
+use super::case::CaseFit;
+use super::options::IntensityMeasure;
 use crate::error::{Error, Result};
+use crate::io_util::number;
 use crate::io_util::write_atomic;
+use crate::outcomes_csv::CaseKey;
 
 /// (θ, β) → (mean, standard deviation) of the lognormal intensity, with
 /// `expm1` so that small β keeps full precision.

@@ -6,9 +6,12 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{CaseFit, CaseKey, nrml};
+use super::case::CaseFit;
+use super::nrml;
 use crate::error::{Error, Result};
+use crate::io_util::number;
 use crate::io_util::write_atomic;
+use crate::outcomes_csv::CaseKey;
 
 /// Header of `fragility.csv`. `median`, `median_lo`, `median_hi`,
 /// `se_median`, `boot_sd_median`, `im_min`, `im_max` are in the unit of `im`
@@ -151,16 +154,4 @@ fn key_fields(k: &CaseKey) -> String {
 /// A number, or an empty field when absent or NaN (infinite μ reads `inf`).
 fn opt(x: Option<f64>) -> String {
     x.filter(|v| !v.is_nan()).map_or(String::new(), number)
-}
-
-/// The shortest text that reads back as exactly `x`: plain for ordinary
-/// magnitudes, with an exponent below 1e-4 or from 1e15 (so that a tail
-/// probability of 1e-300 is not 300 zeros).
-pub(crate) fn number(x: f64) -> String {
-    let a = x.abs();
-    if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
-        x.to_string()
-    } else {
-        format!("{x:e}")
-    }
 }

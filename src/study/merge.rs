@@ -4,11 +4,10 @@
 //! result is byte-identical to an unsharded run; `summary.md` and
 //! `manifest.json` are then made from the merged file.
 
+use super::files;
 use super::manifest::{self, Manifest};
-use super::outcomes_csv::Columns;
 use super::plan::{self, Shard};
 use super::summary::Tally;
-use super::{files, io_err};
 use crate::error::{Error, Result};
 use crate::spec::Study;
 use std::io::{BufRead, BufReader};
@@ -91,7 +90,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
                 .into(),
         ));
     }
-    let cols = Columns::of(&study);
+    let cols = plan::columns(&study);
     let header = cols.header();
     let cases = plan::cases(&study).len();
     let total = plan::unit_count(&study);
@@ -99,10 +98,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
     let mut readers = Vec::with_capacity(n);
     for (_, dir) in &shards {
         let path = dir.join(files::OUTCOMES);
-        let mut r = BufReader::new(std::fs::File::open(&path).map_err(io_err(&path))?);
+        let mut r = BufReader::new(std::fs::File::open(&path).map_err(Error::io(&path))?);
         let mut first_line = Vec::new();
         r.read_until(b'\n', &mut first_line)
-            .map_err(io_err(&path))?;
+            .map_err(Error::io(&path))?;
         if first_line != header.as_bytes() {
             return Err(Error::Parse {
                 path,
@@ -112,7 +111,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
         }
         readers.push((r, path));
     }
-    std::fs::create_dir_all(out).map_err(io_err(out))?;
+    std::fs::create_dir_all(out).map_err(Error::io(out))?;
     let out_csv = out.join(files::OUTCOMES);
     let mut row = Vec::new();
     let mut short: Option<PathBuf> = None;
@@ -137,11 +136,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
             line: 0,
             message: "fewer rows than its shard of the study has".into(),
         },
-        None => io_err(&out_csv)(e),
+        None => Error::io(&out_csv)(e),
     })?;
     for (r, path) in &mut readers {
         row.clear();
-        if read_row(r, &mut row).map_err(io_err(path))? {
+        if read_row(r, &mut row).map_err(Error::io(path))? {
             return Err(Error::Parse {
                 path: path.clone(),
                 line: 0,
@@ -155,7 +154,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
         let path = out.join(files::SUMMARY);
         let text = tally.markdown(&study, Shard::WHOLE);
         crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes()))
-            .map_err(io_err(&path))?;
+            .map_err(Error::io(&path))?;
     }
     let mut m = Manifest::new(&study, &first.spec_file, None, Shard::WHOLE);
     m.records_hash = first.records_hash.clone();

@@ -25,10 +25,9 @@
 //! is written with status `failed` and its message, counted in the
 //! manifest, and the run carries on; the caller decides the exit status.
 
+pub mod files;
 pub mod manifest;
 mod merge;
-pub mod outcomes_csv;
-pub mod outcomes_read;
 pub mod paper;
 pub mod plan;
 pub mod source;
@@ -36,37 +35,22 @@ pub mod summary;
 
 pub use manifest::Manifest;
 pub use merge::merge;
-pub use outcomes_read::{CaseKey, OutcomesReader};
-pub use plan::{Case, Shard, Unit};
+pub use plan::{Case, Shard, Unit, columns};
 pub use summary::{Counts, Tally};
 
 use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::Outcome;
+use crate::outcomes_csv::{Columns, RecordInfo};
 use crate::solver::simulate;
 use crate::spec::{Motions, Study, fnv1a64};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use outcomes_csv::{Columns, RecordInfo};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use source::Source;
 use std::io::{IsTerminal, Seek, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// File names inside a run's folder.
-pub mod files {
-    /// Final outcomes, one row per analysis.
-    pub const OUTCOMES: &str = "outcomes.csv";
-    /// Outcomes of a run in progress.
-    pub const PARTIAL: &str = "outcomes.csv.partial";
-    /// Progress of a run in progress.
-    pub const CHECKPOINT: &str = "checkpoint.json";
-    /// Paper-style tables.
-    pub const SUMMARY: &str = "summary.md";
-    /// Provenance and counts.
-    pub const MANIFEST: &str = "manifest.json";
-}
 
 /// Options of one invocation of a run (they do not change the results).
 #[derive(Clone, Debug)]
@@ -135,13 +119,6 @@ struct Checkpoint {
     started_unix: u64,
 }
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
-    move |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
 /// FNV-1a over every record file's bytes, in order (recorded motions only).
 fn records_hash(study: &Study) -> Result<Option<u64>> {
     match &study.motions {
@@ -149,7 +126,7 @@ fn records_hash(study: &Study) -> Result<Option<u64>> {
         Motions::Files(files) => {
             let mut all = Vec::new();
             for f in files {
-                let bytes = std::fs::read(&f.path).map_err(io_err(&f.path))?;
+                let bytes = std::fs::read(&f.path).map_err(Error::io(&f.path))?;
                 all.extend_from_slice(&fnv1a64(&bytes).to_le_bytes());
             }
             Ok(Some(fnv1a64(&all)))
@@ -162,7 +139,7 @@ fn records_hash(study: &Study) -> Result<Option<u64>> {
 pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let t0 = Instant::now();
     let dir = &opts.out_dir;
-    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
     let threads = if opts.threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
@@ -170,7 +147,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     };
     let records_hash = records_hash(study)?;
     let mut manifest = Manifest::new(study, &opts.spec_file, records_hash, opts.shard);
-    let cols = Columns::of(study);
+    let cols = columns(study);
     let cases = plan::cases(study);
     let total = plan::unit_count(study);
     let units: Vec<usize> = opts.shard.units(total).collect();
@@ -247,8 +224,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         let chunk = &units[ckpt.units_done..(ckpt.units_done + chunk_units).min(limit)];
         let text = pool.install(|| run_chunk(study, &cases, &cols, &source, chunk));
         file.write_all(text.as_bytes())
-            .map_err(io_err(&partial_path))?;
-        file.sync_data().map_err(io_err(&partial_path))?;
+            .map_err(Error::io(&partial_path))?;
+        file.sync_data().map_err(Error::io(&partial_path))?;
         ckpt.bytes += text.len() as u64;
         ckpt.units_done += chunk.len();
         write_checkpoint(&ckpt_path, &ckpt)?;
@@ -279,7 +256,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         let path = dir.join(files::SUMMARY);
         let text = tally.markdown(study, opts.shard);
         crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes()))
-            .map_err(io_err(&path))?;
+            .map_err(Error::io(&path))?;
     }
     report.wall_seconds = t0.elapsed().as_secs_f64();
     manifest.threads = threads;
@@ -290,8 +267,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     manifest.counts = tally.counts();
     manifest.write(&dir.join(files::MANIFEST))?;
     let out = dir.join(files::OUTCOMES);
-    std::fs::rename(&partial_path, &out).map_err(io_err(&out))?;
-    std::fs::remove_file(&ckpt_path).map_err(io_err(&ckpt_path))?;
+    std::fs::rename(&partial_path, &out).map_err(Error::io(&out))?;
+    std::fs::remove_file(&ckpt_path).map_err(Error::io(&ckpt_path))?;
     report.complete = true;
     report.counts = tally.counts();
     Ok(report)
@@ -342,7 +319,7 @@ fn run_chunk(
                 Err(e) => Err(format!("record: {e}")),
             };
             let mut row = String::with_capacity(256);
-            cols.write_row(&mut row, case, &info, &result);
+            cols.write_row(&mut row, &case.key(), &info, &result);
             row
         })
         .collect();
@@ -393,7 +370,7 @@ fn read_checkpoint(path: &Path) -> Result<Option<Checkpoint>> {
                 message: format!("unreadable checkpoint ({e}); delete it to start over"),
             }),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        Err(e) => Err(io_err(path)(e)),
+        Err(e) => Err(Error::io(path)(e)),
     }
 }
 
@@ -402,7 +379,7 @@ fn write_checkpoint(path: &Path, ckpt: &Checkpoint) -> Result<()> {
         serde_json::to_writer(&mut *w, ckpt)?;
         Ok(())
     })
-    .map_err(io_err(path))
+    .map_err(Error::io(path))
 }
 
 /// Starts a run from scratch: the partial file holds the header only.
@@ -412,10 +389,11 @@ fn start(
     partial: &Path,
     ckpt_path: &Path,
 ) -> Result<(Checkpoint, std::fs::File)> {
-    let mut file = std::fs::File::create(partial).map_err(io_err(partial))?;
+    let mut file = std::fs::File::create(partial).map_err(Error::io(partial))?;
     let header = cols.header();
-    file.write_all(header.as_bytes()).map_err(io_err(partial))?;
-    file.sync_data().map_err(io_err(partial))?;
+    file.write_all(header.as_bytes())
+        .map_err(Error::io(partial))?;
+    file.sync_data().map_err(Error::io(partial))?;
     let ckpt = Checkpoint {
         bytes: header.len() as u64,
         ..ckpt
@@ -435,18 +413,18 @@ fn resume(dir: &Path, ckpt: &Checkpoint, partial: &Path) -> Result<Option<std::f
         if len != Some(ckpt.bytes) {
             return Ok(None);
         }
-        std::fs::rename(&done, partial).map_err(io_err(partial))?;
+        std::fs::rename(&done, partial).map_err(Error::io(partial))?;
     }
     let mut file = std::fs::OpenOptions::new()
         .write(true)
         .open(partial)
-        .map_err(io_err(partial))?;
-    let len = file.metadata().map_err(io_err(partial))?.len();
+        .map_err(Error::io(partial))?;
+    let len = file.metadata().map_err(Error::io(partial))?.len();
     if len < ckpt.bytes {
         return Ok(None);
     }
-    file.set_len(ckpt.bytes).map_err(io_err(partial))?;
+    file.set_len(ckpt.bytes).map_err(Error::io(partial))?;
     file.seek(std::io::SeekFrom::End(0))
-        .map_err(io_err(partial))?;
+        .map_err(Error::io(partial))?;
     Ok(Some(file))
 }

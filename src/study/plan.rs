@@ -10,8 +10,9 @@
 //! so every shard gets weak and strong levels alike).
 
 use crate::error::{Error, Result};
+use crate::outcomes_csv::{CaseKey, Columns};
 use crate::solver::{Analysis, Block, Friction};
-use crate::spec::Study;
+use crate::spec::{Intensity, Motions, Study};
 use std::fmt;
 use std::str::FromStr;
 
@@ -30,6 +31,28 @@ pub struct Case {
     pub index: [usize; 4],
     /// The analysis to run (block at rest).
     pub analysis: Analysis,
+}
+
+impl Case {
+    /// The case columns of this case's rows in `outcomes.csv`.
+    pub fn key(&self) -> CaseKey {
+        CaseKey {
+            aspect: self.aspect,
+            width: self.width,
+            restitution: self.restitution,
+            friction: self.friction,
+        }
+    }
+}
+
+/// The optional columns of `study`'s `outcomes.csv`.
+pub fn columns(study: &Study) -> Columns {
+    Columns {
+        pgv: matches!(study.intensity, Intensity::Pgv(_)),
+        files: matches!(study.motions, Motions::Files(_)),
+        time_in_mode: study.output.time_in_mode,
+        stats: study.output.stats,
+    }
 }
 
 /// Every case of `study`, in canonical order (aspect, then width, then e,

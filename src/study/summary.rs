@@ -12,11 +12,11 @@
 //! The summary is always computed by reading `outcomes.csv` back, so a run,
 //! a resumed run and a merge of shards give the same bytes.
 
-use super::outcomes_csv::Columns;
 use super::paper;
 use super::plan::{self, Case, Shard};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::motion::{G_STANDARD, SynthesisSettings};
+use crate::outcomes_csv::{Column, OutcomesReader};
 use crate::solver::Friction;
 use crate::spec::{Intensity, Motions, Study, friction_label};
 use std::fmt::Write;
@@ -77,65 +77,46 @@ pub struct Tally {
     levels: usize,
 }
 
-fn field(rec: &csv::StringRecord, i: usize) -> &str {
-    rec.get(i).unwrap_or("")
-}
-
 impl Tally {
-    /// Reads `outcomes.csv` of `study` (shard `shard`), checking its header,
-    /// that every row is the analysis expected at its place, and the count.
+    /// Reads `outcomes.csv` of `study` (shard `shard`) through
+    /// [`OutcomesReader`], checking that its header is the study's, that
+    /// every row is the analysis expected at its place (case, level,
+    /// record), and the count.
     pub fn read(path: &Path, study: &Study, shard: Shard) -> Result<Tally> {
-        let bad = |line: usize, message: String| Error::Parse {
-            path: path.to_path_buf(),
-            line,
-            message,
-        };
-        let file = std::fs::File::open(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let mut reader = csv::ReaderBuilder::new()
-            .has_headers(true)
-            .from_reader(std::io::BufReader::new(file));
-        let cols = Columns::of(study);
+        let cols = plan::columns(study);
+        let (
+            mut table,
+            [
+                c_level,
+                c_record,
+                c_status,
+                c_ot,
+                c_up,
+                c_theta,
+                c_mot,
+                c_imp,
+            ],
+        ) = OutcomesReader::open(
+            path,
+            [
+                cols.level(),
+                Column::Record,
+                Column::Status,
+                Column::Overturned,
+                Column::Uplifted,
+                Column::ThetaMaxOverThetaC,
+                Column::MuMotion,
+                Column::MuImpact,
+            ],
+            "the study's summary",
+        )?;
         let names = cols.names();
-        let header = reader
-            .headers()
-            .map_err(|e| bad(1, format!("unreadable header: {e}")))?
-            .clone();
-        if header.iter().ne(names.iter().copied()) {
-            return Err(bad(
-                1,
-                format!("header is not the study's: expected {}", names.join(",")),
-            ));
+        if table.header().iter().ne(names.iter().copied()) {
+            return Err(table.header_error(format!(
+                "header is not the study's: expected {}",
+                names.join(",")
+            )));
         }
-        let col = |name: &str| names.iter().position(|n| *n == name).expect("known column");
-        let [
-            c_aspect,
-            c_width,
-            c_e,
-            c_level,
-            c_record,
-            c_status,
-            c_ot,
-            c_up,
-            c_theta,
-            c_mot,
-            c_imp,
-        ] = [
-            "aspect",
-            "width",
-            "restitution",
-            if cols.pgv { "pgv" } else { "pga" },
-            "record",
-            "status",
-            "overturned",
-            "uplifted",
-            "theta_max_over_theta_c",
-            "mu_motion",
-            "mu_impact",
-        ]
-        .map(col);
 
         let cases = plan::cases(study);
         let total = plan::unit_count(study);
@@ -147,62 +128,39 @@ impl Tally {
         };
         let mut units = shard.units(total);
         let mut unit = None;
-        let mut rec = csv::StringRecord::new();
-        let mut row = 0usize;
-        loop {
-            let more = reader
-                .read_record(&mut rec)
-                .map_err(|e| bad(row + 2, e.to_string()))?;
-            if !more {
-                break;
-            }
-            let line = row + 2;
-            let ci = row % cases.len();
+        let mut rows = 0usize;
+        while let Some(row) = table.next_row()? {
+            let ci = rows % cases.len();
             if ci == 0 {
                 unit = units.next().map(|u| plan::unit(study, u));
             }
             let Some(u) = unit else {
-                return Err(bad(line, "more rows than the study has analyses".into()));
+                return Err(row.line_error("more rows than the study has analyses".into()));
             };
             let case = &cases[ci];
-            let num = |i: usize| -> Result<f64> {
-                field(&rec, i).parse::<f64>().map_err(|_| {
-                    bad(
-                        line,
-                        format!("column {} is not a number: {:?}", names[i], field(&rec, i)),
-                    )
-                })
-            };
-            let flag = |i: usize| -> Result<bool> {
-                field(&rec, i)
-                    .parse::<bool>()
-                    .map_err(|_| bad(line, format!("column {} is not true/false", names[i])))
-            };
-            let expect = [
-                (c_aspect, case.aspect),
-                (c_width, case.width),
-                (c_e, case.restitution),
-                (c_level, levels[u.level]),
-                (c_record, u.record as f64),
-            ];
-            for (i, want) in expect {
-                if num(i)? != want {
-                    return Err(bad(
-                        line,
-                        format!(
-                            "{} = {} where the study's order puts {want}",
-                            names[i],
-                            field(&rec, i)
-                        ),
-                    ));
+            let key = row.case()?;
+            if key != case.key() {
+                return Err(row.line_error(format!(
+                    "case {key} where the study's order puts {}",
+                    case.key()
+                )));
+            }
+            for (i, want) in [(c_level, levels[u.level]), (c_record, u.record as f64)] {
+                if row.number(i)? != want {
+                    return Err(row.line_error(format!(
+                        "{} = {} where the study's order puts {want}",
+                        names[i],
+                        row.field(i)
+                    )));
                 }
             }
             let cell = &mut tally.cells[ci * tally.levels + u.level];
             tally.counts.analyses += 1;
-            match field(&rec, c_status) {
+            match row.field(c_status) {
                 "ok" => {
-                    let (ot, up) = (flag(c_ot)?, flag(c_up)?);
-                    let (theta, mot, imp) = (num(c_theta)?, num(c_mot)?, num(c_imp)?);
+                    let (ot, up) = (row.boolean(c_ot)?, row.boolean(c_up)?);
+                    let theta = row.number(c_theta)?;
+                    let (mot, imp) = (row.number(c_mot)?, row.number(c_imp)?);
                     cell.ok += 1;
                     tally.counts.overturned += ot as u64;
                     tally.counts.uplifted += up as u64;
@@ -222,20 +180,15 @@ impl Tally {
                     cell.failed += 1;
                     tally.counts.failed += 1;
                 }
-                other => {
-                    return Err(bad(
-                        line,
-                        format!("status {other:?} is neither ok nor failed"),
-                    ));
-                }
+                _ => return Err(row.error(c_status, "ok or failed")),
             }
-            row += 1;
+            rows += 1;
         }
         let expected = shard.unit_count(total) * cases.len();
-        if row != expected {
-            return Err(bad(
-                row + 1,
-                format!("{row} analyses where the study (shard {shard}) has {expected}"),
+        if rows != expected {
+            return Err(table.error_at(
+                rows + 1,
+                format!("{rows} analyses where the study (shard {shard}) has {expected}"),
             ));
         }
         Ok(tally)

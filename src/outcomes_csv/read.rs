@@ -7,7 +7,7 @@
 //! - Columns are found by header name: order and extra columns do not matter.
 //!   Headers and fields are trimmed.
 //! - The case is the six columns `aspect, width, restitution, friction, mu_s,
-//!   mu_k` (see [`super::outcomes_csv`]), read into a [`CaseKey`]: H/B and 2B
+//!   mu_k` (see [the format](super)), read into a [`CaseKey`]: H/B and 2B
 //!   finite and > 0, e finite, `friction` `inf` (μ columns empty) or
 //!   `coulomb` (μs, μk numbers, `inf` allowed).
 //! - A row is failed ([`Row::failed`]) when its `status` column, if any, is
@@ -16,94 +16,12 @@
 //! - Every error is an [`Error::Parse`] naming the file and line; for a bad
 //!   value, the message names the column and quotes the value.
 
-use std::cmp::Ordering;
 use std::path::{Path, PathBuf};
 
+use super::case::CaseKey;
+use super::columns::CASE_COLUMNS;
 use crate::error::{Error, Result};
 use crate::solver::Friction;
-
-/// The case columns, in the order `outcomes.csv` has them.
-pub const CASE_COLUMNS: [&str; 6] = ["aspect", "width", "restitution", "friction", "mu_s", "mu_k"];
-
-/// One block configuration, as the case columns of `outcomes.csv` give it:
-/// what a fragility curve is fitted for and a figure's series is drawn for.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CaseKey {
-    /// Aspect ratio H/B.
-    pub aspect: f64,
-    /// Base width 2B (m).
-    pub width: f64,
-    /// Coefficient of restitution e.
-    pub restitution: f64,
-    /// Friction model.
-    pub friction: Friction,
-}
-
-impl CaseKey {
-    /// The `friction` column's value: `inf` or `coulomb`.
-    pub fn friction_name(&self) -> &'static str {
-        match self.friction {
-            Friction::Infinite => "inf",
-            Friction::Coulomb { .. } => "coulomb",
-        }
-    }
-
-    /// Static friction coefficient μs (`None` under infinite friction).
-    pub fn mu_s(&self) -> Option<f64> {
-        match self.friction {
-            Friction::Infinite => None,
-            Friction::Coulomb { mu_s, .. } => Some(mu_s),
-        }
-    }
-
-    /// Kinetic friction coefficient μk (`None` under infinite friction).
-    pub fn mu_k(&self) -> Option<f64> {
-        match self.friction {
-            Friction::Infinite => None,
-            Friction::Coulomb { mu_k, .. } => Some(mu_k),
-        }
-    }
-
-    /// Total order: aspect, width, restitution, then friction (see
-    /// [`cmp_friction`]).
-    pub fn total_cmp(&self, other: &CaseKey) -> Ordering {
-        self.aspect
-            .total_cmp(&other.aspect)
-            .then(self.width.total_cmp(&other.width))
-            .then(self.restitution.total_cmp(&other.restitution))
-            .then(cmp_friction(&self.friction, &other.friction))
-    }
-}
-
-impl std::fmt::Display for CaseKey {
-    /// `H/B=4 2B=0.5 e=0 inf`, or `… coulomb μs=0.7 μk=0.6`.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "H/B={} 2B={} e={} {}",
-            self.aspect,
-            self.width,
-            self.restitution,
-            self.friction_name()
-        )?;
-        if let Friction::Coulomb { mu_s, mu_k } = self.friction {
-            write!(f, " μs={mu_s} μk={mu_k}")?;
-        }
-        Ok(())
-    }
-}
-
-/// Total order on friction models: infinite first, then Coulomb by (μs, μk).
-pub fn cmp_friction(a: &Friction, b: &Friction) -> Ordering {
-    let key = |f: &Friction| match *f {
-        Friction::Infinite => (0, 0.0, 0.0),
-        Friction::Coulomb { mu_s, mu_k } => (1, mu_s, mu_k),
-    };
-    let (ka, kb) = (key(a), key(b));
-    ka.0.cmp(&kb.0)
-        .then(ka.1.total_cmp(&kb.1))
-        .then(ka.2.total_cmp(&kb.2))
-}
 
 /// A CSV file keyed by the case columns (`outcomes.csv`,
 /// `fragility_curves.csv`), read row by row with line numbers for errors.
@@ -124,9 +42,9 @@ impl OutcomesReader {
     /// Errors: [`Error::Io`] if the file cannot be opened; [`Error::Parse`]
     /// at line 1 for an unreadable header or naming every missing column
     /// and what needs them (`purpose`, e.g. "the fragility fit").
-    pub fn open<const N: usize>(
+    pub fn open<const N: usize, C: AsRef<str>>(
         path: &Path,
-        columns: [&str; N],
+        columns: [C; N],
         purpose: &str,
     ) -> Result<(OutcomesReader, [usize; N])> {
         let file = std::fs::File::open(path).map_err(|source| Error::Io {
@@ -145,7 +63,8 @@ impl OutcomesReader {
         let find = |name: &str| header.iter().position(|h| h == name);
         let missing: Vec<String> = CASE_COLUMNS
             .iter()
-            .chain(&columns)
+            .copied()
+            .chain(columns.iter().map(AsRef::as_ref))
             .filter(|n| find(n).is_none())
             .map(|n| format!("`{n}`"))
             .collect();
@@ -160,7 +79,7 @@ impl OutcomesReader {
             ));
         }
         let case = CASE_COLUMNS.map(|n| find(n).expect("checked above"));
-        let indices = columns.map(|n| find(n).expect("checked above"));
+        let indices = columns.map(|n| find(n.as_ref()).expect("checked above"));
         let (status, error) = (find("status"), find("error"));
         let table = OutcomesReader {
             path: path.to_path_buf(),
@@ -174,9 +93,24 @@ impl OutcomesReader {
         Ok((table, indices))
     }
 
+    /// The file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The header's column names, in the file's order.
+    pub fn header(&self) -> &[String] {
+        &self.header
+    }
+
+    /// An error at `line` of this file.
+    pub fn error_at(&self, line: usize, message: String) -> Error {
+        parse_error(&self.path, line, message)
+    }
+
     /// The index of an optional column.
-    pub fn column(&self, name: &str) -> Option<usize> {
-        self.header.iter().position(|h| h == name)
+    pub fn column(&self, name: impl AsRef<str>) -> Option<usize> {
+        self.header.iter().position(|h| h == name.as_ref())
     }
 
     /// An error at line 1 (the header) of this file.
@@ -265,6 +199,11 @@ impl Row<'_> {
         })
     }
 
+    /// An error at this row's line of the file.
+    pub fn line_error(&self, message: String) -> Error {
+        parse_error(&self.table.path, self.line, message)
+    }
+
     /// An error naming the file, the line, column `i` and its value, and
     /// what was `expected` there.
     pub fn error(&self, i: usize, expected: &str) -> Error {
@@ -335,6 +274,7 @@ fn parse_error(path: &Path, line: usize, message: String) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cmp::Ordering;
 
     const HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,pga,status,error\n";
 

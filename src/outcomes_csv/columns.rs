@@ -1,0 +1,344 @@
+//! The columns of `outcomes.csv`: their one definition.
+//!
+//! [`Column`] names every column the file can have; the lists below give
+//! their order. The writer ([`super::write`]) writes the columns of a
+//! [`Columns`] in the order of [`Columns::list`], and every reader finds
+//! them by [`Column::name`], so a column is added, renamed or moved here
+//! and nowhere else.
+
+use crate::outcome::{Mode, Outcome};
+
+/// One column of `outcomes.csv`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Column {
+    /// Aspect ratio H/B.
+    Aspect,
+    /// Base width 2B (m).
+    Width,
+    /// Coefficient of restitution e.
+    Restitution,
+    /// Friction model: `inf` or `coulomb`.
+    Friction,
+    /// Static friction coefficient μs (empty under `inf`).
+    MuS,
+    /// Kinetic friction coefficient μk (empty under `inf`).
+    MuK,
+    /// Peak ground acceleration (g): the level, or the record's measured peak.
+    Pga,
+    /// Peak ground velocity (m/s): the level, or the record's measured peak.
+    Pgv,
+    /// Record index in the ensemble (0-based).
+    Record,
+    /// The record file as the spec names it (recorded motions only).
+    RecordFile,
+    /// `ok` or `failed`.
+    Status,
+    /// |θ| reached π/2.
+    Overturned,
+    /// Time of overturning (s; empty if none).
+    OverturnTime,
+    /// N reached 0 while rocking at least once.
+    Uplifted,
+    /// Rest was broken.
+    Moved,
+    /// Peak |θ|/θc.
+    ThetaMaxOverThetaC,
+    /// Peak |F|/N while rocking, μ_mot.
+    MuMotion,
+    /// Peak |P_t/P_n| over impacts, μ_imp.
+    MuImpact,
+    /// Corner impacts.
+    Impacts,
+    /// Free-flight phases.
+    Flights,
+    /// Rock → flight lift-offs.
+    Uplifts,
+    /// Lift-offs held because the release was inconsistent.
+    LiftoffHolds,
+    /// Impacts that gained kinetic energy.
+    EnergyGains,
+    /// Ring-down settles.
+    Settles,
+    /// Peak |slip| (m).
+    SlipMax,
+    /// Slip at the end (m, signed).
+    SlipFinal,
+    /// Painlevé holds under finite friction.
+    StickHolds,
+    /// Time at which the analysis ended (s).
+    EndTime,
+    /// Time of the first impact (s; empty if none).
+    FirstImpactTime,
+    /// Time in one mode (s).
+    TimeIn(Mode),
+    /// Right-hand-side evaluations.
+    RhsCalls,
+    /// Accepted Runge–Kutta steps.
+    StepsAccepted,
+    /// Rejected Runge–Kutta steps.
+    StepsRejected,
+    /// Events handled.
+    Events,
+    /// Why the analysis failed (empty if it did not).
+    Error,
+}
+
+/// The case columns: one block configuration ([`super::CaseKey`]).
+pub const CASE: [Column; 6] = [
+    Column::Aspect,
+    Column::Width,
+    Column::Restitution,
+    Column::Friction,
+    Column::MuS,
+    Column::MuK,
+];
+
+/// The case columns' names, in order.
+pub const CASE_COLUMNS: [&str; 6] = [
+    Column::Aspect.name(),
+    Column::Width.name(),
+    Column::Restitution.name(),
+    Column::Friction.name(),
+    Column::MuS.name(),
+    Column::MuK.name(),
+];
+
+/// The record columns after the case (without the optional `record_file`).
+const RECORD: [Column; 3] = [Column::Pga, Column::Pgv, Column::Record];
+
+/// The outcome columns every file has, after `status`.
+pub const OUTCOME: [Column; 18] = [
+    Column::Overturned,
+    Column::OverturnTime,
+    Column::Uplifted,
+    Column::Moved,
+    Column::ThetaMaxOverThetaC,
+    Column::MuMotion,
+    Column::MuImpact,
+    Column::Impacts,
+    Column::Flights,
+    Column::Uplifts,
+    Column::LiftoffHolds,
+    Column::EnergyGains,
+    Column::Settles,
+    Column::SlipMax,
+    Column::SlipFinal,
+    Column::StickHolds,
+    Column::EndTime,
+    Column::FirstImpactTime,
+];
+
+/// The time-in-mode columns (`[output] time_in_mode`), in the order of [`Mode::ALL`].
+pub const TIME_IN_MODE: [Column; 5] = [
+    Column::TimeIn(Mode::Rest),
+    Column::TimeIn(Mode::Slide),
+    Column::TimeIn(Mode::Rock),
+    Column::TimeIn(Mode::SlideRock),
+    Column::TimeIn(Mode::Flight),
+];
+
+/// The solver's work counters (`[output] stats`).
+pub const STATS: [Column; 4] = [
+    Column::RhsCalls,
+    Column::StepsAccepted,
+    Column::StepsRejected,
+    Column::Events,
+];
+
+impl Column {
+    /// The column's name in the header.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Column::Aspect => "aspect",
+            Column::Width => "width",
+            Column::Restitution => "restitution",
+            Column::Friction => "friction",
+            Column::MuS => "mu_s",
+            Column::MuK => "mu_k",
+            Column::Pga => "pga",
+            Column::Pgv => "pgv",
+            Column::Record => "record",
+            Column::RecordFile => "record_file",
+            Column::Status => "status",
+            Column::Overturned => "overturned",
+            Column::OverturnTime => "overturn_time",
+            Column::Uplifted => "uplifted",
+            Column::Moved => "moved",
+            Column::ThetaMaxOverThetaC => "theta_max_over_theta_c",
+            Column::MuMotion => "mu_motion",
+            Column::MuImpact => "mu_impact",
+            Column::Impacts => "impacts",
+            Column::Flights => "flights",
+            Column::Uplifts => "uplifts",
+            Column::LiftoffHolds => "liftoff_holds",
+            Column::EnergyGains => "energy_gains",
+            Column::Settles => "settles",
+            Column::SlipMax => "slip_max",
+            Column::SlipFinal => "slip_final",
+            Column::StickHolds => "stick_holds",
+            Column::EndTime => "end_time",
+            Column::FirstImpactTime => "first_impact_time",
+            Column::TimeIn(Mode::Rest) => "t_rest",
+            Column::TimeIn(Mode::Slide) => "t_slide",
+            Column::TimeIn(Mode::Rock) => "t_rock",
+            Column::TimeIn(Mode::SlideRock) => "t_slide_rock",
+            Column::TimeIn(Mode::Flight) => "t_flight",
+            Column::RhsCalls => "rhs_calls",
+            Column::StepsAccepted => "steps_accepted",
+            Column::StepsRejected => "steps_rejected",
+            Column::Events => "events",
+            Column::Error => "error",
+        }
+    }
+
+    /// Writes this outcome column's value of `o` to `out` (nothing for a
+    /// column that is not an outcome column, or an absent time). Floats use
+    /// Rust's shortest round-trip form.
+    pub fn write_value(self, o: &Outcome, out: &mut String) {
+        use std::fmt::Write;
+        fn opt(out: &mut String, x: Option<f64>) {
+            if let Some(v) = x {
+                let _ = write!(out, "{v}");
+            }
+        }
+        let s = &o.stats;
+        let _ = match self {
+            Column::Overturned => write!(out, "{}", o.overturned),
+            Column::OverturnTime => {
+                opt(out, o.overturn_time);
+                Ok(())
+            }
+            Column::Uplifted => write!(out, "{}", o.uplifted),
+            Column::Moved => write!(out, "{}", o.moved),
+            Column::ThetaMaxOverThetaC => write!(out, "{}", o.theta_max_over_theta_c),
+            Column::MuMotion => write!(out, "{}", o.mu_motion),
+            Column::MuImpact => write!(out, "{}", o.mu_impact),
+            Column::Impacts => write!(out, "{}", o.impacts),
+            Column::Flights => write!(out, "{}", o.flights),
+            Column::Uplifts => write!(out, "{}", o.uplifts),
+            Column::LiftoffHolds => write!(out, "{}", o.liftoff_holds),
+            Column::EnergyGains => write!(out, "{}", o.energy_gains),
+            Column::Settles => write!(out, "{}", o.settles),
+            Column::SlipMax => write!(out, "{}", o.slip_max),
+            Column::SlipFinal => write!(out, "{}", o.slip_final),
+            Column::StickHolds => write!(out, "{}", o.stick_holds),
+            Column::EndTime => write!(out, "{}", o.end_time),
+            Column::FirstImpactTime => {
+                opt(out, o.first_impact_time);
+                Ok(())
+            }
+            Column::TimeIn(mode) => write!(out, "{}", o.time_in_mode[mode.index()]),
+            Column::RhsCalls => write!(out, "{}", s.rhs_calls),
+            Column::StepsAccepted => write!(out, "{}", s.steps_accepted),
+            Column::StepsRejected => write!(out, "{}", s.steps_rejected),
+            Column::Events => write!(out, "{}", s.events),
+            _ => Ok(()),
+        };
+    }
+}
+
+impl AsRef<str> for Column {
+    fn as_ref(&self) -> &str {
+        self.name()
+    }
+}
+
+impl std::fmt::Display for Column {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Which optional columns an `outcomes.csv` has (the study decides: see
+/// `study::columns`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Columns {
+    /// The levels are PGV (else PGA).
+    pub pgv: bool,
+    /// Recorded motions (`record_file` column).
+    pub files: bool,
+    /// Time in each mode.
+    pub time_in_mode: bool,
+    /// Solver work counters.
+    pub stats: bool,
+}
+
+impl Columns {
+    /// The outcome columns of a successful row, in order: [`OUTCOME`], then
+    /// [`TIME_IN_MODE`] and [`STATS`] when present.
+    pub fn outcome(&self) -> Vec<Column> {
+        let mut v = OUTCOME.to_vec();
+        if self.time_in_mode {
+            v.extend(TIME_IN_MODE);
+        }
+        if self.stats {
+            v.extend(STATS);
+        }
+        v
+    }
+
+    /// Every column, in order: the case, the record (and `record_file`),
+    /// `status`, the outcome columns, `error`.
+    pub fn list(&self) -> Vec<Column> {
+        let mut v: Vec<Column> = CASE.into_iter().chain(RECORD).collect();
+        if self.files {
+            v.push(Column::RecordFile);
+        }
+        v.push(Column::Status);
+        v.extend(self.outcome());
+        v.push(Column::Error);
+        v
+    }
+
+    /// Column names, in order.
+    pub fn names(&self) -> Vec<&'static str> {
+        self.list().into_iter().map(Column::name).collect()
+    }
+
+    /// The header line, with its newline.
+    pub fn header(&self) -> String {
+        let mut s = self.names().join(",");
+        s.push('\n');
+        s
+    }
+
+    /// The level's column: `pgv` for PGV studies, else `pga`.
+    pub fn level(&self) -> Column {
+        if self.pgv { Column::Pgv } else { Column::Pga }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_distinct_and_the_header_is_the_documented_one() {
+        let all = Columns {
+            pgv: false,
+            files: true,
+            time_in_mode: true,
+            stats: true,
+        };
+        let names = all.names();
+        let mut sorted = names.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(
+            sorted.len(),
+            names.len(),
+            "duplicate column name in {names:?}"
+        );
+        // The layout documented in the module docs of `outcomes_csv`; files
+        // written before this list existed have exactly this header.
+        assert_eq!(
+            all.header(),
+            "aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,record_file,\
+             status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,\
+             mu_motion,mu_impact,impacts,flights,uplifts,liftoff_holds,energy_gains,\
+             settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,\
+             t_rest,t_slide,t_rock,t_slide_rock,t_flight,\
+             rhs_calls,steps_accepted,steps_rejected,events,error\n"
+        );
+    }
+}

@@ -1,0 +1,41 @@
+//! `outcomes.csv`: the table of per-analysis outcomes that a study writes
+//! and the fragility fit, the figures and `merge` read. One row per
+//! analysis, in the canonical order of units and cases (see
+//! [`crate::study::plan`]).
+//!
+//! Columns, in order (the bracketed ones only when the study uses them):
+//!
+//! ```text
+//! aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,[record_file],
+//! status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,
+//! mu_motion,mu_impact,impacts,flights,uplifts,liftoff_holds,energy_gains,
+//! settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,
+//! [t_rest,t_slide,t_rock,t_slide_rock,t_flight],
+//! [rhs_calls,steps_accepted,steps_rejected,events],error
+//! ```
+//!
+//! - `friction` is `inf` or `coulomb` (then `mu_s`, `mu_k` are set, else empty);
+//! - `pga` (g) and `pgv` (m/s): one is the study's intensity level, the
+//!   other the scaled record's measured peak (PGV for PGA studies, PGA for
+//!   PGV studies), so that fragility can be fitted against either;
+//! - `record` is the ensemble index (0-based); `record_file` the spec's path;
+//! - `status` is `ok` or `failed`; a failed analysis leaves the outcome
+//!   columns empty and says why in `error`;
+//! - absent times (no overturn, no impact) are empty;
+//! - floats use Rust's shortest round-trip form, so the file holds the exact
+//!   `f64` values, and the same run gives the same bytes.
+//!
+//! The columns are defined once, in [`Column`] and the lists [`CASE`],
+//! [`OUTCOME`], [`TIME_IN_MODE`] and [`STATS`]; the writer ([`Columns::write_row`]) and every reader
+//! ([`OutcomesReader`], used by the study's summary, the fragility fit and
+//! the figures) take them from there.
+
+mod case;
+mod columns;
+mod read;
+mod write;
+
+pub use case::{CaseKey, cmp_friction};
+pub use columns::{CASE, CASE_COLUMNS, Column, Columns, OUTCOME, STATS, TIME_IN_MODE};
+pub use read::{OutcomesReader, Row};
+pub use write::RecordInfo;
