@@ -9,11 +9,11 @@
 //! are joined by straight lines and the title says so.
 
 use plotters::coord::Shift;
-use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, Polygon, Text};
+use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
 use plotters::style::{BLACK, Color};
 
 use super::data::{StudyData, distinct, distinct_friction, friction_label};
-use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
+use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{PAGE_WIDTH_IN, Style, tick_label};
 use super::{DrawResult, Figure};
 use crate::outcomes_csv::CaseKey;
@@ -21,6 +21,8 @@ use crate::solver::Friction;
 
 /// Figure height (in), before legend rows beyond the first.
 const HEIGHT_IN: f64 = 2.9;
+/// Panel margins: 24 pt for the y tick labels, 8 pt on the right.
+const MARGINS: Margins = Margins::new(24.0, 8.0);
 /// Opacity of the confidence bands.
 const BAND_ALPHA: f64 = 0.14;
 
@@ -195,26 +197,23 @@ impl Figure for FragilityFigure {
         root: &DrawingArea<DB, Shift>,
         style: &Style,
     ) -> DrawResult<DB> {
-        root.fill(&layout::BACKGROUND)?;
-        let body = layout::title_band(root, style, &self.title)?;
-        let body = layout::legend(&body, style, &self.legend())?;
+        let frame = Frame::new(root, style, &self.title, &self.legend(), MARGINS)?;
         let n = self.panels.len().max(1);
-        let heading = style.ipx(layout::HEADING_PT);
-        let x_area = style.ipx(26.0);
-        let y_area = style.ipx(24.0);
-        let body = layout::side_label(&body, style, "P(overturning)", heading, x_area)?;
+        let body = layout::side_label(
+            &frame.body,
+            style,
+            "P(overturning)",
+            frame.top,
+            frame.x_area,
+        )?;
         let areas = body.split_evenly((1, n));
         let x_max = if self.im_max > 0.0 { self.im_max } else { 1.0 };
         for (panel, area) in self.panels.iter().zip(&areas) {
-            layout::heading(area, style, &panel.label, y_area)?;
-            let mut chart = ChartBuilder::on(area)
-                .margin_top(heading)
-                .margin_right(style.ipx(8.0))
-                .x_label_area_size(x_area)
-                .y_label_area_size(y_area)
+            frame.heading(area, &panel.label)?;
+            let mut chart = frame
+                .chart(area, true)
                 .build_cartesian_2d(0.0..x_max * 1.03, 0.0..1.0)?;
-            let mut mesh = chart.configure_mesh();
-            layout::house_mesh(&mut mesh, style);
+            let mut mesh = layout::mesh(&mut chart, style);
             mesh.x_labels(6).y_labels(6).x_desc("PGA (g)").draw()?;
 
             for s in &panel.series {

@@ -13,12 +13,12 @@
 //! hide this study's means).
 
 use plotters::coord::Shift;
-use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, IntoLogRange};
+use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
 use plotters::style::{BLACK, Color, RGBColor};
 
 use super::data::{StudyData, distinct};
 use super::fragility::restitution_colour;
-use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
+use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
 use super::{DrawResult, Figure};
 use crate::solver::Friction;
@@ -26,6 +26,8 @@ use crate::study::paper::TABLES;
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 3.3;
+/// Panel margins: 30 pt for the y tick labels, 10 pt on the right.
+const MARGINS: Margins = Margins::new(30.0, 10.0);
 /// Horizontal offset of the paper's markers, as a fraction of the B/H axis.
 pub const PAPER_DODGE: f64 = 0.02;
 /// Points on each reference curve.
@@ -237,8 +239,6 @@ impl Figure for FrictionDemandFigure {
         root: &DrawingArea<DB, Shift>,
         style: &Style,
     ) -> DrawResult<DB> {
-        root.fill(&layout::BACKGROUND)?;
-        let body = layout::title_band(root, style, &self.title)?;
         let shared = [
             Entry::new(Sample::Line(BLACK, Dash::Solid), "eq. (8)"),
             Entry::new(Sample::Line(BLACK, Dash::Dashed), "0.75·B/H"),
@@ -251,12 +251,9 @@ impl Figure for FrictionDemandFigure {
                 "paper, Tables 1–3",
             ),
         ];
-        let body = layout::legend(&body, style, &shared)?;
-        let halves = body.split_evenly((1, 2));
+        let frame = Frame::new(root, style, &self.title, &shared, MARGINS)?;
+        let halves = frame.body.split_evenly((1, 2));
         let x_max = self.b_over_h_max * 1.12;
-        let heading = style.ipx(layout::HEADING_PT);
-        let x_area = style.ipx(26.0);
-        let y_area = style.ipx(30.0);
         let reference = |f: &dyn Fn(f64) -> f64, lo: f64| -> Vec<(f64, f64)> {
             (1..=REFERENCE_POINTS)
                 .map(|i| {
@@ -306,16 +303,12 @@ impl Figure for FrictionDemandFigure {
             let (lo, hi) = values.fold((f64::INFINITY, 0.0_f64), |(l, h), v| (l.min(v), h.max(v)));
             let (lo, hi) = if hi > 0.0 { (lo, hi) } else { (0.1, 1.0) };
             if k == 0 {
-                layout::heading(&area, style, "(a) Mean μₘₒₜ, during rocking", y_area)?;
+                frame.heading(&area, "(a) Mean μₘₒₜ, during rocking")?;
                 let y_hi = hi.max(0.75 * x_max) * 1.08;
-                let mut chart = ChartBuilder::on(&area)
-                    .margin_top(heading)
-                    .margin_right(style.ipx(10.0))
-                    .x_label_area_size(x_area)
-                    .y_label_area_size(y_area)
+                let mut chart = frame
+                    .chart(&area, true)
                     .build_cartesian_2d(0.0..x_max, 0.0..y_hi)?;
-                let mut mesh = chart.configure_mesh();
-                layout::house_mesh(&mut mesh, style);
+                let mut mesh = layout::mesh(&mut chart, style);
                 mesh.x_labels(7).y_labels(7).x_desc("B/H").draw()?;
                 curve!(chart, reference(&eq8, 0.0), ref_style, Dash::Solid, style);
                 curve!(
@@ -327,21 +320,12 @@ impl Figure for FrictionDemandFigure {
                 );
                 draw_series_set!(chart, series, style, x_max * PAPER_DODGE);
             } else {
-                layout::heading(
-                    &area,
-                    style,
-                    "(b) Mean μᵢₘₚ, at impacts (log scale)",
-                    y_area,
-                )?;
+                frame.heading(&area, "(b) Mean μᵢₘₚ, at impacts (log scale)")?;
                 let y_lo = lo.min(eq8(self.b_over_h_max)) * 0.6;
-                let mut chart = ChartBuilder::on(&area)
-                    .margin_top(heading)
-                    .margin_right(style.ipx(10.0))
-                    .x_label_area_size(x_area)
-                    .y_label_area_size(y_area)
+                let mut chart = frame
+                    .chart(&area, true)
                     .build_cartesian_2d(0.0..x_max, (y_lo..hi * 1.6).log_scale())?;
-                let mut mesh = chart.configure_mesh();
-                layout::house_mesh(&mut mesh, style);
+                let mut mesh = layout::mesh(&mut chart, style);
                 mesh.x_labels(7)
                     .y_label_formatter(&|v| layout::log_tick_label(*v))
                     .x_desc("B/H")

@@ -9,10 +9,10 @@
 //! axis is zoomed to the active part of the record.
 
 use plotters::coord::Shift;
-use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, Rectangle};
+use plotters::prelude::{DrawingArea, DrawingBackend, Rectangle};
 use plotters::style::{BLACK, Color, RGBColor};
 
-use super::layout::{self, Dash, Entry, Sample, curve};
+use super::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
 use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
 use super::{DrawResult, Figure};
 use crate::error::Result;
@@ -22,6 +22,8 @@ use crate::solver::{Analysis, Block, Friction, History, SolverSettings, simulate
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 3.3;
+/// Panel margins: 34 pt for the y tick labels, 10 pt on the right.
+const MARGINS: Margins = Margins::new(34.0, 10.0);
 /// Shortest time in a mode that counts as showing it (s).
 pub const MIN_MODE_S: f64 = 0.01;
 /// Time shown before the first motion and after the last (s).
@@ -244,22 +246,16 @@ impl Figure for HistoryFigure {
         root: &DrawingArea<DB, Shift>,
         style: &Style,
     ) -> DrawResult<DB> {
-        root.fill(&layout::BACKGROUND)?;
-        let body = layout::title_band(root, style, &self.title)?;
         let mut entries: Vec<Entry> = Mode::ALL
             .iter()
             .map(|&m| Entry::new(Sample::Block(mode_colour(m)), m.name()))
             .collect();
         entries.push(Entry::new(Sample::Tick(BLACK), "impact"));
-        let body = layout::legend(&body, style, &entries)?;
+        let frame = Frame::new(root, style, &self.title, &entries, MARGINS)?;
 
-        let heading = style.ipx(layout::HEADING_PT);
-        let x_area = style.ipx(26.0);
-        let y_area = style.ipx(34.0);
-        let right = style.ipx(10.0);
-        let (_, h) = body.dim_in_pixel();
-        let plot_h = h.saturating_sub(x_area + 2 * heading);
-        let (top, bottom) = body.split_vertically(heading + plot_h * 2 / 5);
+        let (_, h) = frame.body.dim_in_pixel();
+        let plot_h = h.saturating_sub(frame.x_area + 2 * frame.top);
+        let (top, bottom) = frame.body.split_vertically(frame.top + plot_h * 2 / 5);
         let (t0, t1) = self.window;
 
         let panels = [
@@ -268,14 +264,11 @@ impl Figure for HistoryFigure {
         ];
         for (k, (area, label, data)) in panels.into_iter().enumerate() {
             let last = k == 1;
-            layout::heading(area, style, label, y_area)?;
+            frame.heading(area, label)?;
             let peak = data.iter().fold(0.0_f64, |m, &(_, y)| m.max(y.abs()));
             let y_max = if peak > 0.0 { 1.12 * peak } else { 1.0 };
-            let mut chart = ChartBuilder::on(area)
-                .margin_top(heading)
-                .margin_right(right)
-                .y_label_area_size(y_area)
-                .x_label_area_size(if last { x_area } else { 0 })
+            let mut chart = frame
+                .chart(area, last)
                 .build_cartesian_2d(t0..t1, -y_max..y_max)?;
             chart.draw_series(self.intervals.iter().map(|iv| {
                 Rectangle::new(
@@ -283,8 +276,7 @@ impl Figure for HistoryFigure {
                     mode_colour(iv.mode).filled(),
                 )
             }))?;
-            let mut mesh = chart.configure_mesh();
-            layout::house_mesh(&mut mesh, style);
+            let mut mesh = layout::mesh(&mut chart, style);
             mesh.x_labels(10).y_labels(5).disable_x_mesh();
             if last {
                 mesh.x_desc("Time (s)");

@@ -1,4 +1,5 @@
-//! Building blocks shared by the study figures: title bands, legends drawn
+//! Building blocks shared by the study figures: the [`Frame`] every study
+//! figure starts from (title band, legend and panel margins), legends drawn
 //! above the panels, panel headings, the house mesh, line dashes and point
 //! markers.
 //!
@@ -6,10 +7,11 @@
 //! never as polylines, and every line *sample* is black: the only coloured
 //! polylines in a figure are its data curves, which keeps them countable.
 
-use plotters::chart::MeshStyle;
+use plotters::chart::{ChartBuilder, ChartContext, MeshStyle};
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
-use plotters::prelude::{Circle, DrawingArea, DrawingBackend, Rectangle};
+use plotters::drawing::DrawingAreaErrorKind;
+use plotters::prelude::{Cartesian2d, Circle, DrawingArea, DrawingBackend, Rectangle};
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{Color, FontTransform, RGBColor, ShapeStyle, WHITE};
 
@@ -22,6 +24,8 @@ pub const TITLE_BAND_PT: f64 = 16.0;
 pub const LEGEND_ROW_PT: f64 = 12.0;
 /// Room above a panel for its heading (pt).
 pub const HEADING_PT: f64 = 13.0;
+/// Room below a panel for its x tick labels and axis description (pt).
+pub const X_AREA_PT: f64 = 26.0;
 /// Length of a legend line sample (pt).
 const SAMPLE_PT: f64 = 16.0;
 /// Gap between legend entries (pt).
@@ -119,6 +123,92 @@ impl Entry {
     }
 }
 
+/// The scaffolding every study figure starts from: the canvas filled with
+/// [`BACKGROUND`], the title in a band across the top ([`title_band`]), the
+/// legend below it ([`legend`]), and the margins its panels share.
+pub struct Frame<DB: DrawingBackend> {
+    /// What is left below the title and the legend, for the panels.
+    pub body: DrawingArea<DB, Shift>,
+    /// Room above a panel for its heading (px, [`HEADING_PT`]).
+    pub top: u32,
+    /// Room below a panel for its x-axis labels (px, [`X_AREA_PT`]).
+    pub x_area: u32,
+    /// Room left of a panel for its y-axis labels (px).
+    pub y_area: u32,
+    /// Room right of a panel (px), for half its last x tick label.
+    pub right: u32,
+    style: Style,
+}
+
+/// The margins of a figure's panels that differ between figures (pt); the
+/// heading room ([`HEADING_PT`]) and the x-axis label room ([`X_AREA_PT`])
+/// are the same in all.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Margins {
+    /// Room left of a panel for its y tick labels.
+    pub y_area_pt: f64,
+    /// Room right of a panel, for half its last x tick label.
+    pub right_pt: f64,
+}
+
+impl Margins {
+    /// `y_area_pt` for the y tick labels and `right_pt` on the right.
+    pub const fn new(y_area_pt: f64, right_pt: f64) -> Margins {
+        Margins {
+            y_area_pt,
+            right_pt,
+        }
+    }
+}
+
+impl<DB: DrawingBackend> Frame<DB> {
+    /// Fills `root`, writes `title` and the legend `entries` at its top and
+    /// returns the frame of what is left, whose panels get `margins`.
+    pub fn new(
+        root: &DrawingArea<DB, Shift>,
+        style: &Style,
+        title: &str,
+        entries: &[Entry],
+        margins: Margins,
+    ) -> Result<Frame<DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+        root.fill(&BACKGROUND)?;
+        let body = title_band(root, style, title)?;
+        let body = legend(&body, style, entries)?;
+        Ok(Frame {
+            body,
+            top: style.ipx(HEADING_PT),
+            x_area: style.ipx(X_AREA_PT),
+            y_area: style.ipx(margins.y_area_pt),
+            right: style.ipx(margins.right_pt),
+            style: *style,
+        })
+    }
+
+    /// Writes a panel heading at the top left of `area`, lined up with the
+    /// plot's left edge (see [`heading`]).
+    pub fn heading(&self, area: &DrawingArea<DB, Shift>, text: &str) -> DrawResult<DB> {
+        heading(area, &self.style, text, self.y_area)
+    }
+
+    /// A chart builder on `area` with the frame's margins: room for a
+    /// heading above, for y-axis labels on the left, the right margin, and
+    /// room for x-axis labels below if `x_labels` (a panel stacked above
+    /// another has none).
+    pub fn chart<'a, 'b>(
+        &self,
+        area: &'a DrawingArea<DB, Shift>,
+        x_labels: bool,
+    ) -> ChartBuilder<'a, 'b, DB> {
+        let mut builder = ChartBuilder::on(area);
+        builder
+            .margin_top(self.top)
+            .margin_right(self.right)
+            .x_label_area_size(if x_labels { self.x_area } else { 0 })
+            .y_label_area_size(self.y_area);
+        builder
+    }
+}
+
 /// Splits a title band off the top of `area`, writes `title` centred in it
 /// and returns the rest. A title wider than the area is broken after its
 /// last `; ` or `, ` that lets the first line fit, into a band of two lines.
@@ -126,7 +216,7 @@ pub fn title_band<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     style: &Style,
     title: &str,
-) -> Result<DrawingArea<DB, Shift>, plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
     let font = style.title_font();
     let (width, _) = area.dim_in_pixel();
     let fits = |t: &str| {
@@ -206,7 +296,7 @@ pub fn legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     style: &Style,
     entries: &[Entry],
-) -> Result<DrawingArea<DB, Shift>, plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
     legend_in_rows(area, style, entries, 0)
 }
 
@@ -217,7 +307,7 @@ pub fn legend_in_rows<DB: DrawingBackend>(
     style: &Style,
     entries: &[Entry],
     min_rows: usize,
-) -> Result<DrawingArea<DB, Shift>, plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
     let rows = layout_legend(area, style, entries);
     let row_h = style.px(LEGEND_ROW_PT);
     let n_rows = rows.len().max(min_rows);
@@ -376,6 +466,22 @@ pub fn heading<DB: DrawingBackend>(
     )
 }
 
+/// The house mesh of `chart` ([`house_mesh`]), for the caller to add its
+/// tick counts and axis descriptions and draw.
+pub fn mesh<'a, 'b, X, Y, DB>(
+    chart: &'b mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    style: &Style,
+) -> MeshStyle<'a, 'b, X, Y, DB>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    DB: DrawingBackend,
+{
+    let mut mesh = chart.configure_mesh();
+    house_mesh(&mut mesh, style);
+    mesh
+}
+
 /// Applies the house mesh: black axes, light grid at the labelled ticks only,
 /// small ticks, compact tick labels ([`tick_label`]) and the label font.
 pub fn house_mesh<'a, 'b, X, Y, DB>(mesh: &mut MeshStyle<'a, 'b, X, Y, DB>, style: &Style)
@@ -458,7 +564,7 @@ pub fn side_label<DB: DrawingBackend>(
     text: &str,
     top: u32,
     bottom: u32,
-) -> Result<DrawingArea<DB, Shift>, plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
     let (strip, rest) = area.split_horizontally(style.ipx(SIDE_LABEL_PT));
     let (w, h) = strip.dim_in_pixel();
     let yc = (top as i32 + (h as i32 - bottom as i32)) / 2;
@@ -526,6 +632,37 @@ pub(crate) use markers;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use plotters::prelude::{BitMapBackend, IntoDrawingArea};
+    use plotters::style::BLACK;
+
+    #[test]
+    fn frame_body_and_panel_margins_are_the_house_sizes_in_pixels() {
+        // At 200 px/in (1 pt = 25/9 px) a one-line title band is 16 pt =
+        // 44 px and a one-row legend 12 pt = 33 px: the body is the rest of
+        // a 700 × 400 px canvas, full width. A panel's plot starts 13 pt =
+        // 36 px below its area's top (its heading) and 30 pt = 83 px in from
+        // its left (its y labels, as asked); with x labels it stops 26 pt =
+        // 72 px higher than without. Pixel counts are whole: exact equality.
+        crate::figures::font::register().unwrap();
+        let mut buffer = vec![0u8; 700 * 400 * 3];
+        let root = BitMapBackend::with_buffer(&mut buffer, (700, 400)).into_drawing_area();
+        let entries = [Entry::new(Sample::Line(BLACK, Dash::Solid), "a line")];
+        let margins = Margins::new(30.0, 10.0);
+        let frame = Frame::new(&root, &Style::SVG, "Title", &entries, margins).unwrap();
+        assert_eq!(frame.body.dim_in_pixel(), (700, 400 - 44 - 33));
+        let plot = |x_labels: bool| {
+            let chart = frame
+                .chart(&frame.body, x_labels)
+                .build_cartesian_2d(0.0..1.0, 0.0..1.0)
+                .unwrap();
+            chart.plotting_area().get_pixel_range()
+        };
+        let ((x, y), (_, y_bare)) = (plot(true), plot(false));
+        assert_eq!(y.start, 44 + 33 + 36);
+        assert_eq!(x.start, 83);
+        assert_eq!(x.end, 700 - 28);
+        assert_eq!(y_bare.end - y.end, 72);
+    }
 
     #[test]
     fn log_ticks_label_only_one_two_five_decades() {

@@ -6,7 +6,8 @@ use plotters::coord::Shift;
 use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, LineSeries, WHITE};
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::style::{COLUMN_WIDTH_IN, Style, tick_label};
+use super::layout;
+use super::style::{COLUMN_WIDTH_IN, Style};
 use super::{DrawResult, Figure, save};
 use crate::error::Result;
 use crate::motion::{G_STANDARD, Record};
@@ -110,17 +111,8 @@ impl Figure for RecordFigure<'_> {
                 .y_label_area_size(y_area)
                 .x_label_area_size(if last { x_area } else { 0 })
                 .build_cartesian_2d(0.0..r.duration(), -y_max..y_max)?;
-            let mut mesh = chart.configure_mesh();
-            mesh.axis_style(style.axis())
-                .bold_line_style(style.grid())
-                .max_light_lines(0)
-                .set_all_tick_mark_size(style.ipx(2.5))
-                .label_style(style.tick_font())
-                .axis_desc_style(style.label_font())
-                .x_labels(7)
-                .y_labels(5)
-                .x_label_formatter(&|v| tick_label(*v))
-                .y_label_formatter(&|v| tick_label(*v));
+            let mut mesh = layout::mesh(&mut chart, style);
+            mesh.x_labels(7).y_labels(5);
             if last {
                 mesh.x_desc("Time (s)");
             }

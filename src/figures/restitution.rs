@@ -11,12 +11,12 @@
 //! only the former (the `overturned` column).
 
 use plotters::coord::Shift;
-use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend};
+use plotters::prelude::{DrawingArea, DrawingBackend};
 use plotters::style::{BLACK, Color};
 
 use super::data::{StudyData, distinct, distinct_friction, friction_label};
 use super::friction::{level_colour, shown_levels};
-use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
+use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
 use super::{DrawResult, Figure};
 use crate::outcomes_csv::CaseKey;
@@ -25,6 +25,10 @@ use crate::study::paper::{RECORDS, TABLES};
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 4.6;
+/// Panel margins: 28 pt for the y tick labels, 8 pt on the right.
+const MARGINS: Margins = Margins::new(28.0, 8.0);
+/// Gap between the two rows of panels (pt).
+const ROW_GAP_PT: f64 = 6.0;
 
 /// One line: a PGA level under one friction model, over e.
 #[derive(Clone, Debug, PartialEq)]
@@ -211,17 +215,13 @@ impl Figure for RestitutionFigure {
         root: &DrawingArea<DB, Shift>,
         style: &Style,
     ) -> DrawResult<DB> {
-        root.fill(&layout::BACKGROUND)?;
-        let body = layout::title_band(root, style, &self.title)?;
-        let body = layout::legend(&body, style, &self.legend())?;
+        let frame = Frame::new(root, style, &self.title, &self.legend(), MARGINS)?;
         let n = self.panels.len().max(1);
-        let heading = style.ipx(layout::HEADING_PT);
-        let x_area = style.ipx(26.0);
-        let y_area = style.ipx(28.0);
-        let gap = style.ipx(6.0);
-        let (_, h) = body.dim_in_pixel();
+        let (heading, x_area) = (frame.top, frame.x_area);
+        let gap = style.ipx(ROW_GAP_PT);
+        let (_, h) = frame.body.dim_in_pixel();
         let plot_h = h.saturating_sub(x_area + heading + gap) / 2;
-        let (top, bottom) = body.split_vertically(heading + plot_h);
+        let (top, bottom) = frame.body.split_vertically(heading + plot_h);
         let top = layout::side_label(&top, style, "P(overturning)", heading, 0)?;
         let bottom = layout::side_label(&bottom, style, "Mean θmax/θc", gap, x_area)?;
         let theta_max = self
@@ -243,18 +243,16 @@ impl Figure for RestitutionFigure {
         for (row, area_row) in [top, bottom].iter().enumerate() {
             let cells = area_row.split_evenly((1, n));
             for (panel, area) in self.panels.iter().zip(&cells) {
+                let mut builder = frame.chart(area, row == 1);
                 if row == 0 {
-                    layout::heading(area, style, &panel.label, y_area)?;
+                    frame.heading(area, &panel.label)?;
+                } else {
+                    // the bottom row has no headings: only a gap above it
+                    builder.margin_top(gap);
                 }
                 let y_hi = if row == 0 { 1.0 } else { theta_top };
-                let mut chart = ChartBuilder::on(area)
-                    .margin_top(if row == 0 { heading } else { gap })
-                    .margin_right(style.ipx(8.0))
-                    .x_label_area_size(if row == 1 { x_area } else { 0 })
-                    .y_label_area_size(y_area)
-                    .build_cartesian_2d(x_range.clone(), 0.0..y_hi)?;
-                let mut mesh = chart.configure_mesh();
-                layout::house_mesh(&mut mesh, style);
+                let mut chart = builder.build_cartesian_2d(x_range.clone(), 0.0..y_hi)?;
+                let mut mesh = layout::mesh(&mut chart, style);
                 mesh.x_labels(6).y_labels(6);
                 if row == 1 {
                     mesh.x_desc("Coefficient of restitution e");

@@ -15,12 +15,12 @@
 //!   smoothing by the envelope.
 
 use plotters::coord::Shift;
-use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, IntoLogRange};
+use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
 use plotters::style::{BLACK, Color};
 use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 
-use super::layout::{self, Dash, Entry, Marker, Sample, curve, markers};
+use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{COLUMN_WIDTH_IN, PALETTE, Style};
 use super::{DrawResult, Figure};
 use crate::error::Result;
@@ -28,6 +28,8 @@ use crate::motion::{SynthesisSettings, Synthesizer};
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 2.9;
+/// Panel margins: 33 pt for the y tick labels, 10 pt on the right.
+const MARGINS: Margins = Margins::new(33.0, 10.0);
 /// Markers per decade for the stationary estimate (thinned on a log grid).
 const MARKERS_PER_DECADE: f64 = 12.0;
 /// Points of the target curve.
@@ -146,8 +148,6 @@ impl Figure for SpectrumFigure {
         root: &DrawingArea<DB, Shift>,
         style: &Style,
     ) -> DrawResult<DB> {
-        root.fill(&layout::BACKGROUND)?;
-        let body = layout::title_band(root, style, &self.title)?;
         let entries = [
             Entry::new(Sample::Line(BLACK, Dash::Solid), "target S(f), eq. (6)"),
             Entry::new(
@@ -156,10 +156,8 @@ impl Figure for SpectrumFigure {
             ),
             Entry::new(Sample::Line(PALETTE[1], Dash::Solid), "records, rescaled"),
         ];
-        let body = layout::legend(&body, style, &entries)?;
-        let x_area = style.ipx(26.0);
-        let y_area = style.ipx(33.0);
-        layout::heading(&body, style, "One-sided PSD ((m/s²)²/Hz)", y_area)?;
+        let frame = Frame::new(root, style, &self.title, &entries, MARGINS)?;
+        frame.heading(&frame.body, "One-sided PSD ((m/s²)²/Hz)")?;
 
         let all = self
             .target
@@ -174,17 +172,11 @@ impl Figure for SpectrumFigure {
             }
         }
         let (f_lo, f_hi) = (self.target[0].0, self.target[self.target.len() - 1].0);
-        let mut chart = ChartBuilder::on(&body)
-            .margin_top(style.ipx(layout::HEADING_PT))
-            .margin_right(style.ipx(10.0))
-            .x_label_area_size(x_area)
-            .y_label_area_size(y_area)
-            .build_cartesian_2d(
-                (f_lo..f_hi).log_scale(),
-                (y_lo * 0.5..y_hi * 2.0).log_scale(),
-            )?;
-        let mut mesh = chart.configure_mesh();
-        layout::house_mesh(&mut mesh, style);
+        let mut chart = frame.chart(&frame.body, true).build_cartesian_2d(
+            (f_lo..f_hi).log_scale(),
+            (y_lo * 0.5..y_hi * 2.0).log_scale(),
+        )?;
+        let mut mesh = layout::mesh(&mut chart, style);
         mesh.x_label_formatter(&|v| layout::log_tick_label(*v))
             .y_label_formatter(&|v| layout::log_tick_label(*v))
             .x_desc("Frequency (Hz)")
