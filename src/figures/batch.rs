@@ -20,12 +20,13 @@
 use std::path::{Path, PathBuf};
 
 use super::data::StudyData;
+use super::figure::{Figure, Format, save};
 use super::fragility::FragilityFigure;
 use super::friction::FrictionDemandFigure;
 use super::history::{HistoryCase, HistoryFigure};
+use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
 use super::spectrum::SpectrumFigure;
-use super::{Figure, Format, plot_record, save};
 use crate::error::{Error, Result};
 use crate::motion::{SynthesisSettings, Synthesizer};
 use crate::spec::{Motions, Study};

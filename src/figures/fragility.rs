@@ -13,9 +13,9 @@ use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
 use plotters::style::{BLACK, Color};
 
 use super::data::{StudyData, distinct, distinct_friction, friction_label};
+use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{PAGE_WIDTH_IN, Style, tick_label};
-use super::{DrawResult, Figure};
 use crate::outcomes_csv::CaseKey;
 use crate::solver::Friction;
 

@@ -17,10 +17,10 @@ use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
 use plotters::style::{BLACK, Color, RGBColor};
 
 use super::data::{StudyData, distinct};
+use super::figure::{DrawResult, Figure};
 use super::fragility::restitution_colour;
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
-use super::{DrawResult, Figure};
 use crate::solver::Friction;
 use crate::study::paper::TABLES;
 

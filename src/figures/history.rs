@@ -12,9 +12,9 @@ use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, Rectangle};
 use plotters::style::{BLACK, Color, RGBColor};
 
+use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
 use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
-use super::{DrawResult, Figure};
 use crate::error::Result;
 use crate::motion::{SynthesisSettings, Synthesizer};
 use crate::outcome::{Mode, Outcome};

@@ -15,7 +15,7 @@ use plotters::prelude::{Cartesian2d, Circle, DrawingArea, DrawingBackend, Rectan
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{Color, FontTransform, RGBColor, ShapeStyle, WHITE};
 
-use super::DrawResult;
+use super::figure::DrawResult;
 use super::style::{LINE_PT, Style, tick_label};
 
 /// Height of a title band (pt).

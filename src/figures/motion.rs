@@ -6,9 +6,9 @@ use plotters::coord::Shift;
 use plotters::prelude::{ChartBuilder, DrawingArea, DrawingBackend, LineSeries, WHITE};
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use super::figure::{DrawResult, Figure, save};
 use super::layout;
 use super::style::{COLUMN_WIDTH_IN, Style};
-use super::{DrawResult, Figure, save};
 use crate::error::Result;
 use crate::motion::{G_STANDARD, Record};
 

@@ -15,10 +15,10 @@ use plotters::prelude::{DrawingArea, DrawingBackend};
 use plotters::style::{BLACK, Color};
 
 use super::data::{StudyData, distinct, distinct_friction, friction_label};
+use super::figure::{DrawResult, Figure};
 use super::friction::{level_colour, shown_levels};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
-use super::{DrawResult, Figure};
 use crate::outcomes_csv::CaseKey;
 use crate::solver::Friction;
 use crate::study::paper::{RECORDS, TABLES};

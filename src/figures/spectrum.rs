@@ -20,9 +20,9 @@ use plotters::style::{BLACK, Color};
 use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 
+use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{COLUMN_WIDTH_IN, PALETTE, Style};
-use super::{DrawResult, Figure};
 use crate::error::Result;
 use crate::motion::{SynthesisSettings, Synthesizer};
 

@@ -9,8 +9,8 @@ use plotters::prelude::{
 };
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use super::figure::{DrawResult, Figure, save};
 use super::style::{COLUMN_WIDTH_IN, Style, tick_label};
-use super::{DrawResult, Figure, save};
 use crate::bench::SettingReport;
 use crate::error::Result;
 use crate::solver::{Integrator, Model};
