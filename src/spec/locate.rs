@@ -1,0 +1,154 @@
+//! Where a field is written: the line numbers of spec errors
+//! (`file:line: field: message`), found in the spec's text.
+
+use crate::error::Error;
+use std::fmt::Display;
+use std::path::Path;
+
+/// The spec being validated, as its errors name it: its text (to find the
+/// line of a field) and its path.
+pub(super) struct Origin<'a> {
+    /// The spec's text.
+    pub(super) text: &'a str,
+    /// The spec's path.
+    pub(super) origin: &'a Path,
+}
+
+impl Origin<'_> {
+    /// A bad value: the field's path in the spec, the value as given and what
+    /// would have been accepted.
+    pub(super) fn bad(&self, field: &str, value: &dyn Display, expected: &str) -> Error {
+        Error::Spec {
+            path: self.origin.to_path_buf(),
+            line: locate(self.text, field),
+            field: field.to_string(),
+            value: value.to_string(),
+            expected: expected.to_string(),
+        }
+    }
+
+    /// Re-labels an error of an embedded settings struct, whose field is
+    /// named relative to its table, with `prefix` (`"solver."`, or `""` when
+    /// the field is already a full spec path) and the spec's file and line.
+    pub(super) fn nested(&self, prefix: &str, err: Error) -> Error {
+        match err {
+            Error::InvalidParameter {
+                field,
+                value,
+                expected,
+            } => self.bad(&format!("{prefix}{field}"), &value, &expected),
+            other => other,
+        }
+    }
+}
+
+/// Line (1-based) of the table header `[a.b]` in `text`, or `None`.
+fn header_line(lines: &[&str], table: &str) -> Option<usize> {
+    lines.iter().position(|l| {
+        let t = l.trim();
+        t.strip_prefix('[')
+            .and_then(|t| t.split(']').next())
+            .map(|h| h.trim().trim_start_matches('[').trim() == table)
+            .unwrap_or(false)
+    })
+}
+
+/// Whether `line` assigns `key` (`key = …` or `key.sub = …`).
+fn assigns(line: &str, key: &str) -> bool {
+    line.trim_start()
+        .strip_prefix(key)
+        .map(|rest| {
+            let rest = rest.trim_start();
+            rest.starts_with('=') || rest.starts_with('.')
+        })
+        .unwrap_or(false)
+}
+
+/// Best-effort line of a field path such as `grid.friction[1].mu_k` in the
+/// spec text: the line assigning the deepest key found under its table
+/// header, else the header itself; 0 if not written.
+fn locate(text: &str, field: &str) -> usize {
+    let lines: Vec<&str> = text.lines().collect();
+    let parts: Vec<&str> = field
+        .split('.')
+        .map(|p| p.split('[').next().unwrap_or(p))
+        .collect();
+    for split in (0..parts.len()).rev() {
+        let table = parts[..split].join(".");
+        let (start, header) = if table.is_empty() {
+            (0, None)
+        } else {
+            match header_line(&lines, &table) {
+                Some(h) => (h + 1, Some(h)),
+                None => continue,
+            }
+        };
+        let end = lines[start..]
+            .iter()
+            .position(|l| l.trim_start().starts_with('['))
+            .map_or(lines.len(), |p| start + p);
+        let key = parts[split];
+        if let Some(p) = lines[start..end].iter().position(|l| assigns(l, key)) {
+            return start + p + 1;
+        }
+        if let Some(h) = header {
+            return h + 1;
+        }
+    }
+    0
+}
+
+/// The line (1-based) of byte `offset` and the dotted key path written there
+/// (its table header plus the key on that line), for TOML errors.
+pub(super) fn key_at(text: &str, offset: usize) -> (usize, String) {
+    let offset = offset.min(text.len());
+    let before = &text[..offset];
+    let line_no = before.matches('\n').count() + 1;
+    let mut table = String::new();
+    for l in before.lines() {
+        let t = l.trim();
+        if let Some(h) = t.strip_prefix('[') {
+            table = h
+                .trim_start_matches('[')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string();
+        }
+    }
+    let line = text.lines().nth(line_no - 1).unwrap_or("");
+    let key = line
+        .split_once('=')
+        .map(|(k, _)| k.trim())
+        .filter(|k| !k.is_empty() && !k.starts_with('['))
+        .unwrap_or("");
+    let path = match (table.is_empty(), key.is_empty()) {
+        (true, _) => key.to_string(),
+        (false, true) => table,
+        (false, false) => format!("{table}.{key}"),
+    };
+    (line_no, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locate_finds_keys_under_their_table() {
+        let text = "name = \"x\"\n[grid]\nwidth = [1]\naspect = [2, -1]\n[solver]\nrtol = 2\n";
+        assert_eq!(locate(text, "name"), 1);
+        assert_eq!(locate(text, "grid.aspect[1]"), 4);
+        assert_eq!(locate(text, "solver.rtol"), 6);
+        assert_eq!(locate(text, "solver.atol"), 5);
+        assert_eq!(locate(text, "records"), 0);
+    }
+
+    #[test]
+    fn key_at_names_table_and_key() {
+        let text = "[grid]\naspct = [2]\n";
+        let off = text.find("aspct").unwrap();
+        assert_eq!(key_at(text, off), (2, "grid.aspct".to_string()));
+    }
+}

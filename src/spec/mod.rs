@@ -1,0 +1,43 @@
+//! Study specs: the TOML file a user writes once and runs anywhere.
+//!
+//! This is the only module that knows about TOML. A spec is read in two
+//! stages, like ripgrep's `LowArgs` → `HiArgs`: serde reads the text into the
+//! raw [`SpecFile`] (every field has a default, unknown fields are errors),
+//! then [`SpecFile::validate`] checks every value once and builds the
+//! validated [`Study`], which nothing downstream re-checks. Every error names
+//! the file, the line, the field path (e.g. `grid.aspect[2]`) and the accepted
+//! range.
+//!
+//! ```toml
+//! name = "example"            # default: the file's stem
+//! seed = 7                    # ensemble seed (default: 1)
+//! records = 25                # synthetic records per intensity level (default: 25)
+//! # record_files = ["motions/elcentro.AT2"]   # or recorded motions instead
+//!
+//! [motion]                    # SynthesisSettings (default: the paper's firm soil)
+//! duration = 30.0
+//!
+//! [grid]
+//! width = [0.5]               # base width 2B, m
+//! aspect = [2, 4, 6]          # H/B
+//! restitution = [0.0, 0.6]    # e
+//! friction = ["inf", { mu_s = 0.7, mu_k = 0.6 }]
+//! pga = [0.3, 0.6]            # g; or pgv = [0.2, 0.4] in m/s
+//!
+//! [solver]                    # SolverSettings (default: nonlinear, rtol 1e-8, …)
+//! [output]
+//! summary = true
+
+mod locate;
+mod raw;
+mod study;
+mod validate;
+
+pub use raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
+pub use study::{Intensity, Motions, RecordFile, Study, fnv1a64, friction_label};
+
+/// The paper's study (Shenton and Jones), the default of `rockfrag run`.
+pub const SHENTON_JONES_TOML: &str = include_str!("../../studies/shenton-jones.toml");
+
+/// Name used in messages for the embedded paper study.
+pub const SHENTON_JONES_ORIGIN: &str = "shenton-jones.toml (built-in)";

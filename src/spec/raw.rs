@@ -1,0 +1,218 @@
+//! The raw stage: a spec as written, read by serde. Every field has a
+//! default and unknown fields are errors; nothing here checks a value's range
+//! (that is [`SpecFile::validate`]'s job).
+
+use super::locate::key_at;
+use crate::error::{Error, Result};
+use crate::fragility::FragilityOptions;
+use crate::motion::SynthesisSettings;
+use crate::solver::{Friction, SolverSettings};
+use serde::de::{self, MapAccess, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::path::Path;
+
+/// A study spec as written (raw stage): every field optional with a
+/// documented default. Turned into a [`Study`](super::Study) by [`SpecFile::validate`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SpecFile {
+    /// Study name; the default output directory is `results/<name>/`
+    /// (default: the spec file's stem). Letters, digits, `.`, `_`, `-`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Free text, copied to the manifest and the summary (default: empty).
+    pub description: String,
+    /// Gravity, m/s², for the blocks, for intensities in g and for `.AT2`
+    /// files (default: 9.81). `motion.g`, if written, must agree.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g: Option<f64>,
+    /// Ensemble seed of the synthetic records (default: 1). Record i is a pure
+    /// function of (seed, i).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// Synthetic records per intensity level (default: 25).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub records: Option<usize>,
+    /// Recorded motions (`.AT2` in g or `.csv` in m/s²), paths relative to
+    /// the spec file; when given, they replace the synthetic ensemble and
+    /// `seed`, `records` and `[motion]` must be left out (default: none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub record_files: Vec<String>,
+    /// Stochastic ground-motion model (default: the paper's section 4).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub motion: Option<SynthesisSettings>,
+    /// The grids of the study.
+    pub grid: GridFile,
+    /// Numerical settings of the solver (default: `SolverSettings::default()`).
+    pub solver: SolverSettings,
+    /// What to write.
+    pub output: OutputFile,
+    /// Fit fragility curves when the run completes (`fragility.csv`,
+    /// `fragility_curves.csv`, `fragility.xml`), with these settings; an
+    /// empty `[fragility]` table takes every default (default: no fit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fragility: Option<FragilityOptions>,
+}
+
+/// The `[grid]` table: every combination of its values is analysed under
+/// every record at every intensity level.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GridFile {
+    /// Base widths 2B, m (default: `[0.5]`).
+    pub width: Vec<f64>,
+    /// Aspect ratios H/B (default: `[2, 4, 6]`).
+    pub aspect: Vec<f64>,
+    /// Coefficients of restitution e in [0, 1] (default: `[0, 0.3, 0.6, 0.9]`).
+    pub restitution: Vec<f64>,
+    /// Friction models: `"inf"` or `{ mu_s = …, mu_k = … }` (or `[mu_s, mu_k]`)
+    /// with 0 ≤ μk ≤ μs (default: `["inf"]`).
+    pub friction: Vec<FrictionEntry>,
+    /// Intensity levels as PGA, g, each record scaled to it
+    /// (default: `[0.3, 0.6, 0.9, 1.2]` when `pgv` is not given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pga: Option<Vec<f64>>,
+    /// Intensity levels as PGV, m/s, each record scaled to it instead of to a
+    /// PGA (default: not used).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pgv: Option<Vec<f64>>,
+}
+
+impl Default for GridFile {
+    fn default() -> Self {
+        GridFile {
+            width: vec![0.5],
+            aspect: vec![2.0, 4.0, 6.0],
+            restitution: vec![0.0, 0.3, 0.6, 0.9],
+            friction: vec![FrictionEntry(Friction::Infinite)],
+            pga: None,
+            pgv: None,
+        }
+    }
+}
+
+/// The `[output]` table. `outcomes.csv` and `manifest.json` are always
+/// written (they carry the results and their provenance, and resuming and
+/// merging rely on them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OutputFile {
+    /// Write `summary.md`, the paper-style tables (default: true).
+    pub summary: bool,
+    /// Add the time spent in each mode to `outcomes.csv`
+    /// (`t_rest,t_slide,t_rock,t_slide_rock,t_flight`, default: false).
+    pub time_in_mode: bool,
+    /// Add the solver's work counters to `outcomes.csv`
+    /// (`rhs_calls,steps_accepted,steps_rejected,events`, default: false).
+    pub stats: bool,
+    /// Draw the study's figures into `figures/` inside the output folder
+    /// when the run completes, as `rockfrag figures` does (default: false).
+    pub figures: bool,
+}
+
+impl Default for OutputFile {
+    fn default() -> Self {
+        OutputFile {
+            summary: true,
+            time_in_mode: false,
+            stats: false,
+            figures: false,
+        }
+    }
+}
+
+/// One entry of `grid.friction`: `"inf"`, `{ mu_s = 0.7, mu_k = 0.6 }` or
+/// `[0.7, 0.6]`. Serialised as `"inf"` or the table form.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionEntry(pub Friction);
+
+impl Serialize for FrictionEntry {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        match self.0 {
+            Friction::Infinite => s.serialize_str("inf"),
+            Friction::Coulomb { mu_s, mu_k } => {
+                let mut st = s.serialize_struct("Coulomb", 2)?;
+                st.serialize_field("mu_s", &mu_s)?;
+                st.serialize_field("mu_k", &mu_k)?;
+                st.end()
+            }
+        }
+    }
+}
+
+const FRICTION_EXPECTED: &str = "\"inf\", { mu_s = …, mu_k = … } or [mu_s, mu_k]";
+
+impl<'de> Deserialize<'de> for FrictionEntry {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = FrictionEntry;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(FRICTION_EXPECTED)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> std::result::Result<Self::Value, E> {
+                match v {
+                    "inf" | "infinite" => Ok(FrictionEntry(Friction::Infinite)),
+                    _ => Err(E::custom(format!(
+                        "unknown friction model \"{v}\", expected {FRICTION_EXPECTED}"
+                    ))),
+                }
+            }
+            fn visit_seq<A: SeqAccess<'de>>(
+                self,
+                mut a: A,
+            ) -> std::result::Result<Self::Value, A::Error> {
+                let short = || de::Error::custom("expected two numbers [mu_s, mu_k]");
+                let mu_s: f64 = a.next_element()?.ok_or_else(short)?;
+                let mu_k: f64 = a.next_element()?.ok_or_else(short)?;
+                if a.next_element::<f64>()?.is_some() {
+                    return Err(short());
+                }
+                Ok(FrictionEntry(Friction::Coulomb { mu_s, mu_k }))
+            }
+            fn visit_map<A: MapAccess<'de>>(
+                self,
+                mut a: A,
+            ) -> std::result::Result<Self::Value, A::Error> {
+                let (mut mu_s, mut mu_k) = (None, None);
+                while let Some(key) = a.next_key::<String>()? {
+                    match key.as_str() {
+                        "mu_s" => mu_s = Some(a.next_value::<f64>()?),
+                        "mu_k" => mu_k = Some(a.next_value::<f64>()?),
+                        _ => return Err(de::Error::unknown_field(&key, &["mu_s", "mu_k"])),
+                    }
+                }
+                match (mu_s, mu_k) {
+                    (Some(mu_s), Some(mu_k)) => Ok(FrictionEntry(Friction::Coulomb { mu_s, mu_k })),
+                    (None, _) => Err(de::Error::missing_field("mu_s")),
+                    (_, None) => Err(de::Error::missing_field("mu_k")),
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl SpecFile {
+    /// Reads spec text into the raw form; a syntax or type error names the
+    /// file, the line and the table/key where it happened.
+    pub fn parse(text: &str, origin: &Path) -> Result<SpecFile> {
+        toml::from_str(text).map_err(|e| {
+            let (line, key) = match e.span() {
+                Some(span) => key_at(text, span.start),
+                None => (0, String::new()),
+            };
+            let message = e.message().trim().replace('\n', "; ");
+            Error::Parse {
+                path: origin.to_path_buf(),
+                line,
+                message: if key.is_empty() {
+                    message
+                } else {
+                    format!("{key}: {message}")
+                },
+            }
+        })
+    }
+}

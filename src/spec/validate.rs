@@ -1,0 +1,375 @@
+//! The validation stage: [`SpecFile::validate`] checks a raw spec once, one
+//! function per table, and builds the [`Study`]. The tables are checked in a
+//! fixed order (top level, `[motion]` or `record_files`, `[grid]`, `[solver]`,
+//! `[fragility]`), so a spec with several faults always reports the same one
+//! first. `[output]` holds only switches and needs no check.
+
+use super::locate::Origin;
+use super::raw::{FrictionEntry, GridFile, SpecFile};
+use super::study::{Intensity, Motions, RecordFile, Study, friction_label};
+use crate::error::{Error, Result};
+use crate::fragility::FragilityOptions;
+use crate::motion::{G_STANDARD, SynthesisSettings};
+use crate::solver::{Block, Friction, SolverSettings};
+use std::path::Path;
+
+/// Largest ensemble size accepted.
+const MAX_RECORDS: usize = 10_000_000;
+/// Largest PGA accepted, g.
+const MAX_PGA_G: f64 = 10.0;
+/// Largest PGV accepted, m/s.
+const MAX_PGV: f64 = 20.0;
+
+impl SpecFile {
+    /// Checks every value and builds the [`Study`]. `text` is the spec's text
+    /// (to locate fields in errors), `origin` its path; record files are
+    /// checked for existence when `check_files` is set.
+    pub fn validate(self, text: &str, origin: &Path, check_files: bool) -> Result<Study> {
+        let spec = Origin { text, origin };
+        let name = name(&spec, self.name)?;
+        let g = gravity(&spec, self.g)?;
+        let motions = if self.record_files.is_empty() {
+            synthetic(&spec, self.motion, self.seed, self.records, g)?
+        } else {
+            no_ensemble(&spec, self.seed, self.records, self.motion.is_some())?;
+            Motions::Files(record_files(&spec, &self.record_files, check_files)?)
+        };
+        let grid = grid(&spec, self.grid, g)?;
+        solver(&spec, &self.solver)?;
+        fragility(&spec, self.fragility.as_ref())?;
+
+        Ok(Study {
+            name,
+            description: self.description,
+            g,
+            motions,
+            intensity: grid.intensity,
+            widths: grid.widths,
+            aspects: grid.aspects,
+            restitutions: grid.restitutions,
+            frictions: grid.frictions,
+            solver: self.solver,
+            output: self.output,
+            fragility: self.fragility,
+        })
+    }
+}
+
+// ───────────────────────────── top level ─────────────────────────────
+
+/// `name`: given, or the first word of the spec file's stem.
+fn name(spec: &Origin, name: Option<String>) -> Result<String> {
+    let name = match name {
+        Some(n) => n,
+        None => spec
+            .origin
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+            .split_whitespace()
+            .next()
+            .unwrap_or_default()
+            .to_string(),
+    };
+    if name.is_empty()
+        || name.starts_with('.')
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-'))
+    {
+        return Err(spec.bad(
+            "name",
+            &format!("\"{name}\""),
+            "a non-empty name of letters, digits, '.', '_' or '-' (not starting with '.')",
+        ));
+    }
+    Ok(name)
+}
+
+/// `g`, m/s² (default: standard gravity).
+fn gravity(spec: &Origin, g: Option<f64>) -> Result<f64> {
+    let g = g.unwrap_or(G_STANDARD);
+    if !(g.is_finite() && g > 0.0) {
+        return Err(spec.bad("g", &g, "a positive gravity in m/s²"));
+    }
+    Ok(g)
+}
+
+// ─────────────────────── [motion], seed, records ───────────────────────
+
+/// The synthetic ensemble: `[motion]` (its `g` must be the study's), `seed`
+/// and `records`.
+fn synthetic(
+    spec: &Origin,
+    motion: Option<SynthesisSettings>,
+    seed: Option<u64>,
+    records: Option<usize>,
+    g: f64,
+) -> Result<Motions> {
+    let mut settings = motion.unwrap_or_else(|| SynthesisSettings {
+        g,
+        ..SynthesisSettings::default()
+    });
+    if settings.g != g {
+        return Err(spec.bad(
+            "motion.g",
+            &settings.g,
+            &format!("the study's gravity g = {g} (set the top-level `g` instead)"),
+        ));
+    }
+    settings.g = g;
+    settings
+        .validate()
+        .map_err(|e| spec.nested("motion.", psd_path(e)))?;
+    let records = records.unwrap_or(25);
+    if !(1..=MAX_RECORDS).contains(&records) {
+        return Err(spec.bad(
+            "records",
+            &records,
+            &format!("a number of records in 1..={MAX_RECORDS}"),
+        ));
+    }
+    Ok(Motions::Synthetic {
+        settings,
+        seed: seed.unwrap_or(1),
+        records,
+    })
+}
+
+/// The spectrum's own validation names its fields bare (`xi_g`); put them
+/// under `psd`.
+fn psd_path(err: Error) -> Error {
+    match err {
+        Error::InvalidParameter {
+            field,
+            value,
+            expected,
+        } if ["s0", "xi_g", "f_g", "xi_2", "f_2"].contains(&field.as_str()) => {
+            Error::InvalidParameter {
+                field: format!("psd.{field}"),
+                value,
+                expected,
+            }
+        }
+        other => other,
+    }
+}
+
+// ─────────────────────────── record_files ───────────────────────────
+
+/// With `record_files`, the synthetic ensemble's `seed`, `records` and
+/// `[motion]` must be left out.
+fn no_ensemble(
+    spec: &Origin,
+    seed: Option<u64>,
+    records: Option<usize>,
+    motion: bool,
+) -> Result<()> {
+    for (field, given) in [
+        ("seed", seed.map(|s| s.to_string())),
+        ("records", records.map(|r| r.to_string())),
+        ("motion", motion.then(|| "[motion]".to_string())),
+    ] {
+        if let Some(value) = given {
+            return Err(spec.bad(
+                field,
+                &value,
+                "to be left out when record_files is given (recorded motions replace \
+                 the synthetic ensemble)",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `record_files`: `.AT2` or `.csv` paths relative to the spec file, each
+/// listed once and, when `check_files` is set, existing.
+fn record_files(spec: &Origin, given: &[String], check_files: bool) -> Result<Vec<RecordFile>> {
+    let base = spec.origin.parent().unwrap_or(Path::new(""));
+    let mut files = Vec::with_capacity(given.len());
+    for (i, given) in given.iter().enumerate() {
+        let field = format!("record_files[{i}]");
+        let path = base.join(given);
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        if !matches!(ext.as_deref(), Some("at2" | "csv")) {
+            return Err(spec.bad(&field, &format!("\"{given}\""), "a .AT2 or .csv file"));
+        }
+        if given.contains(['\n', '\r']) {
+            return Err(spec.bad(&field, &format!("{given:?}"), "a path without line breaks"));
+        }
+        if check_files && !path.is_file() {
+            return Err(spec.bad(
+                &field,
+                &format!("\"{given}\""),
+                &format!(
+                    "an existing record file, relative to the spec file (not found: {})",
+                    path.display()
+                ),
+            ));
+        }
+        if files.iter().any(|f: &RecordFile| f.given == *given) {
+            return Err(spec.bad(&field, &format!("\"{given}\""), "no file listed twice"));
+        }
+        files.push(RecordFile {
+            given: given.clone(),
+            path,
+        });
+    }
+    Ok(files)
+}
+
+// ─────────────────────────────── [grid] ───────────────────────────────
+
+/// The validated `[grid]`.
+struct Grid {
+    widths: Vec<f64>,
+    aspects: Vec<f64>,
+    restitutions: Vec<f64>,
+    intensity: Intensity,
+    frictions: Vec<Friction>,
+}
+
+/// `[grid]`: the block lists (every width–aspect pair must make a valid
+/// block under gravity `g`), the intensity levels and the friction models.
+fn grid(spec: &Origin, grid: GridFile, g: f64) -> Result<Grid> {
+    let widths = grid_list(
+        spec,
+        "width",
+        &grid.width,
+        |v| v > 0.0,
+        "a positive base width 2B in m",
+    )?;
+    let aspects = grid_list(
+        spec,
+        "aspect",
+        &grid.aspect,
+        |v| v > 0.0,
+        "a positive aspect ratio H/B",
+    )?;
+    let restitutions = grid_list(
+        spec,
+        "restitution",
+        &grid.restitution,
+        |v| (0.0..=1.0).contains(&v),
+        "a coefficient of restitution in [0, 1]",
+    )?;
+    for &w in &widths {
+        for &a in &aspects {
+            Block::new(w, a, g).map_err(|e| spec.nested("grid.", e))?;
+        }
+    }
+    let intensity = intensity(spec, grid.pga, grid.pgv)?;
+    let frictions = frictions(spec, &grid.friction)?;
+    Ok(Grid {
+        widths,
+        aspects,
+        restitutions,
+        intensity,
+        frictions,
+    })
+}
+
+/// A list `grid.<name>`: non-empty, every value finite, `ok` and not repeated.
+fn grid_list(
+    spec: &Origin,
+    name: &str,
+    values: &[f64],
+    ok: impl Fn(f64) -> bool,
+    expected: &str,
+) -> Result<Vec<f64>> {
+    let field = format!("grid.{name}");
+    if values.is_empty() {
+        return Err(spec.bad(&field, &"[]", "at least one value"));
+    }
+    for (i, &v) in values.iter().enumerate() {
+        let f = format!("grid.{name}[{i}]");
+        if !(v.is_finite() && ok(v)) {
+            return Err(spec.bad(&f, &v, expected));
+        }
+        if values[..i].contains(&v) {
+            return Err(spec.bad(&f, &v, "a value not already in the list"));
+        }
+    }
+    Ok(values.to_vec())
+}
+
+/// `grid.pga` or `grid.pgv`, not both (default: PGA 0.3, 0.6, 0.9, 1.2 g).
+fn intensity(spec: &Origin, pga: Option<Vec<f64>>, pgv: Option<Vec<f64>>) -> Result<Intensity> {
+    Ok(match (pga, pgv) {
+        (Some(_), Some(_)) => {
+            return Err(spec.bad(
+                "grid.pgv",
+                &"(given)",
+                "to be left out when grid.pga is given (one intensity measure per study)",
+            ));
+        }
+        (None, Some(pgv)) => Intensity::Pgv(grid_list(
+            spec,
+            "pgv",
+            &pgv,
+            |v| v > 0.0 && v <= MAX_PGV,
+            &format!("a peak ground velocity in (0, {MAX_PGV}] m/s"),
+        )?),
+        (pga, None) => Intensity::Pga(grid_list(
+            spec,
+            "pga",
+            &pga.unwrap_or_else(|| vec![0.3, 0.6, 0.9, 1.2]),
+            |v| v > 0.0 && v <= MAX_PGA_G,
+            &format!("a peak ground acceleration in (0, {MAX_PGA_G}] g"),
+        )?),
+    })
+}
+
+/// `grid.friction`: non-empty, 0 ≤ μk ≤ μs for Coulomb models, no model
+/// repeated.
+fn frictions(spec: &Origin, entries: &[FrictionEntry]) -> Result<Vec<Friction>> {
+    if entries.is_empty() {
+        return Err(spec.bad("grid.friction", &"[]", "at least one friction model"));
+    }
+    let mut frictions = Vec::with_capacity(entries.len());
+    for (i, &FrictionEntry(f)) in entries.iter().enumerate() {
+        if let Friction::Coulomb { mu_s, mu_k } = f {
+            if !(mu_s.is_finite() && mu_s >= 0.0) {
+                return Err(spec.bad(
+                    &format!("grid.friction[{i}].mu_s"),
+                    &mu_s,
+                    "a static friction coefficient μs ≥ 0",
+                ));
+            }
+            if !(mu_k.is_finite() && mu_k >= 0.0 && mu_k <= mu_s) {
+                return Err(spec.bad(
+                    &format!("grid.friction[{i}].mu_k"),
+                    &mu_k,
+                    &format!("a kinetic friction coefficient μk in [0, μs = {mu_s}]"),
+                ));
+            }
+        }
+        if frictions.contains(&f) {
+            return Err(spec.bad(
+                &format!("grid.friction[{i}]"),
+                &friction_label(f),
+                "a friction model not already in the list",
+            ));
+        }
+        frictions.push(f);
+    }
+    Ok(frictions)
+}
+
+// ─────────────────────────── [solver], [fragility] ───────────────────────────
+
+/// `[solver]`: the settings' own checks, fields under `solver.`.
+fn solver(spec: &Origin, solver: &SolverSettings) -> Result<()> {
+    solver.validate().map_err(|e| spec.nested("solver.", e))
+}
+
+/// `[fragility]`, if given: the options' own checks, whose fields already
+/// carry the `fragility.` prefix.
+fn fragility(spec: &Origin, options: Option<&FragilityOptions>) -> Result<()> {
+    match options {
+        Some(options) => options.validate().map_err(|e| spec.nested("", e)),
+        None => Ok(()),
+    }
+}
