@@ -24,9 +24,9 @@ use std::fmt::Write as _;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use rockfrag::figures::data::StudyData;
-use rockfrag::figures::history::{HistoryCase, HistoryFigure, mode_colour};
+use rockfrag::figures::StudyData;
 use rockfrag::figures::{FigureOptions, study_figures};
+use rockfrag::figures::{HistoryCase, HistoryFigure, mode_colour};
 use rockfrag::motion::SynthesisSettings;
 
 const ASPECTS: [f64; 2] = [2.0, 4.0];

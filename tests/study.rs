@@ -275,7 +275,7 @@ fn recorded_motions_scaled_to_pgv() {
         assert!(["0.1", "0.3"].contains(&&row[col("pgv")]));
     }
     // The scaling itself: the source's record has the target PGV.
-    let mut source = study::source::Source::new(&study).unwrap();
+    let mut source = study::Source::new(&study).unwrap();
     let r = source.record(&study.intensity, 0.3, 1, study.g).unwrap();
     assert!((r.pgv() - 0.3).abs() < 1e-12, "{}", r.pgv());
 }

@@ -34,15 +34,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let md = args.out.join("work_precision.md");
     std::fs::write(md.with_extension("md.tmp"), &text)?;
     std::fs::rename(md.with_extension("md.tmp"), &md)?;
-    rockfrag::figures::work_precision::plot_work_precision(
-        &reports,
-        &args.out.join("work_precision.svg"),
-    )?;
+    rockfrag::figures::plot_work_precision(&reports, &args.out.join("work_precision.svg"))?;
     if args.png {
-        rockfrag::figures::work_precision::plot_work_precision(
-            &reports,
-            &args.out.join("work_precision.png"),
-        )?;
+        rockfrag::figures::plot_work_precision(&reports, &args.out.join("work_precision.png"))?;
     }
     print!("{text}");
     Ok(())

@@ -30,8 +30,8 @@ use super::spectrum::SpectrumFigure;
 use crate::error::{Error, Result};
 use crate::motion::{SynthesisSettings, Synthesizer};
 use crate::spec::{Motions, Study};
+use crate::study::Manifest;
 use crate::study::files::MANIFEST;
-use crate::study::manifest::Manifest;
 
 /// What to draw and how.
 #[derive(Clone, Debug, PartialEq)]

@@ -23,11 +23,6 @@ pub const DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf
 /// Registers the embedded font with plotters; later calls do nothing.
 ///
 /// Every function that draws calls this first, so users never need to.
-///
-/// ```
-/// rockfrag::figures::font::register().unwrap();
-/// rockfrag::figures::font::register().unwrap(); // idempotent
-/// ```
 pub fn register() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED
@@ -40,5 +35,14 @@ pub fn register() -> Result<()> {
             "assets/fonts/DejaVuSans.ttf (embedded)",
             "a TrueType font that ab_glyph can read",
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_embedded_font_registers_and_registering_again_is_harmless() {
+        super::register().unwrap();
+        super::register().unwrap();
     }
 }

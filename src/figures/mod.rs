@@ -10,12 +10,13 @@
 //!
 //! The study figures of a folder written by the study runner
 //! (`outcomes.csv`, optionally `fragility_curves.csv`) are drawn by
-//! [`study_figures`] (the CLI's `rockfrag figures DIR`): see [`batch`] for
-//! the list. Each is a plain data struct built once ([`spectrum`],
-//! [`history`], [`fragility`], [`friction`], [`restitution`]) and drawn by
-//! [`Figure`]; [`data`] reads the CSV files by header name, [`crate::study::paper`]
-//! holds the seed paper's Tables 1–3 and [`layout`] the shared titles, legends and
-//! markers.
+//! [`study_figures`] (the CLI's `rockfrag figures DIR`). Each is a plain data
+//! struct built once from the folder's [`StudyData`] ([`SpectrumFigure`],
+//! [`HistoryFigure`], [`FragilityFigure`], [`FrictionDemandFigure`],
+//! [`RestitutionFigure`]) and drawn by [`Figure`]; the CSV files are read by
+//! header name through [`crate::outcomes_csv::OutcomesReader`], the seed
+//! paper's Tables 1–3 come from the study's summary, and the shared titles,
+//! legends and markers from one layout module.
 //!
 //! ```no_run
 //! use rockfrag::motion::Record;
@@ -24,21 +25,28 @@
 //! rockfrag::figures::plot_record(&record, Path::new("pulse.svg")).unwrap();
 //! ```
 
-pub mod batch;
-pub mod data;
+mod batch;
+mod data;
 mod figure;
-pub mod font;
-pub mod fragility;
-pub mod friction;
-pub mod history;
-pub mod layout;
-pub mod motion;
-pub mod restitution;
-pub mod spectrum;
+mod font;
+mod fragility;
+mod friction;
+mod history;
+pub(crate) mod layout;
+mod motion;
+mod restitution;
+mod spectrum;
 pub mod style;
-pub mod work_precision;
+mod work_precision;
 
 pub use batch::{FigureOptions, FiguresReport, study_figures};
+pub use data::{CurvePoint, OutcomeRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
+pub use fragility::FragilityFigure;
+pub use friction::FrictionDemandFigure;
+pub use history::{HistoryCase, HistoryFigure, ModeInterval, mode_colour};
 pub use motion::plot_record;
+pub use restitution::RestitutionFigure;
+pub use spectrum::SpectrumFigure;
 pub use style::Style;
+pub use work_precision::plot_work_precision;

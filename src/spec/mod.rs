@@ -34,10 +34,7 @@ mod study;
 mod validate;
 
 pub use raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
-pub use study::{Intensity, Motions, RecordFile, Study, fnv1a64, friction_label};
-
-/// The paper's study (Shenton and Jones), the default of `rockfrag run`.
-pub const SHENTON_JONES_TOML: &str = include_str!("../../studies/shenton-jones.toml");
-
-/// Name used in messages for the embedded paper study.
-pub const SHENTON_JONES_ORIGIN: &str = "shenton-jones.toml (built-in)";
+pub use study::{
+    Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study, fnv1a64,
+    friction_label,
+};

@@ -3,12 +3,17 @@
 //! canonical spec text by [`Study::to_toml`].
 
 use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
-use super::{SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::SynthesisSettings;
 use crate::solver::{Friction, SolverSettings};
 use std::path::{Path, PathBuf};
+
+/// The paper's study (Shenton and Jones), the default of `rockfrag run`.
+pub const SHENTON_JONES_TOML: &str = include_str!("../../studies/shenton-jones.toml");
+
+/// Name used in messages for the embedded paper study.
+pub const SHENTON_JONES_ORIGIN: &str = "shenton-jones.toml (built-in)";
 
 /// A validated study: everything a run needs, every value in range.
 #[derive(Clone, Debug, PartialEq)]

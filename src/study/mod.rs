@@ -26,16 +26,17 @@
 //! manifest, and the run carries on; the caller decides the exit status.
 
 pub mod files;
-pub mod manifest;
+mod manifest;
 mod merge;
-pub mod paper;
-pub mod plan;
-pub mod source;
-pub mod summary;
+pub(crate) mod paper;
+pub(crate) mod plan;
+mod source;
+mod summary;
 
 pub use manifest::Manifest;
 pub use merge::merge;
-pub use plan::{Case, Shard, Unit, columns};
+pub use plan::{Case, Shard, Unit};
+pub use source::Source;
 pub use summary::{Counts, Tally};
 
 use crate::error::{Error, Result};
@@ -45,9 +46,9 @@ use crate::outcomes_csv::{Columns, RecordInfo};
 use crate::solver::simulate;
 use crate::spec::{Motions, Study, fnv1a64};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use plan::columns;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use source::Source;
 use std::io::{IsTerminal, Seek, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
