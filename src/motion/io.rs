@@ -152,7 +152,9 @@ impl At2 {
                 format!("NPTS = {npts}: at least 2 samples are needed"),
             ));
         }
-        let mut acc_g = Vec::with_capacity(npts);
+        // Each value takes at least one byte of text: a huge NPTS must not
+        // reserve more memory than the file can fill.
+        let mut acc_g = Vec::with_capacity(npts.min(text.len()));
         let mut last_line = 4;
         for (i, line) in lines.iter().enumerate().skip(4) {
             for token in line.split_whitespace() {
@@ -240,7 +242,73 @@ fn file_label(path: &Path) -> String {
 /// by the linear rule. The record is named after the file.
 pub fn read_at2(path: impl AsRef<Path>, g: f64) -> Result<Record> {
     let path = path.as_ref();
-    At2::read(path)?.to_record(file_label(path), g)
+    let text = read_text(path)?;
+    let at2 = At2::parse(&text, path)?;
+    if let Some(k) = at2.acc_g.iter().position(|a| !(a * g).is_finite()) {
+        return Err(parse_err(
+            path,
+            at2_value_line(&text, k),
+            format!(
+                "acceleration {:e} g is too large: in m/s² (times g = {g}) it is not finite",
+                at2.acc_g[k]
+            ),
+        ));
+    }
+    let acc: Vec<f64> = at2.acc_g.iter().map(|a| a * g).collect();
+    let (vel, disp) = integrate_linear(at2.dt, &acc, 0.0, 0.0);
+    check_integrated(path, at2.dt, &vel, &disp, |k| at2_value_line(&text, k))?;
+    let record = Record {
+        name: file_label(path),
+        dt: at2.dt,
+        acc,
+        vel,
+        disp,
+        acc_v: None,
+    };
+    record.validate()?;
+    Ok(record)
+}
+
+/// The 1-based line of value `k` (0-based) of the text of a parsed `.AT2`
+/// file (the values start on line 5).
+fn at2_value_line(text: &str, k: usize) -> usize {
+    let mut seen = 0;
+    for (i, line) in text.lines().enumerate().skip(4) {
+        seen += line.split_whitespace().count();
+        if seen > k {
+            return i + 1;
+        }
+    }
+    0
+}
+
+/// Errors, at the line of the first bad sample (`line_of(k)`), if the
+/// velocity or displacement integrated from a record's accelerations is not
+/// finite: accelerations or a time step so large that the integral
+/// overflows.
+fn check_integrated(
+    path: &Path,
+    dt: f64,
+    vel: &[f64],
+    disp: &[f64],
+    line_of: impl Fn(usize) -> usize,
+) -> Result<()> {
+    match vel
+        .iter()
+        .zip(disp)
+        .position(|(v, d)| !(v.is_finite() && d.is_finite()))
+    {
+        Some(k) => Err(parse_err(
+            path,
+            line_of(k),
+            format!(
+                "the velocity or displacement integrated from the accelerations is not finite \
+                 at sample {k} (t = {}): the accelerations or the time step are too large",
+                k as f64 * dt
+            ),
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Reads a CSV record with header `t,acc` or `t,acc,vel,disp` (s, m/s², m/s,
@@ -319,6 +387,13 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
             format!("time step t = {} after {} is not positive", t[1], t[0]),
         ));
     }
+    if !dt.is_finite() {
+        return Err(parse_err(
+            path,
+            lines[1],
+            format!("time step t = {:e} after {:e} is not finite", t[1], t[0]),
+        ));
+    }
     for k in 2..t.len() {
         let step = t[k] - t[k - 1];
         if (step - dt).abs() > DT_REL_TOL * dt {
@@ -337,7 +412,9 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
     let (vel, disp) = if ncol == 4 {
         (vel, disp)
     } else {
-        integrate_linear(dt, &acc, 0.0, 0.0)
+        let (vel, disp) = integrate_linear(dt, &acc, 0.0, 0.0);
+        check_integrated(path, dt, &vel, &disp, |k| lines[k])?;
+        (vel, disp)
     };
     let record = Record {
         name,
@@ -481,6 +558,69 @@ mod tests {
         let values: Vec<&str> = lines[4].split_whitespace().collect();
         assert_eq!(values, ["1E-1", "-2.5E-7", "3E0"]);
         assert_eq!(At2::parse(&text, Path::new("x.at2")).unwrap(), at2);
+    }
+
+    /// Reads `text` as the record file `name` in a fresh folder; returns the
+    /// result and the file's path.
+    fn read_text_as(name: &str, text: &str) -> (Result<Record>, PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(name);
+        fs::write(&path, text).unwrap();
+        (read_record(&path, 9.80665), path)
+    }
+
+    /// Values that overflow only once scaled or integrated are reported at
+    /// the line holding the sample, like every other parse error, and a
+    /// huge NPTS is an error, not an allocation failure.
+    #[test]
+    fn overflows_and_huge_npts_name_the_line() {
+        let header = "a\nb\nc\n";
+        let cases = [
+            // 1e308 g × g overflows: the value is on line 6.
+            (
+                "x.AT2",
+                format!("{header}NPTS= 4, DT= .01\n0 0\n1e308 0\n"),
+                6,
+                "too large",
+            ),
+            // DT so large that the velocity overflows at sample 1 (line 5).
+            (
+                "x.AT2",
+                format!("{header}NPTS= 3, DT= 1e308\n0 1\n1\n"),
+                5,
+                "integrated",
+            ),
+            // Reserving 2³² + 1 samples used to abort the process.
+            (
+                "x.AT2",
+                format!("{header}NPTS= 4294967297, DT= .01\n0 1\n"),
+                5,
+                "ends after 2",
+            ),
+            // The displacement overflows at sample 1 (line 3).
+            (
+                "x.csv",
+                "t,acc\n0,1e308\n0.02,0.5\n".to_string(),
+                3,
+                "integrated",
+            ),
+            // t₁ − t₀ overflows.
+            (
+                "x.csv",
+                "t,acc\n-1e308,0\n1e308,0\n".to_string(),
+                3,
+                "not finite",
+            ),
+        ];
+        for (name, text, line, what) in cases {
+            let (result, path) = read_text_as(name, &text);
+            let err = result.unwrap_err().to_string();
+            let at = format!("{}:{line}: ", path.display());
+            assert!(
+                err.starts_with(&at) && err.contains(what),
+                "{text:?}: {err}"
+            );
+        }
     }
 
     #[test]
