@@ -679,20 +679,22 @@ fn merge_of_damaged_outcomes_never_panics() {
 }
 
 /// The stricter property: the error names the damaged shard's file, the one
-/// the user must fix, and a line of it.
+/// the user must fix, and a line of it; and a failed merge leaves nothing
+/// behind in the output folder.
 ///
-/// Fails: the rows are checked only once merged, by reading the merged
-/// `outcomes.csv` back (`Tally::read`), so a bad row is reported at its line
-/// in `merged/outcomes.csv` (a file the failed merge leaves behind), not in
-/// the shard's file; for shards other than 1/N the line differs too. Minimal
-/// case: shard 1/2's `outcomes.csv` with the first field (`4,`) of its first
-/// row removed gives `…/merged/outcomes.csv:2: CSV error: record 1 (line: 2,
-/// byte: 273): found record with 28 fields, but the previous record has 29
-/// fields`.
+/// Before the fix the rows were checked only once merged, by reading the
+/// merged `outcomes.csv` back, so a bad row was reported at its line in
+/// `merged/outcomes.csv` (a file the failed merge left behind), not in the
+/// shard's file. Minimal case: shard 1/2's `outcomes.csv` with the first
+/// field (`4,`) of its first row removed.
 #[test]
-#[ignore = "merge reports bad rows in the merged outcomes.csv, not the shard's (src/study/merge.rs); see the doc comment"]
 fn merge_errors_name_the_damaged_file() {
-    check_merges(500, |e, damaged, bytes, _| {
+    check_merges(500, |e, damaged, bytes, out| {
+        prop_assert!(
+            !out.join(files::OUTCOMES).exists(),
+            "a failed merge left {}",
+            out.join(files::OUTCOMES).display()
+        );
         check_error(e, damaged, bytes, true)
     });
 }

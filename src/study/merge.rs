@@ -2,7 +2,10 @@
 //! study: `outcomes.csv` rows are interleaved back into canonical unit order
 //! (unit u comes from shard u mod N + 1) by copying their bytes, so the
 //! result is byte-identical to an unsharded run; `summary.md` and
-//! `manifest.json` are then made from the merged file.
+//! `manifest.json` are then made from the merged file. Each shard's
+//! `outcomes.csv` is checked against its shard of the study before anything
+//! is written, so a damaged shard is named with its line and a failed merge
+//! leaves no output behind.
 
 use super::files;
 use super::manifest::{self, Manifest};
@@ -95,9 +98,13 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
     let cases = plan::cases(&study).len();
     let total = plan::unit_count(&study);
 
+    // Each shard's file is checked on its own first (header, every row the
+    // analysis expected at its place, the count), so an error names the
+    // file to fix and its line, and a failed merge writes nothing.
     let mut readers = Vec::with_capacity(n);
-    for (_, dir) in &shards {
+    for (m, dir) in &shards {
         let path = dir.join(files::OUTCOMES);
+        Tally::read(&path, &study, m.shard)?;
         let mut r = BufReader::new(std::fs::File::open(&path).map_err(Error::io(&path))?);
         let mut first_line = Vec::new();
         r.read_until(b'\n', &mut first_line)
