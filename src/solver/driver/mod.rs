@@ -50,8 +50,8 @@
 //! The driver's own files, one per mode and concern: `rest`, `slide` (slide
 //! and slide-rock), `rock`, `flight`; `events` (reset maps), `impacts`
 //! (sequential impacts and the cascade rule); `stepping` (the Dormand–Prince
-//! tolerances and counters); `bookkeeping` (peaks, slip, energy audit,
-//! history rows).
+//! loop shared by rock and slide-rock); `bookkeeping` (peaks, slip, energy
+//! audit, history rows).
 
 mod bookkeeping;
 mod events;

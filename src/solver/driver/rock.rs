@@ -4,7 +4,6 @@
 
 use super::{Event, RockState, Run, Segment, State, earliest};
 use crate::error::{Error, Result};
-use crate::solver::dopri::Stepper;
 use crate::solver::physics as ph;
 use crate::solver::roots::brent;
 use crate::solver::scan::first_descent;
@@ -24,7 +23,7 @@ impl Run<'_> {
         let bl = self.bl;
         let s = rs.s;
         let seg = *seg;
-        let mut rhs = |tt: f64, y: &[f64; N]| -> [f64; N] {
+        let rhs = |tt: f64, y: &[f64; N]| -> [f64; N] {
             let (ax, ay) = seg.at(tt);
             let mut out = [0.0; N];
             out[0] = y[1];
@@ -39,36 +38,13 @@ impl Run<'_> {
         let mut y = [0.0; N];
         y[0] = rs.theta;
         y[1] = rs.omega;
-        let mut st = Stepper::new(&mut rhs, *t, y, t_end, self.h, tol, self.dt);
-        let mut found = None;
-        loop {
-            let step = match st.step(&mut rhs) {
-                Ok(Some(step)) => step,
-                Ok(None) => break,
-                Err(time) => {
-                    return Err(Error::Solver {
-                        time,
-                        message: format!("step size {} s too small in rock", st.h),
-                    });
-                }
-            };
-            let path = |tt: f64| (step.component_at(0, tt), step.component_at(1, tt));
-            let trig = |tt: f64| (bl.theta_c - s * step.component_at(0, tt)).sin_cos();
-            let unknown = (f64::NEG_INFINITY, f64::INFINITY);
-            if let Some((te, ev)) =
-                self.rock_events(rs, &path, &trig, unknown, &seg, st.t, step.t0 + step.h, 1)
-            {
-                found = Some((te, ev, step.at(te)));
-                break;
-            }
-            st.accept(&step);
-        }
-        self.h = st.h;
-        self.count(&st.counts);
-        let (t_stop, event, ye) = match found {
-            Some((te, ev, ye)) => (te, Some(ev), ye),
-            None => (t_end, None, st.y),
-        };
+        let (t_stop, event, ye) =
+            self.dopri_to_event("rock", rhs, *t, y, t_end, tol, |run, step, ta, tb| {
+                let path = |tt: f64| (step.component_at(0, tt), step.component_at(1, tt));
+                let trig = |tt: f64| (bl.theta_c - s * step.component_at(0, tt)).sin_cos();
+                let unknown = (f64::NEG_INFINITY, f64::INFINITY);
+                run.rock_events(rs, &path, &trig, unknown, &seg, ta, tb, 1)
+            })?;
         if N == 3 {
             self.work += ye[N - 1];
         }

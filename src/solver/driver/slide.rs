@@ -2,8 +2,7 @@
 //! pivot (Dormand–Prince).
 
 use super::{Event, Run, Segment, SlideRockState, SlideState, earliest};
-use crate::error::{Error, Result};
-use crate::solver::dopri::Stepper;
+use crate::error::Result;
 use crate::solver::physics as ph;
 use crate::solver::roots::brent;
 use crate::solver::scan::{first_descent, first_descent_after_release};
@@ -66,7 +65,7 @@ impl Run<'_> {
         let bl = self.bl;
         let (s, sg) = (sr.s, sr.sigma);
         let seg = *seg;
-        let mut rhs = |tt: f64, y: &[f64; N]| -> [f64; N] {
+        let rhs = |tt: f64, y: &[f64; N]| -> [f64; N] {
             let (ax, ay) = seg.at(tt);
             let a = ph::slide_rock_accel(&bl, s, sg, mu_k, y[0], y[1], ax, ay);
             let mut out = [0.0; N];
@@ -84,84 +83,63 @@ impl Run<'_> {
         let tol = self.tolerance::<N>(&[tc, p * tc, r * tc, p * r * tc]);
         let mut y = [0.0; N];
         y[..4].copy_from_slice(&[sr.theta, sr.omega, sr.xp, sr.vp]);
-        let mut st = Stepper::new(&mut rhs, *t, y, t_end, self.h, tol, self.dt);
         let mut released = sr.vp == 0.0;
-        let mut found = None;
-        loop {
-            let step = match st.step(&mut rhs) {
-                Ok(Some(step)) => step,
-                Ok(None) => break,
-                Err(time) => {
-                    return Err(Error::Solver {
-                        time,
-                        message: format!("step size {} s too small in slide-rock", st.h),
-                    });
+        let (t_stop, event, ye) =
+            self.dopri_to_event("slide-rock", rhs, *t, y, t_end, tol, |run, step, ta, t1| {
+                let xtol = 1e-15 * t1.abs().max(1.0);
+                let comp = |i: usize, tt: f64| step.component_at(i, tt);
+                let mut best: Option<(f64, Event)> = None;
+                let psi = |tt: f64| (s * comp(0, tt), s * comp(1, tt));
+                earliest(
+                    &mut best,
+                    first_descent(psi, ta, t1, 1, xtol),
+                    Event::RockImpact,
+                );
+                let over = |tt: f64| (FRAC_PI_2 - s * comp(0, tt), -s * comp(1, tt));
+                earliest(
+                    &mut best,
+                    first_descent(over, ta, t1, 1, xtol),
+                    Event::Overturn,
+                );
+                let acc_at = |tt: f64| {
+                    let (ax, ay) = seg.at(tt);
+                    ph::slide_rock_accel(&bl, s, sg, mu_k, comp(0, tt), comp(1, tt), ax, ay)
+                };
+                // slip velocity σ ẋp reaching 0
+                let slip = |tt: f64| (sg * comp(3, tt), sg * acc_at(tt).xp_acc);
+                let slip_stop = if released {
+                    first_descent_after_release(slip, ta, t1, 1, xtol)
+                } else {
+                    first_descent(slip, ta, t1, 1, xtol)
+                };
+                // the slip velocity can only start at 0 on the first step
+                released = false;
+                earliest(&mut best, slip_stop, Event::SlipStop);
+                let (a0, a1) = (acc_at(ta), acc_at(t1));
+                if a0.den <= 0.0 {
+                    earliest(&mut best, Some(ta), Event::Jam);
+                } else if a1.den <= 0.0 {
+                    earliest(
+                        &mut best,
+                        Some(brent(|tt| acc_at(tt).den, ta, t1, a0.den, a1.den, xtol)),
+                        Event::Jam,
+                    );
                 }
-            };
-            let (ta, t1) = (st.t, step.t0 + step.h);
-            let xtol = 1e-15 * t1.abs().max(1.0);
-            let comp = |i: usize, tt: f64| step.component_at(i, tt);
-            let mut best: Option<(f64, Event)> = None;
-            let psi = |tt: f64| (s * comp(0, tt), s * comp(1, tt));
-            earliest(
-                &mut best,
-                first_descent(psi, ta, t1, 1, xtol),
-                Event::RockImpact,
-            );
-            let over = |tt: f64| (FRAC_PI_2 - s * comp(0, tt), -s * comp(1, tt));
-            earliest(
-                &mut best,
-                first_descent(over, ta, t1, 1, xtol),
-                Event::Overturn,
-            );
-            let acc_at = |tt: f64| {
-                let (ax, ay) = seg.at(tt);
-                ph::slide_rock_accel(&bl, s, sg, mu_k, comp(0, tt), comp(1, tt), ax, ay)
-            };
-            // slip velocity σ ẋp reaching 0
-            let slip = |tt: f64| (sg * comp(3, tt), sg * acc_at(tt).xp_acc);
-            let slip_stop = if released {
-                first_descent_after_release(slip, ta, t1, 1, xtol)
-            } else {
-                first_descent(slip, ta, t1, 1, xtol)
-            };
-            earliest(&mut best, slip_stop, Event::SlipStop);
-            let (a0, a1) = (acc_at(ta), acc_at(t1));
-            if a0.den <= 0.0 {
-                earliest(&mut best, Some(ta), Event::Jam);
-            } else if a1.den <= 0.0 {
-                earliest(
-                    &mut best,
-                    Some(brent(|tt| acc_at(tt).den, ta, t1, a0.den, a1.den, xtol)),
-                    Event::Jam,
-                );
-            }
-            if a0.n < 0.0 {
-                earliest(&mut best, Some(ta), Event::SlideRockLiftoff);
-            } else if a1.n < 0.0 {
-                earliest(
-                    &mut best,
-                    Some(brent(|tt| acc_at(tt).n, ta, t1, a0.n, a1.n, xtol)),
-                    Event::SlideRockLiftoff,
-                );
-            }
-            let t_stop = best.map_or(t1, |(te, _)| te);
-            let ratio = (comp(0, t_stop).abs().max(comp(0, ta).abs()) / bl.theta_c)
-                .min(FRAC_PI_2 / bl.theta_c);
-            self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio);
-            if let Some((te, ev)) = best {
-                found = Some((te, ev, step.at(te)));
-                break;
-            }
-            st.accept(&step);
-            released = false;
-        }
-        self.h = st.h;
-        self.count(&st.counts);
-        let (t_stop, event, ye) = match found {
-            Some((te, ev, ye)) => (te, Some(ev), ye),
-            None => (t_end, None, st.y),
-        };
+                if a0.n < 0.0 {
+                    earliest(&mut best, Some(ta), Event::SlideRockLiftoff);
+                } else if a1.n < 0.0 {
+                    earliest(
+                        &mut best,
+                        Some(brent(|tt| acc_at(tt).n, ta, t1, a0.n, a1.n, xtol)),
+                        Event::SlideRockLiftoff,
+                    );
+                }
+                let t_stop = best.map_or(t1, |(te, _)| te);
+                let ratio = (comp(0, t_stop).abs().max(comp(0, ta).abs()) / bl.theta_c)
+                    .min(FRAC_PI_2 / bl.theta_c);
+                run.out.theta_max_over_theta_c = run.out.theta_max_over_theta_c.max(ratio);
+                best
+            })?;
         if N == 5 {
             self.work += ye[4];
         }
