@@ -103,13 +103,6 @@ impl Block {
         )
     }
 
-    /// Height above the ground of corner `side` given the centre of mass's
-    /// vertical displacement `y` from its rest height H, and θ.
-    #[inline]
-    pub fn corner_height(&self, side: f64, y: f64, theta: f64) -> f64 {
-        self.h + y + self.corner_offset(side, theta).1
-    }
-
     /// Kinetic energy per unit mass relative to the ground.
     #[inline]
     pub fn kinetic(&self, vx: f64, vy: f64, omega: f64) -> f64 {

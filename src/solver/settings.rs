@@ -9,8 +9,8 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Model {
-    /// The paper's nonlinear eq. (1), integrated by Dormand–Prince 5(4) with
-    /// dense output and error control.
+    /// The paper's nonlinear eq. (1), integrated by the chosen [`Integrator`]
+    /// (a Taylor series by default, or Dormand–Prince 5(4)).
     #[default]
     Nonlinear,
     /// Eq. (1) linearised in θ about θ = 0 (θc kept exact), solved in closed
@@ -23,9 +23,9 @@ pub enum Model {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Integrator {
-    /// Taylor series of order 12 over each record sample (one sine and cosine
-    /// per step, the series is its own dense output), steps cut by the
-    /// tolerance. Fastest.
+    /// Taylor series of order 8 ([`ORDER`](super::taylor::ORDER)) over each
+    /// record sample (one sine and cosine per step, the series is its own
+    /// dense output), steps cut by the tolerance. Fastest.
     #[default]
     Taylor,
     /// Dormand–Prince 5(4) with dense output and error control, as in

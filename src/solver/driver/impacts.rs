@@ -1,0 +1,261 @@
+//! Sequential corner impacts and the choice of the mode after them; the
+//! cascade rule (see the driver's module documentation).
+
+use super::{FlightState, RockState, Run, SlideState, State};
+use crate::solver::impact::{self, Velocity};
+use crate::solver::physics as ph;
+
+impl Run<'_> {
+    /// Sequential corner impacts starting with corner `side`, then the choice
+    /// of the next mode (rest, rock or flight).
+    pub(super) fn impacts(&mut self, t: f64, pose: FlightState, side: f64) -> State {
+        let bl = self.bl;
+        let mut vel = Velocity {
+            vx: pose.vx,
+            vy: pose.vy,
+            omega: pose.omega,
+        };
+        // the pose is fixed during the impacts: one sine and cosine (none at θ = 0,
+        // where a rock impact happens)
+        let (sn, cs) = if pose.theta == 0.0 {
+            (0.0, 1.0)
+        } else {
+            pose.theta.sin_cos()
+        };
+        let offset = |sd: f64| bl.corner_offset_sc(sd, sn, cs);
+        let touching: [bool; 2] =
+            [-1.0, 1.0].map(|sd| bl.h + pose.y + offset(sd).1 <= self.h_touch);
+        let mut next = Some(side);
+        let mut count = 0;
+        while let Some(sd) = next {
+            let (rx, ry) = offset(sd);
+            let law = self.set.impact;
+            let hit = |e: f64| match self.fric {
+                None => {
+                    let r = impact::corner_impact(&bl, &vel, rx, ry, e, law);
+                    let demand = if r.p_n > 0.0 {
+                        (r.p_t / r.p_n).abs()
+                    } else {
+                        0.0
+                    };
+                    (r, demand)
+                }
+                Some((mu_s, mu_k)) => {
+                    impact::corner_impact_friction(&bl, &vel, rx, ry, e, law, mu_s, mu_k)
+                }
+            };
+            let (mut r, mut demand) = hit(self.e);
+            let un_after = impact::point_velocity(&r.after, rx, ry).1;
+            if self.e > 0.0 && un_after > 0.0 && un_after <= self.v_settle {
+                // ring-down: a rebound below the threshold is plastic
+                (r, demand) = hit(0.0);
+                self.out.settles += 1;
+            }
+            self.out.impacts += 1;
+            self.out.first_impact_time.get_or_insert(t);
+            // friction needed to prevent sliding during this impact
+            self.out.mu_impact = self.out.mu_impact.max(demand);
+            let t_before = bl.kinetic(vel.vx, vel.vy, vel.omega);
+            if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
+                self.out.energy_gains += 1;
+            }
+            vel = r.after;
+            count += 1;
+            if count >= 64 {
+                // no convergence of sequential impacts: set the block down flat
+                self.out.settles += 1;
+                return self.land_flat(pose);
+            }
+            // the contact corner approaching fastest, if any
+            next = None;
+            let mut worst = -self.v_settle;
+            for (i, sd) in [-1.0, 1.0].into_iter().enumerate() {
+                if touching[i] {
+                    let (rx, ry) = offset(sd);
+                    let un = impact::point_velocity(&vel, rx, ry).1;
+                    if un < worst {
+                        worst = un;
+                        next = Some(sd);
+                    }
+                }
+            }
+        }
+        // Which contact corners stay on the ground?
+        let staying: Vec2 = [-1.0, 1.0].map(|sd| {
+            let i = if sd < 0.0 { 0 } else { 1 };
+            touching[i] && {
+                let (rx, ry) = offset(sd);
+                impact::point_velocity(&vel, rx, ry).1 <= self.v_settle
+            }
+        });
+        match staying {
+            [true, true] => {
+                if let Some((_, mu_k)) = self.fric
+                    && vel.vx.abs() > self.v_settle
+                {
+                    // flat on both corners, still moving sideways: slide
+                    let sigma = vel.vx.signum();
+                    if mu_k > bl.b / bl.h {
+                        // kinetic friction tips the block: N on the trailing corner < 0
+                        return self.start_slide_rock(-sigma, pose.theta, 0.0, pose.x, vel.vx, t);
+                    }
+                    return State::Slide(SlideState {
+                        x: pose.x,
+                        v: vel.vx,
+                        sigma,
+                    });
+                }
+                if vel.vx != 0.0 || vel.vy != 0.0 || vel.omega != 0.0 {
+                    self.out.settles += 1;
+                }
+                self.land_flat(pose)
+            }
+            [true, false] | [false, true] => {
+                let pivot = if staying[0] { -1.0 } else { 1.0 };
+                let s = -pivot;
+                if self.fric.is_some() {
+                    let (rx, ry) = offset(pivot);
+                    let ut = impact::point_velocity(&vel, rx, ry).0;
+                    if ut.abs() > self.v_settle {
+                        let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
+                        return self.start_slide_rock(s, pose.theta, vel.omega, pose.x - x, ut, t);
+                    }
+                }
+                let rs = RockState {
+                    s,
+                    theta: pose.theta,
+                    omega: vel.omega,
+                    hold: false,
+                    last: None,
+                };
+                let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
+                self.x_base = pose.x - x;
+                State::Rock(rs)
+            }
+            [false, false] => {
+                self.out.flights += 1;
+                State::Flight(FlightState {
+                    vx: vel.vx,
+                    vy: vel.vy,
+                    omega: vel.omega,
+                    ..pose
+                })
+            }
+        }
+    }
+
+    /// The cascade rule (module documentation): true if the rock impacts that
+    /// follow a rock impact at `t`, leaving the block in `rs` (θ = 0), provably
+    /// die out before the ground can lift the block. Then the cascade's
+    /// friction demand is noted and the caller sets the block to rest.
+    pub(super) fn cascade_settles(&mut self, t: f64, rs: &RockState) -> bool {
+        /// Longest window, in record samples, over which the bounds are sought.
+        const MAX_SAMPLES: usize = 64;
+        let bl = self.bl;
+        // Housner's ratio of angular velocities at a rock impact with e = 0
+        let eta = impact::rock_impact_ratio(&bl, 0.0);
+        let n = self.acc.len();
+        if !self.set.settle_cascades
+            || self.fric.is_some()
+            || self.e != 0.0
+            || rs.theta != 0.0
+            || !(eta > 0.0 && eta < 1.0)
+            || n < 2
+        {
+            return false;
+        }
+        let u0 = rs.omega.abs();
+        let kk = 0.75 / bl.r; // eq. (1): I_O = 4mR²/3
+        // Over the window: the smallest A_s (either side), the largest |ẍg| and
+        // |g + ÿg|, the smallest N − (g + ÿg)/2 at θ = 0, θ̇ = 0 (all affine in
+        // the forcing, which is linear between samples, so extremes are at the
+        // window's ends and at samples), and the largest |dA_s/dt|.
+        let (mut lo_min, mut ax_max, mut gy_max, mut n_margin, mut rate) =
+            (f64::INFINITY, 0.0_f64, 0.0_f64, f64::INFINITY, 0.0_f64);
+        let mut include = |ax: f64, ay: f64| {
+            for s in [-1.0, 1.0] {
+                let c = ph::rock_contact_sc(&bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
+                // eq. (1) at θ = 0 on side s: ψ̈ = sθ̈ = −A_s
+                lo_min = lo_min.min(-s * c.alpha);
+                n_margin = n_margin.min(c.n - 0.5 * (bl.g + ay));
+            }
+            ax_max = ax_max.max(ax.abs());
+            gy_max = gy_max.max((bl.g + ay).abs());
+            (lo_min, ax_max, gy_max, n_margin)
+        };
+        let k0 = ((t / self.dt) as usize).min(n - 2);
+        let at_start = self.segment(k0).at(t);
+        include(at_start.0, at_start.1);
+        for k in k0..(k0 + MAX_SAMPLES).min(n - 1) {
+            let seg = self.segment(k);
+            let tw = (k + 1) as f64 * self.dt;
+            let (ax, ay) = seg.at(tw);
+            let (lo_min, ax_max, gy_max, n_margin) = include(ax, ay);
+            rate = rate.max(kk * (seg.v1.abs() * bl.sin_c + seg.a1.abs() * bl.cos_c));
+            if lo_min <= 0.0 || n_margin <= 0.0 {
+                // the ground can lift the block within the window, or the
+                // pivot's normal force comes near 0 (bounds on N below)
+                return false;
+            }
+            // A bounce leaving at u ≤ u0 on side s lasts τ, during which its
+            // restoring acceleration stays within A* ± x of the value A* ≥ lo_min
+            // at its start: x = rate·τ + δ, with δ = k ψm (|ẍg| + |g + ÿg|) the
+            // change of eq. (1) over the bounce's height ψ ≤ ψm (|Δsin|,
+            // |Δcos| ≤ ψm). First, while x ≤ lo_min/2: τ ≤ 2u/(A* − x) ≤
+            // 4u0/lo_min and ψ ≤ u²/(2(A* − x)) ≤ u0²/lo_min, which bounds x by x0.
+            let psi_m0 = u0 * u0 / lo_min;
+            let x0 = rate * 4.0 * u0 / lo_min + kk * psi_m0 * (ax_max + gy_max);
+            if x0 > 0.5 * lo_min {
+                return false;
+            }
+            // Then, with x ≤ x0: τ ≤ 2u0/(lo_min − x0), ψ ≤ u0²/(2(lo_min − x0)).
+            let psi_m = 0.5 * u0 * u0 / (lo_min - x0);
+            let x = rate * 2.0 * u0 / (lo_min - x0) + kk * psi_m * (ax_max + gy_max);
+            // it lands at most √((A* + x)/(A* − x)) ≤ √((lo_min + x)/(lo_min − x))
+            // faster than it left, and the impact multiplies the speed by η
+            let rho = eta * ((lo_min + x) / (lo_min - x)).sqrt();
+            if rho >= 1.0 {
+                // a longer window only widens the bounds
+                return false;
+            }
+            // Σ τₙ ≤ Σ 2uₙ/(lo_min − x) with uₙ ≤ ρⁿ u0
+            let t_cascade = 2.0 * u0 / ((lo_min - x) * (1.0 - rho));
+            if t + t_cascade > tw {
+                continue;
+            }
+            if psi_m > self.out.theta_max_over_theta_c * bl.theta_c {
+                // the cascade might set the peak rotation: follow it
+                return false;
+            }
+            // The pivot stays in compression: N (eq. (1)'s reactions) exceeds
+            // (g + ÿg)/2 over the window at θ = 0, θ̇ = 0 by n_margin, and a
+            // bounce changes it by at most R u0² (the centripetal term) plus
+            // R (ψm |θ̈| + sinθc |Δθ̈|) ≤ 2 R k ψm (|ẍg| + |g + ÿg|).
+            if n_margin <= bl.r * (u0 * u0 + 2.0 * kk * psi_m * (ax_max + gy_max)) {
+                return false;
+            }
+            // The cascade's friction demand: the contact forces at θ = 0,
+            // θ̇ = 0 on either side at its two ends.
+            let k1 = (((t + t_cascade) / self.dt) as usize).clamp(k0, k);
+            let ends = [at_start, self.segment(k1).at(t + t_cascade)];
+            let mut demand = 0.0_f64;
+            for (ax, ay) in ends {
+                for s in [-1.0, 1.0] {
+                    let c = ph::rock_contact_sc(&bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
+                    demand = demand.max(c.f.abs() / c.n);
+                }
+            }
+            self.out.mu_motion = self.out.mu_motion.max(demand);
+            return true;
+        }
+        false
+    }
+
+    /// Both corners down, no velocity: rest at the current footprint.
+    fn land_flat(&mut self, pose: FlightState) -> State {
+        self.x_base = pose.x;
+        State::Rest
+    }
+}
+
+type Vec2 = [bool; 2];

@@ -1,0 +1,501 @@
+//! The event loop: one mode at a time, stopping at every record sample and at
+//! every located event, then applying the reset map of the event.
+//!
+//! The record's acceleration is linear between samples, so each sample
+//! interval is a smooth stretch of forcing. Inside it:
+//! - **rest** needs no integration: the start of rocking is the exact crossing
+//!   of |ẍg| = (g + ÿg)·B/H on the linear forcing;
+//! - **rock** (1 DOF) is integrated by a Taylor series of order 8 (or by
+//!   Dormand–Prince 5(4), or solved in closed form for the linearised model)
+//!   and its events (impact θ = 0, lift-off N = 0, overturning |θ| = π/2) are
+//!   located by root finding on the series (the dense output);
+//! - **flight** (3 DOF) has a closed form (G follows a cubic in time, θ̇ is
+//!   constant) and landings are located on it.
+//!
+//! Ring-down rule: an impact whose rebound normal velocity is below
+//! ε·√(gR) is treated as plastic (e = 0 at that impact), and a block whose
+//! corners are both within touching distance and move slower than ε·√(gR)
+//! is set to rest (ε = `settle_tol`). Two-contact rule: at an impact every
+//! corner within 1e-9·B of the ground is in contact; while any contact corner
+//! approaches the ground, the single-corner impact law is applied at the one
+//! approaching fastest (sequential impacts), at most 64 times, after which
+//! the block is set down flat and still.
+//!
+//! Cascade rule (`settle_cascades`, e = 0 and infinite friction): after a rock
+//! impact, a block rocking on alternate corners with a shrinking speed u
+//! (uₙ₊₁ = η·uₙ on landing, η = 1 − 1.5 sin²θc) makes an endless cascade of
+//! ever shorter bounces that the ε rule only ends after dozens of impacts.
+//! Over a window of the record let lo be the smallest restoring acceleration
+//! Aₛ of eq. (1) at θ = 0 on either side, and let x bound how far the
+//! acceleration of one bounce strays from its value A* at the bounce's start
+//! (the rate of change of Aₛ times the bounce's duration, plus the change of
+//! eq. (1) over the bounce's height). Then each bounce lasts at most
+//! 2u/(lo − x), lands at most √((lo + x)/(lo − x)) faster than it left, and so
+//! the cascade ends within T = 2u₀/((lo − x)(1 − ρ)), ρ = η·√((lo + x)/(lo − x))
+//! < 1. If it ends inside the window, never rises above the peak rotation
+//! already reached, and N stays positive, the block is set to rest at once:
+//! the exact cascade is at rest by then too, and the record cannot lift the
+//! block in between, so the motion afterwards, the peak rotation and
+//! overturning are those of the cascade followed impact by impact. The
+//! cascade's own friction demand is taken at its two ends (a rest-like
+//! demand, to O(u²)); its impacts are not counted in `impacts`; it counts one
+//! in `settles`.
+//!
+//! Lift-off rule under infinite friction: when N reaches 0 in rock, the pivot
+//! is released into flight only if it would then rise (q < 0, see
+//! [`RockContact::q`](super::physics::RockContact::q)); otherwise
+//! the pivot is held (a tensile contact, counted in `liftoff_holds`) until
+//! N > 0 again or the release becomes consistent.
+//!
+//! The driver's own files, one per mode and concern: `rest`, `slide` (slide
+//! and slide-rock), `rock`, `flight`; `events` (reset maps), `impacts`
+//! (sequential impacts and the cascade rule); `stepping` (the Dormand–Prince
+//! loop shared by rock and slide-rock); `bookkeeping` (peaks, slip, energy
+//! audit, history rows).
+
+mod bookkeeping;
+mod events;
+mod flight;
+mod impacts;
+mod rest;
+mod rock;
+mod slide;
+mod stepping;
+
+use super::block::Block;
+use super::history::History;
+use super::physics as ph;
+use super::settings::{Analysis, Friction, Integrator, Model, SolverSettings};
+use crate::error::{Error, Result};
+use crate::motion::Record;
+use crate::outcome::{Mode, Outcome};
+
+/// Rock about the corner on side −s (s = +1: left corner, θ ≥ 0).
+#[derive(Clone, Copy, Debug)]
+struct RockState {
+    s: f64,
+    theta: f64,
+    omega: f64,
+    /// N reached 0 but releasing the pivot was inconsistent: the pivot is held.
+    hold: bool,
+    /// Contact quantities at the end of the last step (time, values), reused
+    /// as the start of the next one.
+    last: Option<(f64, ph::RockContact)>,
+}
+
+/// Free flight, relative to the ground.
+#[derive(Clone, Copy, Debug)]
+struct FlightState {
+    x: f64,
+    vx: f64,
+    y: f64,
+    vy: f64,
+    theta: f64,
+    omega: f64,
+}
+
+/// Slide on both corners (θ = 0); `x` is the footprint's offset from its
+/// initial place (m), `v` its velocity relative to the ground (m/s).
+#[derive(Clone, Copy, Debug)]
+struct SlideState {
+    x: f64,
+    v: f64,
+    /// Slip direction σ = sign(v) (kept explicitly: v is 0 at the start).
+    sigma: f64,
+}
+
+/// Slide-rock: rock about the corner on side −s while it slips; `xp` is the
+/// pivot's offset from its rest position (m), `vp` its slip velocity (m/s).
+#[derive(Clone, Copy, Debug)]
+struct SlideRockState {
+    s: f64,
+    theta: f64,
+    omega: f64,
+    xp: f64,
+    vp: f64,
+    sigma: f64,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum State {
+    Rest,
+    Slide(SlideState),
+    Rock(RockState),
+    SlideRock(SlideRockState),
+    Flight(FlightState),
+}
+
+impl State {
+    fn mode(&self) -> Mode {
+        match self {
+            State::Rest => Mode::Rest,
+            State::Slide(_) => Mode::Slide,
+            State::Rock(_) => Mode::Rock,
+            State::SlideRock(_) => Mode::SlideRock,
+            State::Flight(_) => Mode::Flight,
+        }
+    }
+}
+
+/// Events located inside a sample interval.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Event {
+    /// Rest broken: start rocking with θ > 0 (s = +1) or θ < 0 (s = −1).
+    StartRock(f64),
+    /// θ reached 0 while rocking.
+    RockImpact,
+    /// N reached 0 and the pivot can be released.
+    Uplift,
+    /// N reached 0 but the pivot would not rise: hold it.
+    HoldStart,
+    /// N > 0 again while holding.
+    HoldEnd,
+    /// While holding, the release became consistent.
+    Release,
+    /// A corner (side ±1) reached the ground in flight.
+    Landing(f64),
+    /// |θ| reached π/2.
+    Overturn,
+    /// Rest broken by friction: start sliding in direction σ.
+    StartSlide(f64),
+    /// Sliding on both corners stopped (v = 0).
+    SlideStop,
+    /// Rocking with a stuck pivot: the friction demand reached μs N.
+    SlipStart,
+    /// Slide-rock: the pivot's slip velocity reached 0.
+    SlipStop,
+    /// Slide-rock: N reached 0 (consistent lift-off with finite friction).
+    SlideRockLiftoff,
+    /// Slide-rock has no slipping solution (Painlevé): the pivot sticks.
+    Jam,
+}
+
+/// Ground acceleration on one sample interval: ẍg = a0 + a1 (t − t0),
+/// ÿg = v0 + v1 (t − t0).
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    t0: f64,
+    a0: f64,
+    a1: f64,
+    v0: f64,
+    v1: f64,
+}
+
+impl Segment {
+    #[inline]
+    fn at(&self, t: f64) -> (f64, f64) {
+        let tau = t - self.t0;
+        (self.a0 + self.a1 * tau, self.v0 + self.v1 * tau)
+    }
+}
+
+/// Solves one analysis: a block under a record. Returns the per-run outcome;
+/// pushes the full history into `history` when one is given.
+///
+/// ```
+/// use rockfrag::motion::Record;
+/// use rockfrag::solver::{simulate, Analysis, Block, SolverSettings};
+/// let block = Block::new(0.5, 4.0, 9.81).unwrap();
+/// // 2 s of constant acceleration at 0.3 g, above the rocking threshold g/4
+/// let record = Record::from_acc("pulse", 0.01, vec![0.3 * 9.81; 201]).unwrap();
+/// let out = simulate(&Analysis::new(block, 0.0), &record, &SolverSettings::default(), None).unwrap();
+/// assert!(out.moved);
+/// ```
+pub fn simulate(
+    analysis: &Analysis,
+    record: &Record,
+    settings: &SolverSettings,
+    history: Option<&mut History>,
+) -> Result<Outcome> {
+    analysis.validate()?;
+    settings.validate()?;
+    record.validate_forcing()?;
+    if settings.model == Model::Linear && analysis.friction != Friction::Infinite {
+        return Err(Error::invalid(
+            "model",
+            "linear",
+            "nonlinear with finite friction (the linearised model is for rock with stuck corners)",
+        ));
+    }
+    if settings.model == Model::Linear && record.acc_v.is_some() {
+        return Err(Error::invalid(
+            "model",
+            "linear",
+            "nonlinear when the record has vertical acceleration",
+        ));
+    }
+    let mut run = Run::new(analysis, record, settings, history);
+    run.solve()?;
+    Ok(run.out)
+}
+
+struct Run<'a> {
+    bl: Block,
+    e: f64,
+    set: &'a SolverSettings,
+    acc: &'a [f64],
+    acc_v: Option<&'a [f64]>,
+    dt: f64,
+    init: super::settings::Initial,
+    out: Outcome,
+    hist: Option<&'a mut History>,
+    /// Step size carried between steps (s).
+    h: f64,
+    /// Horizontal offset of the block's footprint from its initial place (m).
+    x_base: f64,
+    /// Accumulated work of the ground (J/kg), energy audit.
+    work: f64,
+    /// Accumulated energy jumps at events (J/kg), energy audit.
+    jumps: f64,
+    /// Energy at t = 0 (J/kg).
+    e0: f64,
+    /// Largest |E − E0 − W − jumps| seen and the energy scale.
+    resid: f64,
+    escale: f64,
+    /// Ring-down velocity threshold ε√(gR) (m/s).
+    v_settle: f64,
+    /// Contact distance of the two-contact rule (m).
+    h_touch: f64,
+    /// Coulomb friction (μs, μk), or `None` for infinite friction.
+    fric: Option<(f64, f64)>,
+    /// The last release of a rock pivot into flight: (time, rock state).
+    released: Option<(f64, RockState)>,
+    /// |ẍg| below which rest cannot break (the smaller of the rocking and
+    /// sliding thresholds, less a margin for rounding); 0 when rest is
+    /// decided sample by sample (vertical ground motion, or a history).
+    quiet: f64,
+}
+
+impl<'a> Run<'a> {
+    fn new(
+        an: &Analysis,
+        rec: &'a Record,
+        set: &'a SolverSettings,
+        hist: Option<&'a mut History>,
+    ) -> Self {
+        let bl = an.block;
+        let hist_none = hist.is_none();
+        Run {
+            bl,
+            e: an.restitution,
+            set,
+            acc: &rec.acc,
+            acc_v: rec.acc_v.as_deref(),
+            dt: rec.dt,
+            init: an.initial,
+            out: Outcome::default(),
+            hist,
+            h: rec.dt * 0.25,
+            x_base: 0.0,
+            work: 0.0,
+            jumps: 0.0,
+            e0: 0.0,
+            resid: 0.0,
+            escale: bl.g * bl.r * (1.0 - bl.cos_c),
+            v_settle: set.settle_tol * (bl.g * bl.r).sqrt(),
+            h_touch: 1e-9 * bl.b,
+            fric: match an.friction {
+                Friction::Infinite => None,
+                Friction::Coulomb { mu_s, mu_k } => Some((mu_s, mu_k)),
+            },
+            released: None,
+            quiet: if rec.acc_v.is_none() && hist_none {
+                // rest breaks when |ẍg| > g tanθc (eq. (1) at θ = 0), or slides
+                // when |ẍg| > μs g; the margin covers the rounding of the
+                // interpolated forcing at a sample's end
+                let mu = match an.friction {
+                    Friction::Infinite => f64::INFINITY,
+                    Friction::Coulomb { mu_s, .. } => mu_s,
+                };
+                (bl.sin_c * bl.g / bl.cos_c).min(mu * bl.g) * (1.0 - 1e-9)
+            } else {
+                0.0
+            },
+        }
+    }
+
+    #[inline]
+    fn segment(&self, k: usize) -> Segment {
+        let t0 = k as f64 * self.dt;
+        let (a0, a1) = (self.acc[k], (self.acc[k + 1] - self.acc[k]) / self.dt);
+        let (v0, v1) = match self.acc_v {
+            Some(v) => (v[k], (v[k + 1] - v[k]) / self.dt),
+            None => (0.0, 0.0),
+        };
+        Segment { t0, a0, a1, v0, v1 }
+    }
+
+    fn initial_state(&self) -> State {
+        let (th, om) = (self.init.theta, self.init.theta_dot);
+        if self.init.y_dot > 0.0 {
+            let i = self.init;
+            State::Flight(FlightState {
+                x: 0.0,
+                vx: i.x_dot,
+                y: 0.0,
+                vy: i.y_dot,
+                theta: 0.0,
+                omega: om,
+            })
+        } else if th == 0.0 && om == 0.0 {
+            State::Rest
+        } else {
+            let s = if th != 0.0 { th.signum() } else { om.signum() };
+            State::Rock(RockState {
+                s,
+                theta: th,
+                omega: om,
+                hold: false,
+                last: None,
+            })
+        }
+    }
+
+    fn solve(&mut self) -> Result<()> {
+        let n = self.acc.len();
+        let mut state = self.initial_state();
+        match state {
+            State::Rest => {}
+            State::Flight(_) => {
+                self.out.moved = true;
+                self.out.flights += 1;
+            }
+            State::Rock(_) | State::Slide(_) | State::SlideRock(_) => self.out.moved = true,
+        }
+        self.e0 = self.energy(&state);
+        let mut k = 0usize;
+        let mut t = 0.0;
+        let seg0 = self.segment(0);
+        self.push_row(t, &state, &seg0, false);
+        self.note_theta(&state);
+        while k + 1 < n {
+            if matches!(state, State::Rest) && self.quiet > 0.0 {
+                // Fast-forward over samples where the ground is too weak, at both
+                // ends, to break rest (the forcing is linear in between).
+                let k0 = k;
+                if self.acc[k].abs() < self.quiet {
+                    while k + 1 < n && self.acc[k + 1].abs() < self.quiet {
+                        k += 1;
+                    }
+                }
+                if k > k0 {
+                    let t_start = t;
+                    t = k as f64 * self.dt;
+                    self.out.time_in_mode[Mode::Rest.index()] += t - t_start;
+                    continue;
+                }
+            }
+            let seg = self.segment(k);
+            let t_end = (k + 1) as f64 * self.dt;
+            let t_start = t;
+            let mode = state.mode();
+            let event = match &mut state {
+                State::Rest => match self.fric {
+                    // Shenton (1996): from rest a block slides if μs < B/H and rocks if
+                    // μs > B/H. At μs = B/H both thresholds coincide, and a block that
+                    // starts to tip needs F/N rising above B/H at once (d(F/N)/dẍg = 1/4g
+                    // > 0 at θ = 0), so it slips flat: the tie slides.
+                    // A block coming to rest (after a landing) while |ẍg| already
+                    // exceeds μs (g + ÿg) cannot stay stuck, nor rock on a stuck
+                    // corner: it slides.
+                    Some((mu_s, _))
+                        if mu_s <= self.bl.b / self.bl.h || self.slide_exceeded(&seg, t, mu_s) =>
+                    {
+                        self.rest_slide(&seg, &mut t, t_end, mu_s)
+                    }
+                    _ => self.rest(&seg, &mut t, t_end),
+                },
+                State::Slide(ss) => self.slide(ss, &seg, &mut t, t_end),
+                State::SlideRock(sr) => {
+                    if self.set.audit_energy {
+                        self.slide_rock::<5>(sr, &seg, &mut t, t_end)?
+                    } else {
+                        self.slide_rock::<4>(sr, &seg, &mut t, t_end)?
+                    }
+                }
+                State::Rock(rs) => match (self.set.model, self.set.integrator) {
+                    (Model::Linear, _) => self.rock_linear(rs, &seg, &mut t, t_end),
+                    (Model::Nonlinear, Integrator::Taylor) => {
+                        self.rock_taylor(rs, &seg, &mut t, t_end)?
+                    }
+                    (Model::Nonlinear, Integrator::Dopri5) if self.set.audit_energy => {
+                        self.rock_nonlinear::<3>(rs, &seg, &mut t, t_end)?
+                    }
+                    (Model::Nonlinear, Integrator::Dopri5) => {
+                        self.rock_nonlinear::<2>(rs, &seg, &mut t, t_end)?
+                    }
+                },
+                State::Flight(fs) => self.flight(fs, &seg, &mut t, t_end),
+            };
+            self.out.time_in_mode[mode.index()] += t - t_start;
+            match event {
+                None => {
+                    t = t_end;
+                    k += 1;
+                    if self.hist.is_some() {
+                        let seg_end = if k + 1 < n {
+                            self.segment(k)
+                        } else {
+                            Segment { t0: t, ..seg }
+                        };
+                        self.push_row(t, &state, &seg_end, false);
+                    }
+                    self.audit(&state);
+                    // the footprint moves between events only while slipping
+                    if matches!(state, State::Slide(_) | State::SlideRock(_)) {
+                        self.note_slip(&state);
+                    }
+                }
+                Some(ev) => {
+                    self.out.stats.events += 1;
+                    if self.out.stats.events > self.set.max_events {
+                        return Err(Error::Solver {
+                            time: t,
+                            message: format!(
+                                "more than {} events (max_events)",
+                                self.set.max_events
+                            ),
+                        });
+                    }
+                    self.audit(&state);
+                    self.push_row(t, &state, &seg, true);
+                    let before = if self.set.audit_energy {
+                        self.energy(&state)
+                    } else {
+                        0.0
+                    };
+                    let from = state.mode();
+                    state = self.handle(ev, state, t)?;
+                    let to = state.mode();
+                    if from != to {
+                        self.out.transitions[from.index()][to.index()] += 1;
+                    }
+                    self.note_slip(&state);
+                    if self.set.audit_energy {
+                        self.jumps += self.energy(&state) - before;
+                    }
+                    self.note_theta(&state);
+                    self.push_row(t, &state, &seg, true);
+                    if self.out.overturned {
+                        break;
+                    }
+                }
+            }
+        }
+        self.out.end_time = t;
+        if self.set.audit_energy {
+            self.out.energy_residual = Some(self.resid / self.escale);
+        }
+        Ok(())
+    }
+}
+
+/// Keeps the earliest of the located events.
+#[inline]
+fn earliest(best: &mut Option<(f64, Event)>, te: Option<f64>, ev: Event) {
+    if let Some(te) = te
+        && best.is_none_or(|(tb, _)| te < tb)
+    {
+        *best = Some((te, ev));
+    }
+}

@@ -1,0 +1,67 @@
+//! Rest: the exact start of rocking or of sliding on the linear forcing.
+
+use super::{Event, Run, Segment};
+
+impl Run<'_> {
+    /// Rest: find the first time in [t, t_end] where |ẍg| > (g + ÿg)·B/H
+    /// (exact on linear forcing: both sides of the inequality are linear in t).
+    pub(super) fn rest(&mut self, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
+        let (sc, cc, g) = (self.bl.sin_c, self.bl.cos_c, self.bl.g);
+        // f = cosθc·s·ẍg − sinθc·(g + ÿg) ∝ s·θ̈ of eq. (1) at θ = 0 (same
+        // floating-point operations, so f > 0 ⇔ the block departs)
+        let found = first_exceedance(seg, t, t_end, |s, ax, ay| cc * (s * ax) - sc * (g + ay));
+        found.map(Event::StartRock)
+    }
+
+    /// Rest with μs ≤ B/H: find the first time in [t, t_end] where
+    /// |ẍg| > μs (g + ÿg) (Shenton 1996), exact on the linear forcing. The
+    /// block then slides opposite to the ground's acceleration.
+    pub(super) fn rest_slide(
+        &mut self,
+        seg: &Segment,
+        t: &mut f64,
+        t_end: f64,
+        mu_s: f64,
+    ) -> Option<Event> {
+        let g = self.bl.g;
+        let found = first_exceedance(seg, t, t_end, |s, ax, ay| s * ax - mu_s * (g + ay));
+        found.map(|s| Event::StartSlide(-s))
+    }
+
+    /// True if |ẍg(t)| > μs (g + ÿg(t)): friction cannot hold the block at rest.
+    pub(super) fn slide_exceeded(&self, seg: &Segment, t: f64, mu_s: f64) -> bool {
+        let (ax, ay) = seg.at(t);
+        ax.abs() > mu_s * (self.bl.g + ay)
+    }
+}
+
+/// The first time in [t, t_end] at which f(s, ẍg, ÿg) > 0 for s = +1 or −1,
+/// where f is linear in the (linear) forcing, so the crossing is exact.
+/// Moves `t` to that time (or to t_end) and returns the side s.
+fn first_exceedance(
+    seg: &Segment,
+    t: &mut f64,
+    t_end: f64,
+    f: impl Fn(f64, f64, f64) -> f64,
+) -> Option<f64> {
+    let (ax0, ay0) = seg.at(*t);
+    let (ax1, ay1) = seg.at(t_end);
+    let mut best: Option<(f64, f64)> = None;
+    for s in [1.0, -1.0] {
+        let (f0, f1) = (f(s, ax0, ay0), f(s, ax1, ay1));
+        let tc = if f0 > 0.0 {
+            Some(*t)
+        } else if f1 > 0.0 {
+            Some(*t + (t_end - *t) * (f0 / (f0 - f1)))
+        } else {
+            None
+        };
+        if let Some(tc) = tc
+            && best.is_none_or(|(tb, _)| tc < tb)
+        {
+            best = Some((tc, s));
+        }
+    }
+    *t = best.map_or(t_end, |(tc, _)| tc);
+    best.map(|(_, s)| s)
+}
