@@ -7,8 +7,8 @@ use rockfrag::reference::{
     constant_record, free_rocking_first_impact_time, next_amplitude, quiet_record,
     rock_impact_velocity,
 };
-use rockfrag::solver::impact::{ImpactLaw, corner_impact, rock_impact_mu, rock_impact_ratio};
 use rockfrag::solver::{Analysis, Block, History, Initial, SolverSettings, simulate};
+use rockfrag::solver::{ImpactLaw, corner_impact, rock_impact_mu, rock_impact_ratio};
 
 const G: f64 = 9.81;
 

@@ -39,7 +39,7 @@ pub trait Figure {
 pub enum Format {
     /// Scalable vector graphics (`.svg`, or no extension).
     Svg,
-    /// Portable network graphics (`.png`), at [`style::PNG_PX_PER_IN`].
+    /// Portable network graphics (`.png`), at [`PNG_PX_PER_IN`](super::style::PNG_PX_PER_IN).
     Png,
 }
 

@@ -1,7 +1,7 @@
 //! `outcomes.csv`: the table of per-analysis outcomes that a study writes
 //! and the fragility fit, the figures and `merge` read. One row per
 //! analysis, in the canonical order of units and cases (see
-//! [`crate::study::plan`]).
+//! [`crate::study::Case`] and [`crate::study::Unit`]).
 //!
 //! Columns, in order (the bracketed ones only when the study uses them):
 //!

@@ -164,7 +164,8 @@ impl Row<'_> {
             || t.error.is_some_and(|i| !self.field(i).is_empty())
     }
 
-    /// The case of this row (see the [module docs](self) for the rules).
+    /// The case of this row: H/B and 2B finite and > 0, e finite, `friction`
+    /// `inf` (μ columns empty) or `coulomb` (μs, μk numbers, `inf` allowed).
     pub fn case(&self) -> Result<CaseKey> {
         let [aspect, width, restitution, friction, mu_s, mu_k] = self.table.case;
         let friction = match self.field(friction) {

@@ -4,28 +4,38 @@
 //! ([`Analysis`]) under one [`Record`](crate::motion::Record), solved by
 //! [`simulate`] into an [`Outcome`](crate::outcome::Outcome).
 //!
-//! - [`block`]: geometry and derived constants;
-//! - [`physics`]: the equations of each mode as plain functions;
-//! - [`impact`]: corner impacts (Newton and energy-consistent laws);
-//! - [`taylor`]: Taylor-series steps of the rock equation (the default);
-//! - [`dopri`]: the Dormand–Prince 5(4) stepper with dense output (slide-rock,
+//! The files, one concept each (their own docs derive the equations and
+//! the event rules; `cargo doc --document-private-items` shows them):
+//!
+//! - `block.rs`: geometry and derived constants ([`Block`]);
+//! - `settings.rs`: what an analysis is and how it is solved ([`Analysis`],
+//!   [`SolverSettings`]);
+//! - `physics.rs`: the equations of each mode as plain functions;
+//! - `impact.rs`: corner impacts, Newton and energy-consistent laws
+//!   ([`corner_impact`], [`rock_impact_ratio`], [`rock_impact_mu`]);
+//! - `taylor.rs`: Taylor-series steps of the rock equation (the default);
+//! - `dopri.rs`: the Dormand–Prince 5(4) stepper with dense output (slide-rock,
 //!   and rock on request);
-//! - [`driver`]: the event loop (stops at samples, locates events, applies resets);
-//! - [`history`]: the optional full time history.
+//! - `roots.rs`, `scan.rs`: root finding and sign-change scans for events;
+//! - `driver/`: the event loop, one file per mode (rest, slide, rock,
+//!   flight), events and impacts, the cascade rule, bookkeeping;
+//! - `history.rs`: the optional full time history ([`History`]).
 
-pub mod block;
-pub mod dopri;
-pub mod driver;
-pub mod history;
-pub mod impact;
-pub mod physics;
-pub mod roots;
-pub mod scan;
-pub mod settings;
-pub mod taylor;
+mod block;
+mod dopri;
+mod driver;
+mod history;
+pub(crate) mod impact;
+mod physics;
+mod roots;
+mod scan;
+mod settings;
+mod taylor;
 
 pub use block::Block;
 pub use driver::simulate;
 pub use history::{History, HistoryRow};
-pub use impact::ImpactLaw;
+pub use impact::{
+    ImpactLaw, ImpactResult, Velocity, corner_impact, rock_impact_mu, rock_impact_ratio,
+};
 pub use settings::{Analysis, Friction, Initial, Integrator, Model, SolverSettings};

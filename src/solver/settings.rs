@@ -23,7 +23,7 @@ pub enum Model {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Integrator {
-    /// Taylor series of order 8 ([`ORDER`](super::taylor::ORDER)) over each
+    /// Taylor series of order 8 (`taylor::ORDER`) over each
     /// record sample (one sine and cosine per step, the series is its own
     /// dense output), steps cut by the tolerance. Fastest.
     #[default]
