@@ -1,4 +1,5 @@
-//! `rockfrag motion`: one synthetic ground motion to CSV (and a figure).
+//! `rockfrag motion`: one synthetic ground motion to CSV or PEER `.AT2` (and
+//! a figure).
 //!
 //! The flags are checked by clap's value parsers (bad values exit with status
 //! 2 and a one-line message naming the flag); the settings they build are
@@ -9,7 +10,7 @@ use std::path::PathBuf;
 
 use super::args::{non_negative, positive};
 use anyhow::Context;
-use rockfrag::motion::{SynthesisSettings, Synthesizer, write_csv, write_csv_to};
+use rockfrag::motion::{At2, SynthesisSettings, Synthesizer, write_csv, write_csv_to};
 
 /// Flags of `rockfrag motion`.
 #[derive(Debug, clap::Args)]
@@ -23,9 +24,10 @@ pub struct MotionArgs {
     /// Index of the record within the ensemble.
     #[arg(long, value_name = "I", default_value_t = 0)]
     pub index: u64,
-    /// Output CSV file (header `t,acc,vel,disp`; s, m/s², m/s, m), written
-    /// atomically; standard output if absent.
-    #[arg(long, value_name = "FILE.csv")]
+    /// Output file, written atomically: CSV (header `t,acc,vel,disp`; s,
+    /// m/s², m/s, m) or, if the name ends in `.AT2`, a PEER NGA `.AT2`
+    /// record (acceleration in g); CSV on standard output if absent.
+    #[arg(long, value_name = "FILE.csv|FILE.AT2")]
     pub out: Option<PathBuf>,
     /// Sample interval, s [default: 0.02]; 1/(0.05·dt) must be an integer.
     #[arg(long, value_name = "S", value_parser = positive, allow_negative_numbers = true)]
@@ -75,6 +77,7 @@ pub fn run(args: MotionArgs) -> anyhow::Result<()> {
         rockfrag::figures::plot_record(&record, path)?;
     }
     match &args.out {
+        Some(path) if is_at2(path) => At2::from_record(&record, settings.g).write(path)?,
         Some(path) => write_csv(path, &record)?,
         None => {
             let mut w = std::io::BufWriter::new(std::io::stdout().lock());
@@ -87,4 +90,10 @@ pub fn run(args: MotionArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// Whether `path` names a PEER `.AT2` file (any case of the extension).
+fn is_at2(path: &std::path::Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("at2"))
 }
