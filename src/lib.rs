@@ -63,6 +63,7 @@
 // Each module uses only the modules declared above it (tests/architecture.rs).
 pub mod error;
 mod io_util;
+pub mod stats;
 pub mod motion;
 pub mod outcome;
 pub mod solver;
@@ -70,6 +71,7 @@ pub mod outcomes_csv;
 pub mod fragility;
 pub mod spec;
 pub mod study;
+pub mod reproduce;
 pub mod bench;
 pub mod figures;
 pub mod reference;

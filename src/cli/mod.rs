@@ -7,6 +7,7 @@ mod fragility;
 mod merge;
 mod figures;
 mod motion;
+mod paper;
 mod run;
 mod simulate;
 
@@ -40,6 +41,9 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Draw the publication figures of a study folder (SVG or PNG).
     Figures(figures::FiguresArgs),
+    /// Check the paper's Tables 1–3 over K ensembles under each reading of
+    /// its section 4 (paper-check.md).
+    Paper(paper::PaperArgs),
 }
 
 /// Runs a parsed command line.
@@ -52,6 +56,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Fragility(args) => fragility::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Figures(args) => figures::run(args),
+        Command::Paper(args) => paper::run(args),
     }
 }
 

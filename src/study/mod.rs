@@ -37,6 +37,7 @@ pub use manifest::Manifest;
 pub use merge::merge;
 pub use plan::{Case, Shard, Unit};
 pub use source::Source;
+pub(crate) use summary::sig3;
 pub use summary::{Counts, Tally};
 
 use crate::error::{Error, Result};

@@ -7,6 +7,8 @@
 //! Table 1 has no row for A_g = 0.3 (too weak to start rocking at H/B = 2),
 //! and the cells where every run overturned have no averages.
 
+use crate::motion::SynthesisSettings;
+
 /// One row of Tables 1–3.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PaperRow {
@@ -103,6 +105,56 @@ pub const TABLES: &[PaperRow] = &[
     row(6.0, 0.9, 0.9, 24, Some((0.814, 0.219, 26.1))),
     row(6.0, 0.9, 1.2, 25, None),
 ];
+
+/// One candidate reading of the paper's section 4.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reading {
+    /// Short name, e.g. `rad/s band`.
+    pub name: &'static str,
+    /// What the reading takes the sentence to mean.
+    pub meaning: &'static str,
+    /// The synthesis settings of the reading.
+    pub settings: SynthesisSettings,
+}
+
+/// The readings of section 4 that `rockfrag paper` compares: as written,
+/// the rad/s band and the whole rad/s grid (see [`crate::reproduce`]). The
+/// built-in study uses the rad/s grid.
+pub fn readings() -> Vec<Reading> {
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let written = SynthesisSettings::default();
+    let band = SynthesisSettings {
+        f_max: 25.0 / two_pi,
+        ..written.clone()
+    };
+    // Δω = 0.05 rad/s is Δf = 0.05/2π Hz; 1/(Δf·Δt) = 6283.2 at Δt = 0.02 s,
+    // rounded to the integer 6283 the FFT synthesis needs.
+    let n = (two_pi / (0.05 * written.dt)).round();
+    let df = 1.0 / (n * written.dt);
+    let grid = SynthesisSettings {
+        df,
+        f_min: df,
+        f_max: 25.0 / two_pi,
+        ..written.clone()
+    };
+    vec![
+        Reading {
+            name: "as written",
+            meaning: "Δf = 0.05 Hz over 0.05–25 Hz",
+            settings: written,
+        },
+        Reading {
+            name: "rad/s band",
+            meaning: "0.05–25 rad/s (0.05–3.98 Hz), Δf = 0.05 Hz",
+            settings: band,
+        },
+        Reading {
+            name: "rad/s grid",
+            meaning: "Δω = 0.05 rad/s over 0.05–25 rad/s (Δf ≈ 0.00796 Hz, up to 3.98 Hz)",
+            settings: grid,
+        },
+    ]
+}
 
 /// The paper's row for (H/B, e, A_g), if it published one.
 pub fn lookup(aspect: f64, restitution: f64, pga: f64) -> Option<&'static PaperRow> {
