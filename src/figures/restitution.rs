@@ -21,6 +21,7 @@ use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, ma
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
 use crate::outcomes_csv::CaseKey;
 use crate::solver::Friction;
+use crate::stats::cochran_armitage;
 use crate::study::paper::{RECORDS, TABLES};
 
 /// Figure height (in).
@@ -174,6 +175,52 @@ impl RestitutionFigure {
         if !notes.is_empty() {
             title.push_str(&format!("; {}", notes.join(", ")));
         }
+        // The trend over e as summary.md tests it: Cochran–Armitage on the
+        // counts (overturned or uplifted, the paper's convention) pooled over
+        // blocks and levels, infinite friction; the paper's beside it.
+        let pooled: Vec<(u64, u64)> = es
+            .iter()
+            .map(|&e| {
+                let at = rows
+                    .iter()
+                    .filter(|r| r.case.restitution == e && r.case.friction == Friction::Infinite);
+                at.fold((0, 0), |(k, n), r| {
+                    (k + (r.overturned || r.uplifted) as u64, n + 1)
+                })
+            })
+            .collect();
+        let trend = |k: &[u64], n: &[u64]| {
+            cochran_armitage(k, n, &es).map(|t| format!("Z = {:.2}, p = {}", t.z, p_text(t.p)))
+        };
+        let ks: Vec<u64> = pooled.iter().map(|p| p.0).collect();
+        let ns: Vec<u64> = pooled.iter().map(|p| p.1).collect();
+        if let Some(ours) = trend(&ks, &ns) {
+            title.push_str(&format!(
+                "; trend over e (μ = ∞, overturned or uplifted): {ours}"
+            ));
+            let aspects: Vec<f64> = blocks.iter().map(|b| b.0).collect();
+            let published: Vec<(u64, u64)> = es
+                .iter()
+                .map(|&e| {
+                    let at: Vec<_> = TABLES
+                        .iter()
+                        .filter(|p| p.restitution == e && aspects.contains(&p.aspect))
+                        .filter(|p| all_levels.contains(&p.pga))
+                        .collect();
+                    let k = at.iter().map(|p| p.overturned as u64).sum();
+                    (
+                        k,
+                        (aspects.len() * all_levels.len()) as u64 * RECORDS as u64,
+                    )
+                })
+                .collect();
+            let has_paper = panels.iter().any(|p| !p.paper.is_empty());
+            let kp: Vec<u64> = published.iter().map(|p| p.0).collect();
+            let np: Vec<u64> = published.iter().map(|p| p.1).collect();
+            if let Some(theirs) = trend(&kp, &np).filter(|_| has_paper) {
+                title.push_str(&format!(", paper's {theirs}"));
+            }
+        }
         RestitutionFigure {
             title,
             levels,
@@ -298,5 +345,14 @@ impl Figure for RestitutionFigure {
             }
         }
         Ok(())
+    }
+}
+
+/// A p-value in three significant figures, or in e-notation below 0.001.
+fn p_text(p: f64) -> String {
+    if p < 0.001 {
+        format!("{p:.1e}")
+    } else {
+        format!("{p:.3}")
     }
 }
