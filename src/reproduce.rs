@@ -43,7 +43,8 @@ use crate::motion::SynthesisSettings;
 use crate::solver::{Friction, simulate};
 use crate::spec::{Motions, Study};
 use crate::stats::{binomial_log_likelihood, cochran_armitage, fisher_exact};
-use crate::study::paper::{self, PaperRow, Reading, readings};
+use crate::study::paper::{self, PaperRow};
+pub use crate::study::paper::{Reading, readings};
 use crate::study::{Source, plan, sig3};
 
 /// Options of [`check`].
