@@ -323,7 +323,7 @@ pub fn score(result: &ReadingResult) -> Scores {
 
     let mut near_threshold = Vec::new();
     for (ai, li) in [(0, 1), (1, 0), (2, 0)] {
-        for ei in 0..4 {
+        for (ei, &e) in RESTITUTIONS.iter().enumerate() {
             let ci = cell_index(ai, ei, li);
             let (mut sum, mut n) = (0.0, 0.0);
             for cells in &result.ensembles {
@@ -333,7 +333,7 @@ pub fn score(result: &ReadingResult) -> Scores {
             let theirs = published(ci)
                 .and_then(|p| p.theta_max_over_theta_c)
                 .unwrap_or(f64::NAN);
-            near_threshold.push((ASPECTS[ai], PGAS[li], RESTITUTIONS[ei], sum / n, theirs));
+            near_threshold.push((ASPECTS[ai], PGAS[li], e, sum / n, theirs));
         }
     }
     let pooled: Vec<u64> = totals

@@ -87,7 +87,7 @@ pub fn cochran_armitage(successes: &[u64], trials: &[u64], scores: &[f64]) -> Op
     }
     let spread = ssn - sn * sn / n; // Σ nᵢ (sᵢ − s̄)²
     let var = pbar * (1.0 - pbar) * spread;
-    if !(var > 0.0) {
+    if var.is_nan() || var <= 0.0 {
         return None;
     }
     let z = t / var.sqrt();
