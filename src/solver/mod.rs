@@ -38,4 +38,4 @@ pub use history::{History, HistoryRow};
 pub use impact::{
     ImpactLaw, ImpactResult, Velocity, corner_impact, rock_impact_mu, rock_impact_ratio,
 };
-pub use settings::{Analysis, Friction, Initial, Integrator, Model, SolverSettings};
+pub use settings::{Analysis, Friction, Initial, Integrator, Model, RockImpact, SolverSettings};

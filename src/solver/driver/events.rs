@@ -2,7 +2,9 @@
 
 use super::{Event, FlightState, RockState, Run, SlideRockState, SlideState, State};
 use crate::error::{Error, Result};
+use crate::solver::impact;
 use crate::solver::physics as ph;
+use crate::solver::settings::RockImpact;
 
 impl Run<'_> {
     /// Applies the reset map of an event and returns the new state.
@@ -67,6 +69,9 @@ impl Run<'_> {
                 // the impact happens at θ = 0 (the path's θ there is zero to
                 // within the root's tolerance)
                 let fs = self.rock_to_flight(&RockState { theta: 0.0, ..rs });
+                if self.e > 0.0 && self.fric.is_none() && self.set.rock_impact == RockImpact::Rock {
+                    return Ok(self.rock_impact_no_flight(t, fs, &rs));
+                }
                 match self.impacts(t, fs, rs.s) {
                     State::Rock(after) if self.cascade_settles(t, &after) => {
                         self.out.settles += 1;
@@ -238,6 +243,35 @@ impl Run<'_> {
             theta: rs.theta,
             omega: rs.omega,
         }
+    }
+
+    /// The rock impact of [`RockImpact::Rock`] (e > 0, infinite friction):
+    /// rocking goes on about the new corner with θ̇2 = δ(e)·θ̇1, or the block
+    /// is set to rest if the new corner's speed is below the settle speed.
+    fn rock_impact_no_flight(&mut self, t: f64, pose: FlightState, rs: &RockState) -> State {
+        // physics.md, impact from rocking: ω2 = δ ω1, δ = 1 − 1.5 (1+e) sin²θc
+        let delta = impact::rock_impact_ratio(&self.bl, self.e);
+        self.out.impacts += 1;
+        self.out.first_impact_time.get_or_insert(t);
+        // paper eq. (8): the rock impact's friction demand, independent of e
+        self.out.mu_impact = self.out.mu_impact.max(impact::rock_impact_mu(&self.bl));
+        let omega = delta * rs.omega;
+        if omega.abs() * 2.0 * self.bl.b <= self.v_settle {
+            // the same ring-down threshold as a plastic impact's
+            self.out.settles += 1;
+            self.x_base = pose.x;
+            return State::Rest;
+        }
+        let after = RockState {
+            s: -rs.s,
+            theta: 0.0,
+            omega,
+            hold: false,
+            last: None,
+        };
+        let [x, ..] = ph::rock_kinematics(&self.bl, after.s, 0.0, omega);
+        self.x_base = pose.x - x;
+        State::Rock(after)
     }
 
     /// Slide-rock state → flight representation.

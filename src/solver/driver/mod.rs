@@ -41,6 +41,13 @@
 //! demand, to O(u²)); its impacts are not counted in `impacts`; it counts one
 //! in `settles`.
 //!
+//! Rock-impact rule (`rock_impact`): by default a rock impact with e > 0 is
+//! resolved by the impact law in full (the block flies and rings down on the
+//! new corner). `rock_impact = "rock"` instead keeps the block rocking on the
+//! new corner with θ̇2 = δ(e)θ̇1 and no flight (infinite friction only): a
+//! reading of the paper's program, not the physics
+//! ([`RockImpact`](super::settings::RockImpact)).
+//!
 //! Lift-off rule under infinite friction: when N reaches 0 in rock, the pivot
 //! is released into flight only if it would then rise (q < 0, see
 //! [`RockContact::q`](super::physics::RockContact::q)); otherwise
