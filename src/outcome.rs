@@ -77,6 +77,15 @@ pub struct Outcome {
     pub mu_motion: f64,
     /// Peak |P_t/P_n| over all impacts (friction needed to prevent sliding at impact).
     pub mu_impact: f64,
+    /// Peak over all impacts (rock impacts and landings) of the paper's
+    /// eq. (5), the friction needed to prevent sliding during an impact as the
+    /// paper's program evaluated it: |P_t/P_n| of the Newton sticking impulse,
+    /// with the absolute value taken even when P_n ≤ 0 (see
+    /// [`eq5_mu`](crate::solver::eq5_mu) for the reconstruction). Equal to the paper's
+    /// eq. (8) at a rock impact; unbounded near landings whose sticking normal
+    /// impulse vanishes. The largest over the run, as the paper's tables
+    /// report it; 0 when there are no impacts, like `mu_impact`.
+    pub mu_impact_eq5: f64,
     /// Number of corner impacts (rock impacts and landings, each corner counted).
     pub impacts: u64,
     /// Number of free-flight phases.

@@ -19,6 +19,7 @@ fn json_outcome_has_the_documented_fields() {
         "theta_max_over_theta_c",
         "mu_motion",
         "mu_impact",
+        "mu_impact_eq5",
         "impacts",
         "flights",
         "uplifts",

@@ -238,7 +238,10 @@ fn print_summary(args: &SimulateArgs, block: &Block, record: &Record, o: &Outcom
     );
     println!("θmax/θc           {:.6}", o.theta_max_over_theta_c);
     println!("μ motion          {:.6}", o.mu_motion);
-    println!("μ impact          {:.6}", o.mu_impact);
+    println!(
+        "μ impact          {:.6} (paper's eq. (5): {:.6})",
+        o.mu_impact, o.mu_impact_eq5
+    );
     println!(
         "impacts           {} (first {}), flights {}, settles {}",
         o.impacts,

@@ -33,6 +33,9 @@ pub struct OutcomeRow {
     pub mu_motion: f64,
     /// Peak |P_t/P_n| over impacts, μ_imp (meaningless if `impacts` is 0).
     pub mu_impact: f64,
+    /// Peak of the paper's eq. (5) over impacts; `None` for a file written
+    /// before the column existed.
+    pub mu_impact_eq5: Option<f64>,
     /// Number of corner impacts.
     pub impacts: u64,
 }
@@ -121,6 +124,8 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
         ],
         "the figures",
     )?;
+    // optional: files written before the column existed lack it
+    let mu_eq5 = table.column(Column::MuImpactEq5);
     let mut rows = Vec::new();
     while let Some(row) = table.next_row()? {
         if row.failed() {
@@ -135,6 +140,7 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
             theta_max_over_theta_c: row.number(theta)?,
             mu_motion: row.number(mu_mot)?,
             mu_impact: row.number(mu_imp)?,
+            mu_impact_eq5: mu_eq5.map(|i| row.number(i)).transpose()?,
             impacts: row.integer(impacts)?,
         });
     }
@@ -233,5 +239,7 @@ mod tests {
             }
         );
         assert_eq!(rows[1].impacts, 4);
+        // a file from before the eq. (5) column reads, without it
+        assert!(rows.iter().all(|r| r.mu_impact_eq5.is_none()));
     }
 }

@@ -5,18 +5,22 @@
 //! (μ_mot > 0) and did not overturn: one line per PGA, pooled over e (the
 //! paper found it insensitive to e). (b) Mean μ_imp, the peak |P_t/P_n| over
 //! impacts, over the runs with impacts that did not overturn, on a log
-//! scale: one line per e, pooled over PGA. Both panels carry the paper's
-//! eq. (8), μ = 3 cosθc sinθc/(1 + 3cos²θc), its small-angle form 0.75·B/H,
-//! and the paper's table values for the study's blocks (open squares, one
-//! per table row, set
-//! [`PAPER_DODGE`] of the axis to the right of their B/H so that they do not
-//! hide this study's means).
+//! scale: one line per e, pooled over PGA. (c) The same mean of the peak of
+//! the paper's eq. (5) (`mu_impact_eq5`), which is what the paper's μ_imp
+//! column reports, on the same log axis as (b) since the paper's values span
+//! 0.1–10⁴. Every panel carries the paper's eq. (8),
+//! μ = 3 cosθc sinθc/(1 + 3cos²θc), and its small-angle form 0.75·B/H;
+//! (a) and (c) carry the paper's table values for the study's blocks (open
+//! squares, one per table row, set [`PAPER_DODGE`] of the axis to the right
+//! of their B/H so that they do not hide this study's means). For an
+//! `outcomes.csv` written before the eq. (5) column existed, panel (c) is
+//! left out and the paper's μ_imp values go to panel (b).
 
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
 use plotters::style::{BLACK, Color, RGBColor};
 
-use super::data::{StudyData, distinct};
+use super::data::{OutcomeRow, StudyData, distinct};
 use super::figure::{DrawResult, Figure};
 use super::fragility::restitution_colour;
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
@@ -53,8 +57,12 @@ pub struct FrictionDemandFigure {
     pub title: String,
     /// Panel (a): μ_mot, a series per PGA.
     pub motion: Vec<DemandSeries>,
-    /// Panel (b): μ_imp, a series per restitution.
+    /// Panel (b): μ_imp, a series per restitution (with the paper's values
+    /// only when there is no panel (c)).
     pub impact: Vec<DemandSeries>,
+    /// Panel (c): the paper's eq. (5), a series per restitution, with the
+    /// paper's μ_imp values; empty when the study's file has no such column.
+    pub eq5: Vec<DemandSeries>,
     /// Largest B/H of the study.
     pub b_over_h_max: f64,
 }
@@ -160,33 +168,48 @@ impl FrictionDemandFigure {
                     .collect(),
             })
             .collect();
-        let impact = es
-            .iter()
-            .enumerate()
-            .map(|(i, &e)| DemandSeries {
-                label: format!("e = {}", tick_label(e)),
-                colour: restitution_colour(i),
-                means: aspects
-                    .iter()
-                    .rev()
-                    .filter_map(|&a| {
-                        mean(
-                            rows.iter()
-                                .filter(|r| {
-                                    r.case.aspect == a && r.case.restitution == e && r.impacts > 0
-                                })
-                                .map(|r| r.mu_impact),
-                        )
-                        .map(|m| (1.0 / a, m))
+        let has_eq5 = rows.iter().all(|r| r.mu_impact_eq5.is_some());
+        let impact_series =
+            |value: &dyn Fn(&OutcomeRow) -> f64, paper: bool| -> Vec<DemandSeries> {
+                es.iter()
+                    .enumerate()
+                    .map(|(i, &e)| DemandSeries {
+                        label: format!("e = {}", tick_label(e)),
+                        colour: restitution_colour(i),
+                        means: aspects
+                            .iter()
+                            .rev()
+                            .filter_map(|&a| {
+                                mean(
+                                    rows.iter()
+                                        .filter(|r| {
+                                            r.case.aspect == a
+                                                && r.case.restitution == e
+                                                && r.impacts > 0
+                                        })
+                                        .map(|r| value(r)),
+                                )
+                                .map(|m| (1.0 / a, m))
+                            })
+                            .collect(),
+                        paper: if paper {
+                            TABLES
+                                .iter()
+                                .filter(|p| p.restitution == e && aspects.contains(&p.aspect))
+                                .filter_map(|p| p.mu_impact.map(|m| (1.0 / p.aspect, m)))
+                                .collect()
+                        } else {
+                            Vec::new()
+                        },
                     })
-                    .collect(),
-                paper: TABLES
-                    .iter()
-                    .filter(|p| p.restitution == e && aspects.contains(&p.aspect))
-                    .filter_map(|p| p.mu_impact.map(|m| (1.0 / p.aspect, m)))
-                    .collect(),
-            })
-            .collect();
+                    .collect()
+            };
+        let impact = impact_series(&|r| r.mu_impact, !has_eq5);
+        let eq5 = if has_eq5 {
+            impact_series(&|r| r.mu_impact_eq5.unwrap_or(0.0), true)
+        } else {
+            Vec::new()
+        };
         let mut title = "Friction demand, infinite friction, runs not overturned".to_string();
         if widths.len() > 1 {
             title.push_str(" (all widths pooled)");
@@ -195,6 +218,7 @@ impl FrictionDemandFigure {
             title,
             motion,
             impact,
+            eq5,
             b_over_h_max: aspects.first().map_or(0.5, |a| 1.0 / a),
         })
     }
@@ -252,7 +276,14 @@ impl Figure for FrictionDemandFigure {
             ),
         ];
         let frame = Frame::new(root, style, &self.title, &shared, MARGINS)?;
-        let halves = frame.body.split_evenly((1, 2));
+        let mut panels: Vec<(&str, &Vec<DemandSeries>)> = vec![
+            ("(a) Mean μₘₒₜ, during rocking", &self.motion),
+            ("(b) Mean |Pₜ/Pₙ| (log scale)", &self.impact),
+        ];
+        if !self.eq5.is_empty() {
+            panels.push(("(c) Mean eq. (5) (log scale)", &self.eq5));
+        }
+        let areas = frame.body.split_evenly((1, panels.len()));
         let x_max = self.b_over_h_max * 1.12;
         let reference = |f: &dyn Fn(f64) -> f64, lo: f64| -> Vec<(f64, f64)> {
             (1..=REFERENCE_POINTS)
@@ -266,13 +297,19 @@ impl Figure for FrictionDemandFigure {
         let ref_style = BLACK.stroke_width(style.ipx(LINE_PT));
         let three_quarters = |x: f64| 0.75 * x;
 
-        let legends: Vec<Vec<Entry>> = [&self.motion, &self.impact]
+        let legends: Vec<Vec<Entry>> = panels
             .iter()
             .enumerate()
-            .map(|(k, series)| {
+            .map(|(k, (_, series))| {
                 let mut entries = Vec::new();
-                if k == 0 {
-                    entries.push(Entry::new(Sample::Text, "PGA:"));
+                match k {
+                    0 => entries.push(Entry::new(Sample::Text, "PGA:")),
+                    // (c) has the colours of (b)
+                    2 => {
+                        entries.push(Entry::new(Sample::Text, "e as in (b)"));
+                        return entries;
+                    }
+                    _ => {}
                 }
                 entries.extend(
                     series
@@ -282,28 +319,32 @@ impl Figure for FrictionDemandFigure {
                 entries
             })
             .collect();
-        let rows = halves
+        let rows = areas
             .iter()
             .zip(&legends)
             .map(|(area, entries)| layout::legend_rows(area, style, entries))
             .max()
             .unwrap_or(1);
-        for (k, ((area, series), entries)) in halves
+        // (b) and (c) share their log axis, so that they compare at a glance
+        let (lo, hi) = panels[1..]
             .iter()
-            .zip([&self.motion, &self.impact])
-            .zip(&legends)
-            .enumerate()
+            .flat_map(|(_, series)| series.iter())
+            .flat_map(|s| s.means.iter().chain(&s.paper))
+            .map(|p| p.1)
+            .filter(|v| *v > 0.0 && v.is_finite())
+            .fold((f64::INFINITY, 0.0_f64), |(l, h), v| (l.min(v), h.max(v)));
+        let (lo, hi) = if hi > 0.0 { (lo, hi) } else { (0.1, 1.0) };
+        for (k, ((area, (heading, series)), entries)) in
+            areas.iter().zip(&panels).zip(&legends).enumerate()
         {
             let area = layout::legend_in_rows(area, style, entries, rows)?;
-            let values = series
-                .iter()
-                .flat_map(|s| s.means.iter().chain(&s.paper))
-                .map(|p| p.1)
-                .filter(|v| *v > 0.0);
-            let (lo, hi) = values.fold((f64::INFINITY, 0.0_f64), |(l, h), v| (l.min(v), h.max(v)));
-            let (lo, hi) = if hi > 0.0 { (lo, hi) } else { (0.1, 1.0) };
+            frame.heading(&area, heading)?;
             if k == 0 {
-                frame.heading(&area, "(a) Mean μₘₒₜ, during rocking")?;
+                let hi = series
+                    .iter()
+                    .flat_map(|s| s.means.iter().chain(&s.paper))
+                    .map(|p| p.1)
+                    .fold(0.0_f64, f64::max);
                 let y_hi = hi.max(0.75 * x_max) * 1.08;
                 let mut chart = frame
                     .chart(&area, true)
@@ -320,7 +361,6 @@ impl Figure for FrictionDemandFigure {
                 );
                 draw_series_set!(chart, series, style, x_max * PAPER_DODGE);
             } else {
-                frame.heading(&area, "(b) Mean μᵢₘₚ, at impacts (log scale)")?;
                 let y_lo = lo.min(eq8(self.b_over_h_max)) * 0.6;
                 let mut chart = frame
                     .chart(&area, true)
@@ -362,6 +402,51 @@ mod tests {
         }
         // small-angle limit 0.75·B/H
         assert!((eq8(1e-4) / 1e-4 - 0.75).abs() < 1e-6);
+    }
+
+    #[test]
+    fn eq5_panel_carries_the_papers_impact_values_when_the_column_exists() {
+        // With mu_impact_eq5 read, panel (c) has a series per e with this
+        // study's mean of it and the paper's μ_imp rows (H/B = 4: four per
+        // e), and panel (b) none of the paper's; without the column (a file
+        // from before it), no panel (c) and the paper's values sit in (b).
+        use crate::figures::data::OutcomeRow;
+        use crate::outcomes_csv::CaseKey;
+        let row = |e: f64, eq5: Option<f64>| OutcomeRow {
+            case: CaseKey {
+                aspect: 4.0,
+                width: 0.5,
+                restitution: e,
+                friction: Friction::Infinite,
+            },
+            pga: 0.6,
+            record: 0,
+            overturned: false,
+            uplifted: false,
+            theta_max_over_theta_c: 0.5,
+            mu_motion: 0.3,
+            mu_impact: 0.4,
+            impacts: 10,
+            mu_impact_eq5: eq5,
+        };
+        let with = StudyData {
+            outcomes: vec![row(0.0, Some(0.185)), row(0.9, Some(250.0))],
+            curves: None,
+        };
+        let f = FrictionDemandFigure::from_study(&with).unwrap();
+        assert_eq!(f.eq5.len(), 2);
+        assert_eq!(f.eq5[1].means, vec![(0.25, 250.0)]);
+        assert_eq!(f.eq5[1].paper.len(), 4);
+        assert!(f.eq5[1].paper.contains(&(0.25, 9550.0)));
+        assert!(f.impact.iter().all(|s| s.paper.is_empty()));
+        assert_eq!(f.impact[1].means, vec![(0.25, 0.4)]);
+        let without = StudyData {
+            outcomes: vec![row(0.0, None), row(0.9, None)],
+            curves: None,
+        };
+        let f = FrictionDemandFigure::from_study(&without).unwrap();
+        assert!(f.eq5.is_empty());
+        assert_eq!(f.impact[1].paper.len(), 4);
     }
 
     #[test]

@@ -47,6 +47,8 @@ pub enum Column {
     MuMotion,
     /// Peak |P_t/P_n| over impacts, μ_imp.
     MuImpact,
+    /// Peak of the paper's eq. (5) over impacts (see [`Outcome::mu_impact_eq5`]).
+    MuImpactEq5,
     /// Corner impacts.
     Impacts,
     /// Free-flight phases.
@@ -107,7 +109,7 @@ pub const CASE_COLUMNS: [&str; 6] = [
 const RECORD: [Column; 3] = [Column::Pga, Column::Pgv, Column::Record];
 
 /// The outcome columns every file has, after `status`.
-pub const OUTCOME: [Column; 18] = [
+pub const OUTCOME: [Column; 19] = [
     Column::Overturned,
     Column::OverturnTime,
     Column::Uplifted,
@@ -115,6 +117,7 @@ pub const OUTCOME: [Column; 18] = [
     Column::ThetaMaxOverThetaC,
     Column::MuMotion,
     Column::MuImpact,
+    Column::MuImpactEq5,
     Column::Impacts,
     Column::Flights,
     Column::Uplifts,
@@ -167,6 +170,7 @@ impl Column {
             Column::ThetaMaxOverThetaC => "theta_max_over_theta_c",
             Column::MuMotion => "mu_motion",
             Column::MuImpact => "mu_impact",
+            Column::MuImpactEq5 => "mu_impact_eq5",
             Column::Impacts => "impacts",
             Column::Flights => "flights",
             Column::Uplifts => "uplifts",
@@ -213,6 +217,7 @@ impl Column {
             Column::ThetaMaxOverThetaC => write!(out, "{}", o.theta_max_over_theta_c),
             Column::MuMotion => write!(out, "{}", o.mu_motion),
             Column::MuImpact => write!(out, "{}", o.mu_impact),
+            Column::MuImpactEq5 => write!(out, "{}", o.mu_impact_eq5),
             Column::Impacts => write!(out, "{}", o.impacts),
             Column::Flights => write!(out, "{}", o.flights),
             Column::Uplifts => write!(out, "{}", o.uplifts),
@@ -329,14 +334,13 @@ mod tests {
             names.len(),
             "duplicate column name in {names:?}"
         );
-        // The layout documented in the module docs of `outcomes_csv`; files
-        // written before this list existed have exactly this header.
+        // The layout documented in the module docs of `outcomes_csv`.
         assert_eq!(
             all.header(),
             "aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,record_file,\
              status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,\
-             mu_motion,mu_impact,impacts,flights,uplifts,liftoff_holds,energy_gains,\
-             settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,\
+             mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,\
+             energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,\
              t_rest,t_slide,t_rock,t_slide_rock,t_flight,\
              rhs_calls,steps_accepted,steps_rejected,events,error\n"
         );

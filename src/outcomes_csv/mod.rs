@@ -8,8 +8,8 @@
 //! ```text
 //! aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,[record_file],
 //! status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,
-//! mu_motion,mu_impact,impacts,flights,uplifts,liftoff_holds,energy_gains,
-//! settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,
+//! mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,
+//! energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,
 //! [t_rest,t_slide,t_rock,t_slide_rock,t_flight],
 //! [rhs_calls,steps_accepted,steps_rejected,events],error
 //! ```
@@ -21,6 +21,9 @@
 //! - `record` is the ensemble index (0-based); `record_file` the spec's path;
 //! - `status` is `ok` or `failed`; a failed analysis leaves the outcome
 //!   columns empty and says why in `error`;
+//! - `mu_impact` is the peak impulse ratio |P_t/P_n| of the impacts,
+//!   `mu_impact_eq5` the peak of the paper's eq. (5) (the same ratio with
+//!   |·| also when P_n ≤ 0; unbounded near some landings after flight);
 //! - absent times (no overturn, no impact) are empty;
 //! - floats use Rust's shortest round-trip form, so the file holds the exact
 //!   `f64` values, and the same run gives the same bytes.

@@ -113,6 +113,74 @@ pub fn rock_impact_mu(block: &Block) -> f64 {
     3.0 * block.cos_c * block.sin_c / (1.0 + 3.0 * block.cos_c * block.cos_c)
 }
 
+/// The paper's eq. (5): the friction needed to prevent sliding during a
+/// corner impact, as the paper's program evaluated it from the pre-impact
+/// velocities (Newton restitution, no slip), whatever law the solver applies.
+///
+/// # Reconstruction
+///
+/// The extracted text of eqs. (3) and (5) lost two multiplications. In the
+/// paper's symbols (θ̇₁, ẋ₁, ẏ₁ the pre-impact rates of θ and of G,
+/// S = sin(θc − |θ|), C = cos(θc − |θ|), S_θ = sign θ, λx = ẋ₁/(R C θ̇₁),
+/// λy = ẏ₁/(R S θ̇₁)) they must read
+///
+/// ```text
+/// δi = 1 − ¾C²(1 + λx) − ¾S²(1 + e)(1 − S_θ λy)                      (3)
+/// μs ≥ | (C/S)(δi + λx) / (S_θ(δi + e) − (1 + e) λy) |               (5)
+/// ```
+///
+/// (the text has `1 − S_θ − λy` and `S_θ − (δi + e)`). Derivation: G sits at
+/// (X, Y) = (S_θ R S, R C) from the striking corner. With the corner stuck
+/// after the impact (u_t⁺ = 0) and u_n⁺ = −e u_n⁻, the impulse–momentum
+/// equations P = Δv, (R²/3) Δθ̇ = Y P_x − X P_y give θ̇₂ = δi θ̇₁ with δi as
+/// above, and
+///
+/// ```text
+/// P_x = −(ẋ₁ + R C θ̇₂)                    = −R S θ̇₁ · (C/S)(δi + λx)
+/// P_y = X(θ̇₂ + e θ̇₁) − (1 + e) ẏ₁        =  R S θ̇₁ · (S_θ(δi + e) − (1 + e) λy)
+/// ```
+///
+/// so eq. (5) is |P_x/P_y|, the tangential-to-normal ratio of the sticking
+/// Newton impulse. Check: at a rock impact (θ = 0, λx = −1, λy = −S_θ)
+/// δi = 1 − 1.5(1 + e) sin²θc and eq. (5) is 3 cosθc sinθc/(1 + 3 cos²θc),
+/// the paper's eq. (8), for every e (the literal text gives
+/// 1.5 CS/(1 + 1.5 S²) at e = 0 instead, 0.46 for H/B = 2, not the table's 0.353).
+///
+/// It is evaluated here multiplied through by R S θ̇₁, with S_θ S = X/R, so
+/// that neither θ̇₁ = 0 (a landing without spin) nor S = 0 divides by zero.
+///
+/// # How it differs from `mu_impact`
+///
+/// The ratio is the same as the solver's `mu_impact` for a Newton sticking
+/// impulse, with two differences that matter only at landings after free
+/// flight: the absolute value is taken whatever the sign of P_y, where
+/// `mu_impact` counts 0 when the sticking impulse would pull the corner down
+/// (P_y ≤ 0); and it uses Newton's law even when the solver applies the
+/// energetic one. The denominator P_y vanishes when stopping the corner's
+/// slip alone would already reverse its approach: with the corner's
+/// inverse-mass matrix [[a, b], [b, c]] in (t, n), P_y ∝ b u_t − a(1 + e) u_n,
+/// zero at u_n = b u_t/(a(1 + e)). That line lies among slow (grazing)
+/// landings with a sideways corner velocity, which ground motion during a
+/// short flight produces, so near it eq. (5) is unbounded. A rock impact
+/// (u_t = 0 before) never comes near it.
+///
+/// Returns 0 when the corner has no velocity (0/0); +∞ if the denominator is
+/// exactly 0 with a non-zero numerator.
+pub fn eq5_mu(block: &Block, v: &Velocity, rx: f64, ry: f64, e: f64) -> f64 {
+    let r = block.r;
+    // G from the striking corner: X = S_θ R S, Y = R C
+    let (xg, yg) = (-rx, -ry);
+    let (sx, c) = (xg / r, yg / r); // S_θ S, C
+    // eq. (3) times θ̇₁: θ̇₂ = δi θ̇₁
+    let omega2 = v.omega
+        - 0.75 * c * (c * v.omega + v.vx / r)
+        - 0.75 * (1.0 + e) * sx * (sx * v.omega - v.vy / r);
+    // eq. (5), numerator and denominator times R S θ̇₁
+    let num = v.vx + yg * omega2;
+    let den = xg * (omega2 + e * v.omega) - (1.0 + e) * v.vy;
+    if num == 0.0 { 0.0 } else { (num / den).abs() }
+}
+
 /// Corner impact with Coulomb friction (static μs, kinetic μk).
 ///
 /// First the sticking impulse of `law` is tried; it is accepted if

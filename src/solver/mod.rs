@@ -12,7 +12,8 @@
 //!   [`SolverSettings`]);
 //! - `physics.rs`: the equations of each mode as plain functions;
 //! - `impact.rs`: corner impacts, Newton and energy-consistent laws
-//!   ([`corner_impact`], [`rock_impact_ratio`], [`rock_impact_mu`]);
+//!   ([`corner_impact`], [`rock_impact_ratio`], [`rock_impact_mu`], and
+//!   [`eq5_mu`], the paper's eq. (5) reconstructed);
 //! - `taylor.rs`: Taylor-series steps of the rock equation (the default);
 //! - `dopri.rs`: the Dormand–Prince 5(4) stepper with dense output (slide-rock,
 //!   and rock on request);
@@ -36,6 +37,6 @@ pub use block::Block;
 pub use driver::simulate;
 pub use history::{History, HistoryRow};
 pub use impact::{
-    ImpactLaw, ImpactResult, Velocity, corner_impact, rock_impact_mu, rock_impact_ratio,
+    ImpactLaw, ImpactResult, Velocity, corner_impact, eq5_mu, rock_impact_mu, rock_impact_ratio,
 };
 pub use settings::{Analysis, Friction, Initial, Integrator, Model, RockImpact, SolverSettings};

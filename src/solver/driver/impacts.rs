@@ -45,16 +45,21 @@ impl Run<'_> {
                 }
             };
             let (mut r, mut demand) = hit(self.e);
+            let mut e_applied = self.e;
             let un_after = impact::point_velocity(&r.after, rx, ry).1;
             if self.e > 0.0 && un_after > 0.0 && un_after <= self.v_settle {
                 // ring-down: a rebound below the threshold is plastic
                 (r, demand) = hit(0.0);
+                e_applied = 0.0;
                 self.out.settles += 1;
             }
             self.out.impacts += 1;
             self.out.first_impact_time.get_or_insert(t);
             // friction needed to prevent sliding during this impact
             self.out.mu_impact = self.out.mu_impact.max(demand);
+            // the same, as the paper's eq. (5) evaluates it
+            let eq5 = impact::eq5_mu(&bl, &vel, rx, ry, e_applied);
+            self.out.mu_impact_eq5 = self.out.mu_impact_eq5.max(eq5);
             let t_before = bl.kinetic(vel.vx, vel.vy, vel.omega);
             if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
                 self.out.energy_gains += 1;
