@@ -41,22 +41,21 @@ pub struct Counts {
 #[derive(Clone, Copy, Debug, Default)]
 struct Means {
     n: u64,
-    theta: f64,
-    mu_motion: f64,
-    mu_impact: f64,
+    /// Sums of θmax/θc, μ_mot, μ_imp (impulse ratio), μ_imp by eq. (5).
+    sums: [f64; 4],
 }
 
 impl Means {
-    fn add(&mut self, theta: f64, mu_motion: f64, mu_impact: f64) {
+    fn add(&mut self, values: [f64; 4]) {
         self.n += 1;
-        self.theta += theta;
-        self.mu_motion += mu_motion;
-        self.mu_impact += mu_impact;
+        for (s, v) in self.sums.iter_mut().zip(values) {
+            *s += v;
+        }
     }
 
-    fn get(&self) -> Option<[f64; 3]> {
+    fn get(&self) -> Option<[f64; 4]> {
         let n = self.n as f64;
-        (self.n > 0).then(|| [self.theta / n, self.mu_motion / n, self.mu_impact / n])
+        (self.n > 0).then(|| self.sums.map(|s| s / n))
     }
 }
 
@@ -96,6 +95,7 @@ impl Tally {
                 c_theta,
                 c_mot,
                 c_imp,
+                c_eq5,
             ],
         ) = OutcomesReader::open(
             path,
@@ -108,6 +108,7 @@ impl Tally {
                 Column::ThetaMaxOverThetaC,
                 Column::MuMotion,
                 Column::MuImpact,
+                Column::MuImpactEq5,
             ],
             "the study's summary",
         )?;
@@ -162,6 +163,7 @@ impl Tally {
                     let (ot, up) = (row.boolean(c_ot)?, row.boolean(c_up)?);
                     let theta = row.number(c_theta)?;
                     let (mot, imp) = (row.number(c_mot)?, row.number(c_imp)?);
+                    let values = [theta, mot, imp, row.number(c_eq5)?];
                     cell.ok += 1;
                     tally.counts.overturned += ot as u64;
                     tally.counts.uplifted += up as u64;
@@ -169,12 +171,12 @@ impl Tally {
                     if ot {
                         cell.overturned += 1;
                     } else {
-                        cell.strict.add(theta, mot, imp);
+                        cell.strict.add(values);
                     }
                     if ot || up {
                         cell.overturned_or_uplifted += 1;
                     } else {
-                        cell.paper.add(theta, mot, imp);
+                        cell.paper.add(values);
                     }
                 }
                 "failed" => {
@@ -242,6 +244,15 @@ impl Tally {
                  `-`: every run overturned.\n"
             );
         }
+        let _ = writeln!(
+            s,
+            "Friction at impacts: μ_imp is the largest |P_t/P_n| of a run's impacts (the \
+             friction that keeps the striking corner from slipping); μ_imp eq. (5) is the \
+             paper's eq. (5), repaired (see `solver::eq5_mu`), largest over the run. The two \
+             differ only where the sticking impulse would pull (P_n ≤ 0). The paper's μ_imp \
+             stands beside ours of eq. (5): its e = 0 rows are eq. (8) and agree; its values of \
+             3–9,550 at e > 0 are not reproduced by eq. (5) evaluated on our impacts.\n"
+        );
         s.push_str(&self.statistics(study, paper));
         let (level_name, level_unit) = match study.intensity {
             Intensity::Pga(_) => ("A_g", "g"),
@@ -268,7 +279,7 @@ impl Tally {
                         if any_failed {
                             head.push_str(" failed |");
                         }
-                        let names = ["# OT", "θmax/θc", "μ_mot", "μ_imp"];
+                        let names = ["# OT", "θmax/θc", "μ_mot", "μ_imp", "μ_imp eq. (5)"];
                         for n in names {
                             let _ = write!(head, " {n} |");
                         }
@@ -303,14 +314,19 @@ impl Tally {
                                     p.map_or("n/a".to_string(), |r| r.overturned.to_string())
                                 });
                                 let _ = write!(line, " {} |", beside(&ours_ot, paper_ot));
-                                for k in 0..3 {
+                                for k in 0..4 {
                                     let ours = means.map_or("-".to_string(), |m| sig3(m[k]));
-                                    let theirs = published.map(|p| match p {
+                                    // The paper's μ_imp is its eq. (5): it stands
+                                    // beside ours of eq. (5), not the impulse ratio.
+                                    let theirs = published.filter(|_| k != 2).map(|p| match p {
                                         None => "n/a".to_string(),
-                                        Some(r) => {
-                                            [r.theta_max_over_theta_c, r.mu_motion, r.mu_impact][k]
-                                                .map_or("-".to_string(), sig3)
-                                        }
+                                        Some(r) => [
+                                            r.theta_max_over_theta_c,
+                                            r.mu_motion,
+                                            None,
+                                            r.mu_impact,
+                                        ][k]
+                                            .map_or("-".to_string(), sig3),
                                     });
                                     let _ = write!(line, " {} |", beside(&ours, theirs));
                                 }
