@@ -436,11 +436,13 @@ impl Tally {
             for (ai, &aspect) in study.aspects.iter().enumerate() {
                 let (k, n) = self.pooled(study, &cases, |a2, _, f2| a2 == ai && f2 == fi);
                 let theirs = published(&|r| r.aspect == aspect);
+                let runs =
+                    (study.restitutions.len() * study.intensity.levels().len()) as u64 * RECORDS;
                 let _ = writeln!(
                     s,
                     "| H/B = {aspect} | {k} / {n} |{}",
                     if compare {
-                        format!(" {theirs} |")
+                        format!(" {theirs} / {runs} |")
                     } else {
                         String::new()
                     }
