@@ -13,6 +13,8 @@
 //!   3·10⁻⁵ so that 1/(Δf·Δt) is an integer, as the FFT synthesis needs).
 //!
 //! The PSD's parameters stay in Hz in every reading (eq. 6 is written in f).
+//! The rad/s grid is also run with `[solver] rock_impact = "rock"`, the rule
+//! that reproduces the paper's fall of overturning with e ([`candidates`]).
 //!
 //! Every count uses the paper's convention (a run that lifted off from rock
 //! counts as overturned: its program stopped there), and every mean is over
@@ -40,7 +42,7 @@ use std::fmt::Write;
 
 use crate::error::{Error, Result};
 use crate::motion::SynthesisSettings;
-use crate::solver::{Friction, simulate};
+use crate::solver::{Friction, RockImpact, simulate};
 use crate::spec::{Motions, Study};
 use crate::stats::{binomial_log_likelihood, cochran_armitage, fisher_exact};
 use crate::study::paper::{self, PaperRow};
@@ -98,6 +100,8 @@ pub struct Cell {
 pub struct ReadingResult {
     /// The reading.
     pub reading: Reading,
+    /// The rock-impact rule the ensembles were solved with.
+    pub rock_impact: RockImpact,
     /// The seeds of the ensembles, in order.
     pub seeds: Vec<u64>,
     /// Cells of each ensemble, indexed H/B-major, then e, then A_g.
@@ -119,15 +123,17 @@ pub fn check(options: &CheckOptions, mut progress: impl FnMut(&str)) -> Result<V
         .build()
         .map_err(|e| Error::invalid("threads", options.threads, &e.to_string()))?;
     let mut out = Vec::new();
-    for reading in readings() {
+    for (reading, rock_impact) in candidates() {
         let mut result = ReadingResult {
             reading: reading.clone(),
+            rock_impact,
             seeds: Vec::new(),
             ensembles: Vec::new(),
         };
         for r in 0..options.replicates {
             let seed = options.seed + r as u64;
-            let study = paper_study(&reading.settings, seed);
+            let mut study = paper_study(&reading.settings, seed);
+            study.solver.rock_impact = rock_impact;
             let cells = pool.install(|| run_ensemble(&study))?;
             result.seeds.push(seed);
             result.ensembles.push(cells);
@@ -141,6 +147,27 @@ pub fn check(options: &CheckOptions, mut progress: impl FnMut(&str)) -> Result<V
         out.push(result);
     }
     Ok(out)
+}
+
+/// What [`check`] runs: every reading with the physics (`rock_impact =
+/// "bounce"`), and the rad/s grid once more with the rule that reproduces
+/// the paper's fall of overturning with e (`rock_impact = "rock"`, not
+/// physics: see [`RockImpact::Rock`]).
+pub fn candidates() -> Vec<(Reading, RockImpact)> {
+    let mut v: Vec<(Reading, RockImpact)> = readings()
+        .into_iter()
+        .map(|r| (r, RockImpact::Bounce))
+        .collect();
+    let grid = v[2].0.clone();
+    v.push((
+        Reading {
+            name: "rad/s grid, rock rule",
+            meaning: "the rad/s grid, solved with [solver] rock_impact = \"rock\"",
+            ..grid
+        },
+        RockImpact::Rock,
+    ));
+    v
 }
 
 /// The built-in study with `settings` and `seed`, infinite friction only.
@@ -380,7 +407,9 @@ pub fn markdown(results: &[ReadingResult], options: &CheckOptions) -> String {
         s,
         "Made by `rockfrag paper --replicates {k} --seed {}`: the paper's study (2B = 0.5 m; \
          H/B 2, 4, 6; e 0–0.9; A_g 0.3–1.2 g; infinite friction; 25 records per cell) run on \
-         {k} ensembles (seeds {}–{last}) under each reading of section 4. Counts in the paper's \
+         {k} ensembles (seeds {}–{last}) under each reading of section 4, and under the rad/s \
+         grid once more with `[solver] rock_impact = \"rock\"` (not physics: a rule that keeps \
+         the block rocking after a rock impact with e > 0). Counts in the paper's \
          convention (a lift-off from rock counts as overturned); see `src/reproduce.rs` for \
          the statistics.\n",
         options.seed, options.seed

@@ -80,6 +80,16 @@ fn the_rad_s_reading_reproduces_the_e0_column_and_the_literal_one_does_not() {
             "H/B {aspect} at {pga} g, e = {e}: {ours} against the paper's {theirs}"
         );
     }
+    // The paper's fall of overturning with e: flat under the physics, a
+    // clear negative trend under the rock rule (Z ≈ −7 over 12 ensembles,
+    // about −2.9 over two).
+    let rule = by_name("rad/s grid, rock rule");
+    assert!(grid.trend_z > -2.0, "physics trend Z = {}", grid.trend_z);
+    assert!(rule.trend_z < -2.0, "rock-rule trend Z = {}", rule.trend_z);
+    assert_eq!(
+        rule.totals[0], grid.totals[0],
+        "e = 0 is unaffected by the rule"
+    );
     // The literal reading's near-threshold rotations are far too small.
     let (_, _, _, ours, theirs) = written.near_threshold[4]; // H/B 4 at 0.3 g, e = 0
     assert!(ours / theirs < 0.2, "{ours} / {theirs}");
