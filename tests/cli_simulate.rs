@@ -140,6 +140,35 @@ fn motion_written_as_at2_drives_simulate_to_the_same_outcome() {
     assert_eq!(va["overturned"], vb["overturned"]);
 }
 
+/// `--rock-impact rock` (the paper's program, not physics) keeps the block
+/// rocking after rock impacts with e > 0: no flights, where the default
+/// flies and rings down after every rock impact.
+#[test]
+fn rock_impact_rule_is_a_flag_and_suppresses_flight() {
+    let run = |rule: &str| {
+        let o = rockfrag(&[
+            "simulate",
+            "--seed",
+            "3",
+            "--pga",
+            "0.9",
+            "--aspect",
+            "2",
+            "--restitution",
+            "0.6",
+            "--rock-impact",
+            rule,
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_str::<serde_json::Value>(stdout(&o).trim()).unwrap()
+    };
+    let (bounce, rock) = (run("bounce"), run("rock"));
+    assert!(bounce["flights"].as_u64().unwrap() > 10, "{bounce}");
+    assert_eq!(rock["flights"].as_u64().unwrap(), 0, "{rock}");
+    assert!(rock["impacts"].as_u64().unwrap() > 0, "{rock}");
+}
+
 /// Wrong arguments exit with status 2 and one line naming the argument and
 /// what it accepts.
 #[test]

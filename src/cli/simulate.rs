@@ -6,8 +6,8 @@ use clap::ValueEnum;
 use rockfrag::motion::{self, G_STANDARD, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
-    Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, SolverSettings,
-    simulate,
+    Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, RockImpact,
+    SolverSettings, simulate,
 };
 use std::path::PathBuf;
 
@@ -36,6 +36,16 @@ pub enum ImpactArg {
     Newton,
     /// Energy-consistent (never adds kinetic energy).
     Energetic,
+}
+
+/// What a rock impact with e > 0 leads to, as a CLI value.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum RockImpactArg {
+    /// The impact law in full: the block flies and rings down (physics).
+    Bounce,
+    /// The block keeps rocking with ω₂/ω₁ = 1 − 1.5(1+e)sin²θc, no flight: a
+    /// reading of the paper's program, not physics.
+    Rock,
 }
 
 /// Friction model, as a CLI value.
@@ -115,6 +125,9 @@ pub struct SimulateArgs {
     /// Impact law.
     #[arg(long, value_enum, default_value_t = ImpactArg::Newton)]
     pub impact: ImpactArg,
+    /// What a rock impact with e > 0 leads to (infinite friction).
+    #[arg(long, value_enum, default_value_t = RockImpactArg::Bounce)]
+    pub rock_impact: RockImpactArg,
     /// Gravity (m/s²), also used to convert accelerations given in g.
     #[arg(long, value_name = "M/S2", default_value_t = G_STANDARD, value_parser = positive)]
     pub g: f64,
@@ -157,6 +170,10 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         impact: match args.impact {
             ImpactArg::Newton => ImpactLaw::Newton,
             ImpactArg::Energetic => ImpactLaw::Energetic,
+        },
+        rock_impact: match args.rock_impact {
+            RockImpactArg::Bounce => RockImpact::Bounce,
+            RockImpactArg::Rock => RockImpact::Rock,
         },
         rtol: args.rtol,
         settle_tol: args.settle_tol,
