@@ -44,7 +44,7 @@ use crate::error::{Error, Result};
 use crate::motion::SynthesisSettings;
 use crate::solver::{Friction, RockImpact, simulate};
 use crate::spec::{Motions, Study};
-use crate::stats::{binomial_log_likelihood, cochran_armitage, fisher_exact};
+use crate::stats::{binomial_log_likelihood, cochran_armitage, fisher_exact, p_text};
 use crate::study::paper::{self, PaperRow};
 pub use crate::study::paper::{Reading, readings};
 use crate::study::{Source, plan, sig3};
@@ -527,14 +527,6 @@ pub fn markdown(results: &[ReadingResult], options: &CheckOptions) -> String {
         "\nPooled over the {k} ensembles; ratio = ours / the paper's.\n"
     );
     s
-}
-
-fn p_text(p: f64) -> String {
-    if p < 1e-4 {
-        format!("{p:.1e}")
-    } else {
-        format!("{p:.4}")
-    }
 }
 
 /// Writes `text` to `path` atomically (temporary file, then rename).

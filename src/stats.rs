@@ -100,6 +100,17 @@ pub fn cochran_armitage(successes: &[u64], trials: &[u64], scores: &[f64]) -> Op
     })
 }
 
+/// A p-value as text: three significant figures, or e-notation below 0.001
+/// (`0.679`, `0.00230` is `2.3e-3`).
+pub fn p_text(p: f64) -> String {
+    if p < 0.001 {
+        format!("{p:.1e}")
+    } else {
+        let decimals = (2 - p.log10().floor() as i32).max(0) as usize;
+        format!("{p:.decimals$}")
+    }
+}
+
 /// ln P(K = k) for K ~ Binomial(n, p); p is clamped to [1e-12, 1 − 1e-12]
 /// so that a count the rate calls impossible scores very low, not −∞.
 pub fn binomial_log_likelihood(k: u64, n: u64, p: f64) -> f64 {
@@ -144,6 +155,14 @@ mod tests {
         // Undefined without variation.
         assert!(cochran_armitage(&[0, 0], &[5, 5], &[0.0, 1.0]).is_none());
         assert!(cochran_armitage(&[1, 2], &[5, 5], &[1.0, 1.0]).is_none());
+    }
+
+    #[test]
+    fn p_values_print_in_three_figures_or_e_notation() {
+        assert_eq!(p_text(0.6794), "0.679");
+        assert_eq!(p_text(0.0023), "0.00230");
+        assert_eq!(p_text(1.0), "1.00");
+        assert_eq!(p_text(1.2e-12), "1.2e-12");
     }
 
     #[test]

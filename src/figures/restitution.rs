@@ -21,7 +21,7 @@ use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, ma
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
 use crate::outcomes_csv::CaseKey;
 use crate::solver::Friction;
-use crate::stats::cochran_armitage;
+use crate::stats::{cochran_armitage, p_text};
 use crate::study::paper::{RECORDS, TABLES};
 
 /// Figure height (in).
@@ -345,14 +345,5 @@ impl Figure for RestitutionFigure {
             }
         }
         Ok(())
-    }
-}
-
-/// A p-value in three significant figures, or in e-notation below 0.001.
-fn p_text(p: f64) -> String {
-    if p < 0.001 {
-        format!("{p:.1e}")
-    } else {
-        format!("{p:.3}")
     }
 }

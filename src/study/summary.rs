@@ -19,7 +19,7 @@ use crate::motion::G_STANDARD;
 use crate::outcomes_csv::{Column, OutcomesReader};
 use crate::solver::Friction;
 use crate::spec::{Intensity, Motions, Study, friction_label};
-use crate::stats::{Trend, cochran_armitage, fisher_exact};
+use crate::stats::{Trend, cochran_armitage, fisher_exact, p_text};
 use std::fmt::Write;
 use std::path::Path;
 
@@ -351,13 +351,9 @@ impl Tally {
 /// Runs per cell in the paper.
 const RECORDS: u64 = paper::RECORDS as u64;
 
-/// A p-value with three significant figures, in bold with `*` below 0.05.
+/// A p-value (see [`p_text`]), in bold with `*` below 0.05.
 fn p_mark(p: f64) -> String {
-    let text = if p < 0.001 {
-        format!("{p:.1e}")
-    } else {
-        sig3(p)
-    };
+    let text = p_text(p);
     if p < 0.05 {
         format!("**{text}\\***")
     } else {
