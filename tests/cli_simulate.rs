@@ -169,6 +169,64 @@ fn rock_impact_rule_is_a_flag_and_suppresses_flight() {
     assert!(rock["impacts"].as_u64().unwrap() > 0, "{rock}");
 }
 
+/// A recorded motion is scaled by `--scale X`, `--pga G` or `--pgv V`: a
+/// record written at 0.5 g (too weak to rock an H/B 2 block) and scaled to
+/// 0.9 g is the synthetic record made at 0.9 g up to the rounding of the
+/// factor (ground motion is linear in its amplitude; the synthesis scales
+/// the same record by its own factor), so θmax/θc agrees to 1e-8 relative;
+/// `--scale 1.8` and `--pgv` (the record's PGV × 1.8) give that same motion.
+#[test]
+fn a_recorded_motion_is_scaled_by_factor_pga_or_pgv() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.csv");
+    let p = path.to_str().unwrap();
+    let o = rockfrag(&["motion", "--seed", "3", "--pga", "0.5", "--out", p]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let theta = |args: &[&str]| {
+        let o = rockfrag(args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+        v["theta_max_over_theta_c"].as_f64().unwrap()
+    };
+    let reference = theta(&[
+        "simulate", "--aspect", "2", "--seed", "3", "--pga", "0.9", "--json",
+    ]);
+    let as_recorded = theta(&["simulate", "--aspect", "2", "--motion", p, "--json"]);
+    assert!(reference > 0.01 && (as_recorded - reference).abs() > 1e-3 * reference);
+    let pgv: f64 = {
+        let text = std::fs::read_to_string(&path).unwrap();
+        text.lines()
+            .skip(1)
+            .map(|l| {
+                l.split(',')
+                    .nth(2)
+                    .unwrap()
+                    .trim()
+                    .parse::<f64>()
+                    .unwrap()
+                    .abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let pgv = format!("{}", pgv * 1.8);
+    for extra in [
+        ["--pga", "0.9"],
+        ["--scale", "1.8"],
+        ["--pgv", pgv.as_str()],
+    ] {
+        let mut args = vec!["simulate", "--aspect", "2", "--motion", p, "--json"];
+        args.extend(extra);
+        let t = theta(&args);
+        assert!(
+            (t - reference).abs() <= 1e-8 * reference,
+            "{args:?}: {t} vs {reference}"
+        );
+    }
+    // --scale needs a recorded motion.
+    let o = rockfrag(&["simulate", "--seed", "3", "--pga", "0.9", "--scale", "2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
 /// Wrong arguments exit with status 2 and one line naming the argument and
 /// what it accepts.
 #[test]

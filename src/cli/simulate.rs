@@ -77,17 +77,25 @@ pub struct SimulateArgs {
     /// Kinetic friction coefficient μk ≤ μs [default: μs].
     #[arg(long = "mu-k", value_name = "Y", value_parser = non_negative, requires = "mu_s")]
     pub mu_k: Option<f64>,
-    /// Ground-motion record: CSV `t,acc[,vel,disp]` (s, m/s²) or PEER `.AT2` (g).
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["seed", "pga"])]
+    /// Ground-motion record: CSV `t,acc[,vel,disp]` (s, m/s²) or PEER `.AT2` (g),
+    /// used as recorded unless --scale, --pga or --pgv scales it.
+    #[arg(long, value_name = "FILE", conflicts_with = "seed")]
     pub motion: Option<PathBuf>,
+    /// Multiply the --motion record by X (acceleration, velocity and displacement).
+    #[arg(long, value_name = "X", value_parser = positive, requires = "motion", conflicts_with_all = ["pga", "pgv"], allow_negative_numbers = true)]
+    pub scale: Option<f64>,
+    /// Scale the --motion record to this peak ground velocity (m/s).
+    #[arg(long, value_name = "V", value_parser = positive, requires = "motion", conflicts_with = "pga", allow_negative_numbers = true)]
+    pub pgv: Option<f64>,
     /// Ensemble seed of a synthetic record (with --pga).
     #[arg(long, value_name = "N", requires = "pga")]
     pub seed: Option<u64>,
     /// Index of the synthetic record within the ensemble.
     #[arg(long, value_name = "I", default_value_t = 0)]
     pub index: u64,
-    /// Peak ground acceleration of the synthetic record (g).
-    #[arg(long, value_name = "G", value_parser = positive, requires = "seed", allow_negative_numbers = true)]
+    /// Peak ground acceleration (g): of the synthetic record (with --seed), or
+    /// the --motion record scaled to it.
+    #[arg(long, value_name = "G", value_parser = positive, allow_negative_numbers = true)]
     pub pga: Option<f64>,
     /// Initial rotation θ0 (rad).
     #[arg(
@@ -197,7 +205,25 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
 
 fn load_record(args: &SimulateArgs) -> anyhow::Result<Record> {
     match (&args.motion, args.seed, args.pga) {
-        (Some(path), _, _) => Ok(motion::read_record(path, args.g)?),
+        (Some(path), _, _) => {
+            let record = motion::read_record(path, args.g)?;
+            // The factor that brings the record to the asked scale.
+            let (k, what) = match (args.scale, args.pga, args.pgv) {
+                (Some(x), _, _) => (x, "--scale"),
+                (_, Some(g), _) => (g * args.g / record.pga(), "--pga"),
+                (_, _, Some(v)) => (v / record.pgv(), "--pgv"),
+                _ => (1.0, ""),
+            };
+            if !(k.is_finite() && k > 0.0) {
+                anyhow::bail!(
+                    "cannot scale {} by {what}: its PGA is {} m/s² and its PGV {} m/s",
+                    path.display(),
+                    record.pga(),
+                    record.pgv()
+                );
+            }
+            Ok(record.scaled(k))
+        }
         (None, Some(seed), Some(pga)) => {
             let settings = SynthesisSettings {
                 g: args.g,

@@ -75,6 +75,19 @@ impl Record {
         self.vel.iter().fold(0.0_f64, |m, a| m.max(a.abs()))
     }
 
+    /// The record with every series (acceleration, velocity, displacement,
+    /// vertical acceleration) multiplied by `k`: ground motion is linear in
+    /// its amplitude, so this is the record scaled to k times its PGA and PGV.
+    pub fn scaled(mut self, k: f64) -> Record {
+        for s in [&mut self.acc, &mut self.vel, &mut self.disp] {
+            s.iter_mut().for_each(|x| *x *= k);
+        }
+        if let Some(v) = self.acc_v.as_mut() {
+            v.iter_mut().for_each(|x| *x *= k);
+        }
+        self
+    }
+
     /// Checks that the record is usable: at least two samples, a positive
     /// finite Δt, equal lengths and finite values.
     pub fn validate(&self) -> Result<()> {

@@ -77,19 +77,12 @@ impl Source {
 }
 
 /// Scales every series of `r` by `target / peak`.
-fn scaled(mut r: Record, target: f64, peak: f64, what: &str) -> Result<Record> {
+fn scaled(r: Record, target: f64, peak: f64, what: &str) -> Result<Record> {
     if !(peak.is_finite() && peak > 0.0) {
         return Err(Error::InvalidRecord {
             name: r.name,
             message: format!("{what} is {peak}; it cannot be scaled to {target}"),
         });
     }
-    let k = target / peak;
-    for s in [&mut r.acc, &mut r.vel, &mut r.disp] {
-        s.iter_mut().for_each(|x| *x *= k);
-    }
-    if let Some(v) = r.acc_v.as_mut() {
-        v.iter_mut().for_each(|x| *x *= k);
-    }
-    Ok(r)
+    Ok(r.scaled(target / peak))
 }
