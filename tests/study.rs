@@ -279,3 +279,83 @@ fn recorded_motions_scaled_to_pgv() {
     let r = source.record(&study.intensity, 0.3, 1, study.g).unwrap();
     assert!((r.pgv() - 0.3).abs() < 1e-12, "{}", r.pgv());
 }
+
+/// Recorded motions multiplied by scale factors (an incremental dynamic
+/// analysis; `[1.0]` alone is a cloud analysis): each row's `scale` is the
+/// factor and its `pga` the scaled record's own measured peak, factor ×
+/// the record's PGA (to 1e-12 relative: one multiplication per sample);
+/// the rows are the same on 1 and 2 threads, and the fragility fit uses
+/// those continuous intensities. Scale factors on a synthetic ensemble, or
+/// beside `pga`, are refused naming the field.
+#[test]
+fn recorded_motions_multiplied_by_scale_factors() {
+    let tmp = tempfile::tempdir().unwrap();
+    let settings = SynthesisSettings {
+        duration: 10.0,
+        ..SynthesisSettings::default()
+    };
+    let mut names = Vec::new();
+    let mut peaks = Vec::new();
+    for i in 0..3 {
+        let r = synthesize(&settings, 11, i, [2.0, 2.7, 3.9][i as usize]).unwrap();
+        peaks.push(r.pga() / rockfrag::motion::G_STANDARD);
+        let name = format!("rec-{i}.csv");
+        write_csv(tmp.path().join(&name), &r).unwrap();
+        names.push(format!("\"{name}\""));
+    }
+    let spec = format!(
+        "name = \"ida\"\nrecord_files = [{}]\n[grid]\naspect = [4]\nrestitution = [0]\n\
+         scale_factors = [0.5, 1.0, 2.0, 4.0]\n[fragility]\nbootstrap = 0\n",
+        names.join(", ")
+    );
+    let spec_path = tmp.path().join("ida.toml");
+    std::fs::write(&spec_path, &spec).unwrap();
+    let study = Study::load(&spec_path).unwrap();
+    let one = tmp.path().join("one");
+    let two = tmp.path().join("two");
+    run_whole(&study, &one, 1);
+    run_whole(&study, &two, 2);
+    assert_eq!(read(&one, files::OUTCOMES), read(&two, files::OUTCOMES));
+    let text = String::from_utf8(read(&one, files::OUTCOMES)).unwrap();
+    let mut rows = csv::Reader::from_reader(text.as_bytes());
+    let header = rows.headers().unwrap().clone();
+    let col = |n: &str| header.iter().position(|h| h == n).unwrap();
+    let mut n = 0;
+    for row in rows.records() {
+        let row = row.unwrap();
+        assert_eq!(&row[col("status")], "ok");
+        let factor: f64 = row[col("scale")].parse().unwrap();
+        let record: usize = row[col("record")].parse().unwrap();
+        let pga: f64 = row[col("pga")].parse().unwrap();
+        let expected = factor * peaks[record];
+        assert!(
+            (pga - expected).abs() <= 1e-12 * expected,
+            "{pga} vs {expected}"
+        );
+        n += 1;
+    }
+    assert_eq!(n, 12);
+    // The fit runs on the analyses' own PGAs (12 distinct intensities).
+    let fits = rockfrag::fragility::fit_outcomes(
+        &one.join(files::OUTCOMES),
+        &rockfrag::fragility::FragilityOptions {
+            bootstrap: 0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(fits.len(), 1);
+    assert_eq!(fits[0].n_analyses, 12);
+    assert_eq!(fits[0].observations.len(), 12);
+
+    for (extra, field) in [("pga = [0.3]\n", "grid.pga"), ("", "grid.scale_factors")] {
+        let spec = if field == "grid.pga" {
+            spec.replace("scale_factors", &format!("{extra}scale_factors"))
+        } else {
+            "name = \"s\"\n[grid]\nscale_factors = [1.0]\n".to_string()
+        };
+        std::fs::write(&spec_path, &spec).unwrap();
+        let err = Study::load(&spec_path).unwrap_err().to_string();
+        assert!(err.contains(field), "{err}");
+    }
+}

@@ -31,6 +31,8 @@ pub enum Column {
     Record,
     /// The record file as the spec names it (recorded motions only).
     RecordFile,
+    /// The factor the record was multiplied by (`scale_factors` studies).
+    Scale,
     /// `ok` or `failed`.
     Status,
     /// |θ| reached π/2.
@@ -162,6 +164,7 @@ impl Column {
             Column::Pgv => "pgv",
             Column::Record => "record",
             Column::RecordFile => "record_file",
+            Column::Scale => "scale",
             Column::Status => "status",
             Column::Overturned => "overturned",
             Column::OverturnTime => "overturn_time",
@@ -262,6 +265,9 @@ pub struct Columns {
     pub pgv: bool,
     /// Recorded motions (`record_file` column).
     pub files: bool,
+    /// Records multiplied by scale factors (`scale` column; `pga` and `pgv`
+    /// are then both the scaled record's measured peaks).
+    pub scale: bool,
     /// Time in each mode.
     pub time_in_mode: bool,
     /// Solver work counters.
@@ -289,6 +295,9 @@ impl Columns {
         if self.files {
             v.push(Column::RecordFile);
         }
+        if self.scale {
+            v.push(Column::Scale);
+        }
         v.push(Column::Status);
         v.extend(self.outcome());
         v.push(Column::Error);
@@ -307,9 +316,16 @@ impl Columns {
         s
     }
 
-    /// The level's column: `pgv` for PGV studies, else `pga`.
+    /// The level's column: `scale` for scale-factor studies, `pgv` for PGV
+    /// studies, else `pga`.
     pub fn level(&self) -> Column {
-        if self.pgv { Column::Pgv } else { Column::Pga }
+        if self.scale {
+            Column::Scale
+        } else if self.pgv {
+            Column::Pgv
+        } else {
+            Column::Pga
+        }
     }
 }
 
@@ -322,6 +338,7 @@ mod tests {
         let all = Columns {
             pgv: false,
             files: true,
+            scale: true,
             time_in_mode: true,
             stats: true,
         };
@@ -337,7 +354,7 @@ mod tests {
         // The layout documented in the module docs of `outcomes_csv`.
         assert_eq!(
             all.header(),
-            "aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,record_file,\
+            "aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,record_file,scale,\
              status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,\
              mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,\
              energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,\

@@ -42,7 +42,9 @@ impl Columns {
             "{},{},{},{name},{mu_s},{mu_k},",
             case.aspect, case.width, case.restitution
         );
-        if self.pgv {
+        if self.scale {
+            let _ = write!(w, "{},{},", opt(record.pga_g), opt(record.pgv));
+        } else if self.pgv {
             let _ = write!(w, "{},{},", opt(record.pga_g), record.level);
         } else {
             let _ = write!(w, "{},{},", record.level, opt(record.pgv));
@@ -51,6 +53,9 @@ impl Columns {
         if self.files {
             push_field(w, record.file.unwrap_or(""));
             w.push(',');
+        }
+        if self.scale {
+            let _ = write!(w, "{},", record.level);
         }
         match result {
             Ok(o) => {
@@ -111,12 +116,14 @@ mod tests {
             Columns {
                 pgv: false,
                 files: false,
+                scale: false,
                 time_in_mode: false,
                 stats: false,
             },
             Columns {
                 pgv: true,
                 files: true,
+                scale: true,
                 time_in_mode: true,
                 stats: true,
             },

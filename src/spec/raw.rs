@@ -76,6 +76,12 @@ pub struct GridFile {
     /// PGA (default: not used).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pgv: Option<Vec<f64>>,
+    /// Factors each recorded motion is multiplied by, instead of scaling it
+    /// to a PGA or PGV: `[1.0]` runs each record as recorded (a cloud
+    /// analysis), several factors an incremental dynamic analysis. Only with
+    /// `record_files` (default: not used).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale_factors: Option<Vec<f64>>,
 }
 
 impl Default for GridFile {
@@ -87,6 +93,7 @@ impl Default for GridFile {
             friction: vec![FrictionEntry(Friction::Infinite)],
             pga: None,
             pgv: None,
+            scale_factors: None,
         }
     }
 }

@@ -76,13 +76,16 @@ pub enum Intensity {
     Pga(Vec<f64>),
     /// Peak ground velocities, m/s.
     Pgv(Vec<f64>),
+    /// Factors the recorded motions are multiplied by (each analysis's IM is
+    /// then its record's own measured PGA or PGV).
+    Scale(Vec<f64>),
 }
 
 impl Intensity {
     /// The levels, in the spec's order.
     pub fn levels(&self) -> &[f64] {
         match self {
-            Intensity::Pga(v) | Intensity::Pgv(v) => v,
+            Intensity::Pga(v) | Intensity::Pgv(v) | Intensity::Scale(v) => v,
         }
     }
 }
@@ -136,9 +139,10 @@ impl Study {
                 None,
             ),
         };
-        let (pga, pgv) = match &self.intensity {
-            Intensity::Pga(v) => (Some(v.clone()), None),
-            Intensity::Pgv(v) => (None, Some(v.clone())),
+        let (pga, pgv, scale_factors) = match &self.intensity {
+            Intensity::Pga(v) => (Some(v.clone()), None, None),
+            Intensity::Pgv(v) => (None, Some(v.clone()), None),
+            Intensity::Scale(v) => (None, None, Some(v.clone())),
         };
         SpecFile {
             name: Some(self.name.clone()),
@@ -155,6 +159,7 @@ impl Study {
                 friction: self.frictions.iter().map(|&f| FrictionEntry(f)).collect(),
                 pga,
                 pgv,
+                scale_factors,
             },
             solver: self.solver,
             output: self.output,

@@ -34,7 +34,8 @@ impl SpecFile {
             no_ensemble(&spec, self.seed, self.records, self.motion.is_some())?;
             Motions::Files(record_files(&spec, &self.record_files, check_files)?)
         };
-        let grid = grid(&spec, self.grid, g)?;
+        let recorded = matches!(motions, Motions::Files(_));
+        let grid = grid(&spec, self.grid, g, recorded)?;
         solver(&spec, &self.solver)?;
         fragility(&spec, self.fragility.as_ref())?;
 
@@ -233,7 +234,7 @@ struct Grid {
 
 /// `[grid]`: the block lists (every width–aspect pair must make a valid
 /// block under gravity `g`), the intensity levels and the friction models.
-fn grid(spec: &Origin, grid: GridFile, g: f64) -> Result<Grid> {
+fn grid(spec: &Origin, grid: GridFile, g: f64, recorded: bool) -> Result<Grid> {
     let widths = grid_list(
         spec,
         "width",
@@ -260,7 +261,10 @@ fn grid(spec: &Origin, grid: GridFile, g: f64) -> Result<Grid> {
             Block::new(w, a, g).map_err(|e| spec.nested("grid.", e))?;
         }
     }
-    let intensity = intensity(spec, grid.pga, grid.pgv)?;
+    let intensity = match grid.scale_factors {
+        None => intensity(spec, grid.pga, grid.pgv)?,
+        Some(factors) => scale_factors(spec, &factors, &grid.pga, &grid.pgv, recorded)?,
+    };
     let frictions = frictions(spec, &grid.friction)?;
     Ok(Grid {
         widths,
@@ -320,6 +324,46 @@ fn intensity(spec: &Origin, pga: Option<Vec<f64>>, pgv: Option<Vec<f64>>) -> Res
             &format!("a peak ground acceleration in (0, {MAX_PGA_G}] g"),
         )?),
     })
+}
+
+/// Largest scale factor accepted (a record made 100 times stronger is a
+/// typing error, not an analysis).
+const MAX_SCALE: f64 = 100.0;
+
+/// `grid.scale_factors`: only with `record_files`, instead of `pga` and
+/// `pgv`; factors in (0, 100], none repeated.
+fn scale_factors(
+    spec: &Origin,
+    factors: &[f64],
+    pga: &Option<Vec<f64>>,
+    pgv: &Option<Vec<f64>>,
+    recorded: bool,
+) -> Result<Intensity> {
+    for (name, given) in [("grid.pga", pga.is_some()), ("grid.pgv", pgv.is_some())] {
+        if given {
+            return Err(spec.bad(
+                name,
+                &"(given)",
+                "to be left out when grid.scale_factors is given (records are scaled by \
+                 factors, or to a PGA, or to a PGV)",
+            ));
+        }
+    }
+    if !recorded {
+        return Err(spec.bad(
+            "grid.scale_factors",
+            &format!("{factors:?}"),
+            "record_files: scale factors apply to recorded motions (synthetic records are \
+             made at a PGA or PGV level)",
+        ));
+    }
+    Ok(Intensity::Scale(grid_list(
+        spec,
+        "scale_factors",
+        factors,
+        |v| v > 0.0 && v <= MAX_SCALE,
+        &format!("a scale factor in (0, {MAX_SCALE}]"),
+    )?))
 }
 
 /// `grid.friction`: non-empty, 0 ≤ μk ≤ μs for Coulomb models, no model

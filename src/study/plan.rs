@@ -49,6 +49,7 @@ impl Case {
 pub fn columns(study: &Study) -> Columns {
     Columns {
         pgv: matches!(study.intensity, Intensity::Pgv(_)),
+        scale: matches!(study.intensity, Intensity::Scale(_)),
         files: matches!(study.motions, Motions::Files(_)),
         time_in_mode: study.output.time_in_mode,
         stats: study.output.stats,

@@ -4,7 +4,8 @@
 //! PGA levels: synthetic records are generated at the target PGA (exact to
 //! the bit, see `Synthesizer::generate_into`); recorded motions are scaled by
 //! target/PGA. PGV levels: the record (synthetic at 1 g) is scaled by
-//! target/PGV, acceleration, velocity and displacement alike.
+//! target/PGV, acceleration, velocity and displacement alike. Scale factors:
+//! the recorded motion times the factor.
 
 use crate::error::{Error, Result};
 use crate::motion::{Record, Synthesizer, read_record};
@@ -72,6 +73,14 @@ impl Source {
                 let pgv = r.pgv();
                 scaled(r, level, pgv, "PGV")
             }
+            (Source::Files(records), Intensity::Scale(_)) => {
+                Ok(records[record].clone().scaled(level))
+            }
+            (Source::Synthetic { .. }, Intensity::Scale(_)) => Err(Error::invalid(
+                "grid.scale_factors",
+                level,
+                "record_files (the spec's validation refuses scale factors on synthetic records)",
+            )),
         }
     }
 }

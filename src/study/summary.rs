@@ -257,6 +257,7 @@ impl Tally {
         let (level_name, level_unit) = match study.intensity {
             Intensity::Pga(_) => ("A_g", "g"),
             Intensity::Pgv(_) => ("PGV", "m/s"),
+            Intensity::Scale(_) => ("scale", "×"),
         };
         let any_failed = c.failed > 0;
         let cases = plan::cases(study);
