@@ -7,7 +7,9 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
+use rockfrag::figures::{FigureOptions, is_papers_setup};
 use rockfrag::motion::{SynthesisSettings, synthesize, write_csv};
+use rockfrag::spec::{Motions, Study};
 
 /// A study of two recorded motions (CSV files beside the spec, PGA 0.25 g
 /// and 0.35 g as recorded, so neither is the synthetic sample's 0.6 g), run
@@ -82,4 +84,30 @@ fn recorded_study_figures_show_its_records_in_its_folder() {
         "history title names a record file"
     );
     assert!(!history.contains("of seed"));
+    // H/B 4, e 0, PGA 0.3 and 0.9 g are cells of the paper's tables, but
+    // these are not the paper's motions: no paper markers, no legend entry.
+    let demand = std::fs::read_to_string(figures.join("friction_demand.svg")).unwrap();
+    assert!(demand.contains("this study, mean"));
+    assert!(!demand.contains("paper, Tables"), "paper markers drawn");
+}
+
+/// The paper's markers are for the paper's set-up only: the built-in study
+/// is one; the same study with recorded motions, another block width, or
+/// fewer records is not.
+#[test]
+fn only_the_papers_setup_draws_the_papers_values() {
+    let paper = Study::shenton_jones();
+    assert!(is_papers_setup(&paper));
+    assert!(FigureOptions::for_study(&paper).papers);
+    let mut wide = paper.clone();
+    wide.widths = vec![1.0];
+    assert!(!is_papers_setup(&wide));
+    let mut few = paper.clone();
+    if let Motions::Synthetic { records, .. } = &mut few.motions {
+        *records = 5;
+    }
+    assert!(!is_papers_setup(&few));
+    let mut recorded = paper.clone();
+    recorded.motions = Motions::Files(Vec::new());
+    assert!(!FigureOptions::for_study(&recorded).papers);
 }

@@ -31,10 +31,12 @@ use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
 use super::spectrum::SpectrumFigure;
 use crate::error::{Error, Result};
+use crate::motion::G_STANDARD;
 use crate::motion::{SynthesisSettings, Synthesizer, read_record};
-use crate::spec::{Motions, Study};
+use crate::spec::{Intensity, Motions, Study};
 use crate::study::Manifest;
 use crate::study::files::MANIFEST;
+use crate::study::paper;
 
 /// What to draw and how.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,6 +60,10 @@ pub struct FigureOptions {
     /// file, the history is chosen among these records and the spectrum is
     /// skipped.
     pub record_files: Vec<PathBuf>,
+    /// Whether the study is the paper's set-up, so that the friction-demand
+    /// figure may draw the paper's Tables 1–3 beside its means (default:
+    /// false; see [`FigureOptions::for_study`]).
+    pub papers: bool,
 }
 
 impl Default for FigureOptions {
@@ -70,6 +76,7 @@ impl Default for FigureOptions {
             history: HistoryCase::default(),
             synthesis: SynthesisSettings::default(),
             record_files: Vec::new(),
+            papers: false,
         }
     }
 }
@@ -77,10 +84,13 @@ impl Default for FigureOptions {
 impl FigureOptions {
     /// The options that draw `study`'s own motions: its seed and generator
     /// settings for the sample record, the spectrum and the history, or its
-    /// record files (and `g`) for a study of recorded motions; every other
-    /// field at its default.
+    /// record files (and `g`) for a study of recorded motions; `papers` set
+    /// by [`is_papers_setup`]; every other field at its default.
     pub fn for_study(study: &Study) -> FigureOptions {
-        let mut options = FigureOptions::default();
+        let mut options = FigureOptions {
+            papers: is_papers_setup(study),
+            ..FigureOptions::default()
+        };
         match &study.motions {
             Motions::Synthetic { settings, seed, .. } => {
                 options.seed = *seed;
@@ -130,6 +140,26 @@ impl FigureOptions {
         }
         Ok(options)
     }
+}
+
+/// Whether `study` is the paper's set-up, whose cells may be compared with
+/// Tables 1–3: a synthetic ensemble of the paper's size under one of the
+/// readings of its section 4, standard gravity, PGA levels and the paper's
+/// block width (the figure itself matches H/B, e and PGA cell by cell).
+/// The same criterion as `summary.md`'s paper comparison.
+pub fn is_papers_setup(study: &Study) -> bool {
+    let synthetic = match &study.motions {
+        Motions::Synthetic {
+            settings, records, ..
+        } => {
+            paper::readings().iter().any(|r| r.settings == *settings) && *records == paper::RECORDS
+        }
+        Motions::Files(_) => false,
+    };
+    synthetic
+        && study.g == G_STANDARD
+        && matches!(study.intensity, Intensity::Pga(_))
+        && study.widths == [paper::WIDTH]
 }
 
 /// What [`study_figures`] did.
@@ -199,7 +229,8 @@ pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<
     write(&fragility, file("fragility"), &mut report)?;
 
     match FrictionDemandFigure::from_study(&data) {
-        Some(fig) => write(&fig, file("friction_demand"), &mut report)?,
+        Some(fig) if options.papers => write(&fig, file("friction_demand"), &mut report)?,
+        Some(fig) => write(&fig.without_paper(), file("friction_demand"), &mut report)?,
         None => report.notes.push(
             "friction_demand: skipped, the study has no infinite-friction analyses".to_string(),
         ),
