@@ -123,9 +123,12 @@ fn write_study(dir: &Path, curves: bool, reversed: bool) {
 }
 
 /// Figure options that keep the test quick (a 20-record spectrum).
+/// Fast options for the fixture, which is on the paper's grid (H/B, e, PGA)
+/// and is drawn as the paper's set-up (its Tables 1–3 beside the means).
 fn quick() -> FigureOptions {
     FigureOptions {
         spectrum_records: 20,
+        papers: true,
         ..FigureOptions::default()
     }
 }

@@ -21,9 +21,10 @@ pub struct FiguresArgs {
     /// and manifest.json); default: the built-in study's folder.
     #[arg(value_name = "DIR", default_value = "results/shenton-jones")]
     pub dir: PathBuf,
-    /// Folder the figures are written to (created if missing).
-    #[arg(long, value_name = "DIR", default_value = "figures")]
-    pub out: PathBuf,
+    /// Folder the figures are written to (created if missing) [default:
+    /// DIR/figures].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = FormatArg::Svg)]
     pub format: FormatArg,
@@ -44,7 +45,8 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
         options.seed = seed;
         options.history.seed = seed;
     }
-    for path in draw(&args.dir, &args.out, &options)? {
+    let out = args.out.unwrap_or_else(|| args.dir.join("figures"));
+    for path in draw(&args.dir, &out, &options)? {
         println!("{}", path.display());
     }
     Ok(())

@@ -10,9 +10,12 @@
 //! | `friction_demand` | mean μ_mot and μ_imp against B/H ([`super::friction`]) |
 //! | `restitution` | overturning and θmax/θc against e ([`super::restitution`]) |
 //!
-//! The first three are computed from the generator and the solver (with the
-//! study's generator settings and seed, see [`FigureOptions::for_folder`]),
-//! the last three from
+//! The first three are computed from the study's own motions and the solver
+//! (see [`FigureOptions::for_folder`]): for a synthetic study, its generator
+//! settings and seed; for a study of recorded motions (`record_files`), its
+//! first record as recorded and the history chosen among its records, the
+//! synthetic-ensemble spectrum being skipped with a note (it would describe
+//! motions the study never ran). The last three are drawn from
 //! `DIR/outcomes.csv` and, if present, `DIR/fragility_curves.csv`. Nothing
 //! depends on the clock or on the order of the rows, so running twice gives
 //! byte-identical files.
@@ -28,10 +31,12 @@ use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
 use super::spectrum::SpectrumFigure;
 use crate::error::{Error, Result};
-use crate::motion::{SynthesisSettings, Synthesizer};
-use crate::spec::{Motions, Study};
+use crate::motion::G_STANDARD;
+use crate::motion::{SynthesisSettings, Synthesizer, read_record};
+use crate::spec::{Intensity, Motions, Study};
 use crate::study::Manifest;
 use crate::study::files::MANIFEST;
+use crate::study::paper;
 
 /// What to draw and how.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,8 +52,18 @@ pub struct FigureOptions {
     pub motion_pga: f64,
     /// The analyses the history figure chooses from (default: see [`HistoryCase`]).
     pub history: HistoryCase,
-    /// Ground-motion generator settings (default: the paper's).
+    /// Ground-motion generator settings (default: the paper's). For a study
+    /// of recorded motions only `g` is used (to read `.AT2` files).
     pub synthesis: SynthesisSettings,
+    /// The study's recorded-motion files, in its order; empty (the default)
+    /// for a synthetic study. When not empty, the sample record is the first
+    /// file, the history is chosen among these records and the spectrum is
+    /// skipped.
+    pub record_files: Vec<PathBuf>,
+    /// Whether the study is the paper's set-up, so that the friction-demand
+    /// figure may draw the paper's Tables 1–3 beside its means (default:
+    /// false; see [`FigureOptions::for_study`]).
+    pub papers: bool,
 }
 
 impl Default for FigureOptions {
@@ -60,28 +75,43 @@ impl Default for FigureOptions {
             motion_pga: 0.6,
             history: HistoryCase::default(),
             synthesis: SynthesisSettings::default(),
+            record_files: Vec::new(),
+            papers: false,
         }
     }
 }
 
 impl FigureOptions {
-    /// The options that draw `study`'s own ensemble: its seed and generator
-    /// settings for the sample record, the spectrum and the history (for a
-    /// study of recorded motions, the defaults), every other field at its
-    /// default.
+    /// The options that draw `study`'s own motions: its seed and generator
+    /// settings for the sample record, the spectrum and the history, or its
+    /// record files (and `g`) for a study of recorded motions; `papers` set
+    /// by [`is_papers_setup`]; every other field at its default.
     pub fn for_study(study: &Study) -> FigureOptions {
-        let mut options = FigureOptions::default();
-        if let Motions::Synthetic { settings, seed, .. } = &study.motions {
-            options.seed = *seed;
-            options.history.seed = *seed;
-            options.synthesis = settings.clone();
+        let mut options = FigureOptions {
+            papers: is_papers_setup(study),
+            ..FigureOptions::default()
+        };
+        match &study.motions {
+            Motions::Synthetic { settings, seed, .. } => {
+                options.seed = *seed;
+                options.history.seed = *seed;
+                options.synthesis = settings.clone();
+            }
+            Motions::Files(files) => {
+                options.synthesis.g = study.g;
+                options.record_files = files.iter().map(|f| f.path.clone()).collect();
+            }
         }
         options
     }
 
     /// The options for the study folder `dir`: [`FigureOptions::for_study`]
     /// of the spec recorded in `dir/manifest.json`, or the defaults when the
-    /// folder has no manifest.
+    /// folder has no manifest. Record files are relative to the spec file
+    /// the study was run from (`spec_file` in the manifest, as given on the
+    /// command line); a file not found there is looked for relative to
+    /// `dir`, and if not there either is left for [`study_figures`] to
+    /// report.
     ///
     /// Errors: a manifest that cannot be read, or whose spec does not parse.
     pub fn for_folder(dir: &Path) -> Result<FigureOptions> {
@@ -91,8 +121,45 @@ impl FigureOptions {
         }
         let manifest = Manifest::read(&path)?;
         let study = Study::from_toml_unchecked(&manifest.spec_toml, &path)?;
-        Ok(FigureOptions::for_study(&study))
+        let mut options = FigureOptions::for_study(&study);
+        if let Motions::Files(files) = &study.motions {
+            let base = Path::new(&manifest.spec_file)
+                .parent()
+                .unwrap_or(Path::new(""));
+            options.record_files = files
+                .iter()
+                .map(|f| {
+                    let from_spec = base.join(&f.given);
+                    if from_spec.is_file() || !f.path.is_file() {
+                        from_spec
+                    } else {
+                        f.path.clone()
+                    }
+                })
+                .collect();
+        }
+        Ok(options)
     }
+}
+
+/// Whether `study` is the paper's set-up, whose cells may be compared with
+/// Tables 1–3: a synthetic ensemble of the paper's size under one of the
+/// readings of its section 4, standard gravity, PGA levels and the paper's
+/// block width (the figure itself matches H/B, e and PGA cell by cell).
+/// The same criterion as `summary.md`'s paper comparison.
+pub fn is_papers_setup(study: &Study) -> bool {
+    let synthetic = match &study.motions {
+        Motions::Synthetic {
+            settings, records, ..
+        } => {
+            paper::readings().iter().any(|r| r.settings == *settings) && *records == paper::RECORDS
+        }
+        Motions::Files(_) => false,
+    };
+    synthetic
+        && study.g == G_STANDARD
+        && matches!(study.intensity, Intensity::Pga(_))
+        && study.widths == [paper::WIDTH]
 }
 
 /// What [`study_figures`] did.
@@ -126,27 +193,31 @@ pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<
     let file = |name: &str| out.join(format!("{name}.{ext}"));
     let mut report = FiguresReport::default();
 
-    let mut synth = Synthesizer::new(&options.synthesis)?;
-    let mut record = synth.generate(
-        options.seed,
-        0,
-        options.synthesis.pga_from_g(options.motion_pga),
-    )?;
-    record.name = format!(
-        "Record 0 of ensemble seed {}, scaled to {} g",
-        options.seed,
-        super::style::tick_label(options.motion_pga)
-    );
-    let path = file("motion");
-    plot_record(&record, &path)?;
-    report.written.push(path);
+    if options.record_files.is_empty() {
+        let mut synth = Synthesizer::new(&options.synthesis)?;
+        let mut record = synth.generate(
+            options.seed,
+            0,
+            options.synthesis.pga_from_g(options.motion_pga),
+        )?;
+        record.name = format!(
+            "Record 0 of ensemble seed {}, scaled to {} g",
+            options.seed,
+            super::style::tick_label(options.motion_pga)
+        );
+        let path = file("motion");
+        plot_record(&record, &path)?;
+        report.written.push(path);
 
-    let spectrum =
-        SpectrumFigure::compute(&options.synthesis, options.seed, options.spectrum_records)?;
-    write(&spectrum, file("spectrum"), &mut report)?;
+        let spectrum =
+            SpectrumFigure::compute(&options.synthesis, options.seed, options.spectrum_records)?;
+        write(&spectrum, file("spectrum"), &mut report)?;
 
-    let history = HistoryFigure::compute(&options.history, &options.synthesis)?;
-    write(&history, file("history"), &mut report)?;
+        let history = HistoryFigure::compute(&options.history, &options.synthesis)?;
+        write(&history, file("history"), &mut report)?;
+    } else {
+        recorded_figures(options, &file, &mut report)?;
+    }
 
     let fragility = FragilityFigure::from_study(&data);
     if !fragility.fitted {
@@ -158,7 +229,8 @@ pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<
     write(&fragility, file("fragility"), &mut report)?;
 
     match FrictionDemandFigure::from_study(&data) {
-        Some(fig) => write(&fig, file("friction_demand"), &mut report)?,
+        Some(fig) if options.papers => write(&fig, file("friction_demand"), &mut report)?,
+        Some(fig) => write(&fig.without_paper(), file("friction_demand"), &mut report)?,
         None => report.notes.push(
             "friction_demand: skipped, the study has no infinite-friction analyses".to_string(),
         ),
@@ -170,6 +242,56 @@ pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<
         &mut report,
     )?;
     Ok(report)
+}
+
+/// The motion and history figures of a study of recorded motions (the
+/// spectrum is skipped with a note): the first record as recorded, and the
+/// history chosen among the first `options.history.records` records scaled
+/// to its PGA. A record file that cannot be read skips both, with a note.
+fn recorded_figures(
+    options: &FigureOptions,
+    file: &dyn Fn(&str) -> PathBuf,
+    report: &mut FiguresReport,
+) -> Result<()> {
+    report.notes.push(
+        "spectrum: skipped, the study's motions are recorded (record_files); the synthetic \
+         ensemble's spectrum would not describe them"
+            .to_string(),
+    );
+    let g = options.synthesis.g;
+    let n = (options.history.records.max(1) as usize).min(options.record_files.len());
+    let mut records = Vec::with_capacity(n);
+    let mut names = Vec::with_capacity(n);
+    for path in &options.record_files[..n] {
+        match read_record(path, g) {
+            Ok(r) => records.push(r),
+            Err(e) => {
+                report.notes.push(format!(
+                    "motion, history: skipped, record file {} cannot be read ({e}); \
+                     record files are relative to the spec file as given to `rockfrag run`, \
+                     from the folder it ran in",
+                    path.display()
+                ));
+                return Ok(());
+            }
+        }
+        names.push(path.file_name().map_or_else(
+            || path.display().to_string(),
+            |f| f.to_string_lossy().into_owned(),
+        ));
+    }
+    let mut first = records[0].clone();
+    first.name = format!(
+        "{}, as recorded (PGA {} g)",
+        names[0],
+        super::style::tick_label((first.pga() / g * 1000.0).round() / 1000.0)
+    );
+    let path = file("motion");
+    plot_record(&first, &path)?;
+    report.written.push(path);
+    let history = HistoryFigure::compute_recorded(&options.history, &records, &names, g)?;
+    write(&history, file("history"), report)?;
+    Ok(())
 }
 
 fn write<F: Figure>(figure: &F, path: PathBuf, report: &mut FiguresReport) -> Result<()> {

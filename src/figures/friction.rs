@@ -224,6 +224,32 @@ impl FrictionDemandFigure {
     }
 }
 
+impl FrictionDemandFigure {
+    /// The figure without the paper's values (for a study that is not the
+    /// paper's set-up, whose cells only share the paper's grid values): no
+    /// open squares, and no legend entry for them.
+    pub fn without_paper(mut self) -> Self {
+        for s in self
+            .motion
+            .iter_mut()
+            .chain(&mut self.impact)
+            .chain(&mut self.eq5)
+        {
+            s.paper.clear();
+        }
+        self
+    }
+
+    /// Whether any panel carries a value of the paper's tables.
+    pub fn has_paper(&self) -> bool {
+        self.motion
+            .iter()
+            .chain(&self.impact)
+            .chain(&self.eq5)
+            .any(|s| !s.paper.is_empty())
+    }
+}
+
 /// Draws each series' means (line and filled circles) and the paper's values
 /// (open squares, moved right by `dodge`) on `chart`.
 macro_rules! draw_series_set {
@@ -263,18 +289,20 @@ impl Figure for FrictionDemandFigure {
         root: &DrawingArea<DB, Shift>,
         style: &Style,
     ) -> DrawResult<DB> {
-        let shared = [
+        let mut shared = vec![
             Entry::new(Sample::Line(BLACK, Dash::Solid), "eq. (8)"),
             Entry::new(Sample::Line(BLACK, Dash::Dashed), "0.75·B/H"),
             Entry::new(
                 Sample::Point(BLACK, Marker::Circle, true),
                 "this study, mean",
             ),
-            Entry::new(
+        ];
+        if self.has_paper() {
+            shared.push(Entry::new(
                 Sample::Point(BLACK, Marker::Square, false),
                 "paper, Tables 1–3",
-            ),
-        ];
+            ));
+        }
         let frame = Frame::new(root, style, &self.title, &shared, MARGINS)?;
         let mut panels: Vec<(&str, &Vec<DemandSeries>)> = vec![
             ("(a) Mean μₘₒₜ, during rocking", &self.motion),

@@ -15,10 +15,13 @@ use plotters::style::{BLACK, Color, RGBColor};
 use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
 use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
-use crate::error::Result;
-use crate::motion::{SynthesisSettings, Synthesizer};
+use crate::error::{Error, Result};
+use crate::motion::{Record, SynthesisSettings, Synthesizer};
 use crate::outcome::{Mode, Outcome};
 use crate::solver::{Analysis, Block, Friction, History, SolverSettings, simulate};
+use crate::spec::Intensity;
+use crate::study::Source;
+use std::sync::Arc;
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 3.3;
@@ -117,18 +120,74 @@ impl HistoryFigure {
     /// extracts what the figure draws.
     pub fn compute(case: &HistoryCase, motion: &SynthesisSettings) -> Result<Self> {
         let mut synth = Synthesizer::new(motion)?;
-        let block = Block::new(case.width, case.aspect, motion.g)?;
+        let pga = motion.pga_from_g(case.pga);
+        let seed = case.seed;
+        Self::choose(
+            case,
+            motion.g,
+            case.records.max(1),
+            |i| synth.generate(seed, i, pga),
+            |i| format!("record {i} of seed {seed}"),
+        )
+    }
+
+    /// As [`HistoryFigure::compute`], choosing among a study's recorded
+    /// motions (the first `case.records` of `records`, each scaled to
+    /// `case.pga` by its PGA, as the study runner scales them) instead of a
+    /// synthetic ensemble; `case.seed` is not used. `names` label the
+    /// records in the title (one per record).
+    ///
+    /// Errors: no record, or a record whose PGA is not positive.
+    pub fn compute_recorded(
+        case: &HistoryCase,
+        records: &[Record],
+        names: &[String],
+        g: f64,
+    ) -> Result<Self> {
+        if records.is_empty() {
+            return Err(Error::InvalidRecord {
+                name: "history".to_string(),
+                message: "no recorded motion to choose from".to_string(),
+            });
+        }
+        // the runner's own scaling: every series by target PGA / record PGA
+        let mut source = Source::Files(Arc::new(records.to_vec()));
+        let n = (case.records.max(1) as usize).min(records.len()) as u64;
+        Self::choose(
+            case,
+            g,
+            n,
+            |i| source.record(&Intensity::Pga(Vec::new()), case.pga, i as usize, g),
+            |i| {
+                names
+                    .get(i as usize)
+                    .cloned()
+                    .unwrap_or_else(|| format!("record {i}"))
+            },
+        )
+    }
+
+    /// Runs records 0..`count` from `record(i)` (already at the case's PGA),
+    /// chooses one (see the module docs) and extracts what the figure draws;
+    /// `label(i)` names record i in the title.
+    fn choose(
+        case: &HistoryCase,
+        g: f64,
+        count: u64,
+        mut record_at: impl FnMut(u64) -> Result<Record>,
+        label: impl Fn(u64) -> String,
+    ) -> Result<Self> {
+        let block = Block::new(case.width, case.aspect, g)?;
         let mut analysis = Analysis::new(block, case.restitution);
         analysis.friction = Friction::Coulomb {
             mu_s: case.mu_s,
             mu_k: case.mu_k,
         };
         let solver = SolverSettings::default();
-        let pga = motion.pga_from_g(case.pga);
 
         let mut best: Option<((bool, usize, f64), u64)> = None;
-        for i in 0..case.records.max(1) {
-            let record = synth.generate(case.seed, i, pga)?;
+        for i in 0..count {
+            let record = record_at(i)?;
             let out = simulate(&analysis, &record, &solver, None)?;
             let modes = out
                 .time_in_mode
@@ -144,7 +203,7 @@ impl HistoryFigure {
             }
         }
         let index = best.map_or(0, |(_, i)| i);
-        let record = synth.generate(case.seed, index, pga)?;
+        let record = record_at(index)?;
         let mut history = History::default();
         let outcome = simulate(&analysis, &record, &solver, Some(&mut history))?;
 
@@ -165,7 +224,7 @@ impl HistoryFigure {
                 }),
             }
         }
-        let v_scale = (motion.g * block.r).sqrt();
+        let v_scale = (g * block.r).sqrt();
         let impacts: Vec<f64> = rows
             .windows(2)
             .filter(|w| {
@@ -205,7 +264,7 @@ impl HistoryFigure {
             .acc
             .iter()
             .enumerate()
-            .map(|(k, a)| (k as f64 * record.dt, a / motion.g))
+            .map(|(k, a)| (k as f64 * record.dt, a / g))
             .filter(|&(t, _)| inside(t))
             .collect();
         let theta = rows
@@ -214,13 +273,13 @@ impl HistoryFigure {
             .map(|r| (r.t, r.theta / block.theta_c))
             .collect();
         let title = format!(
-            "H/B = {}, 2B = {} m, e = {}, μₛ = {}, μₖ = {}: record {index} of seed {} at {} g",
+            "H/B = {}, 2B = {} m, e = {}, μₛ = {}, μₖ = {}: {} at {} g",
             tick_label(case.aspect),
             tick_label(case.width),
             tick_label(case.restitution),
             tick_label(case.mu_s),
             tick_label(case.mu_k),
-            case.seed,
+            label(index),
             tick_label(case.pga),
         );
         Ok(HistoryFigure {

@@ -71,7 +71,9 @@ pub use case::{CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
 pub use data::{Analysis, CaseData, Outcomes, read_outcomes};
 pub use fit::{LognormalFit, Observation, Unfit, fit_lognormal};
 pub use nrml::{
-    lognormal_to_moments, moments_to_lognormal, nrml_string, openquake_imt, write_nrml,
+    ASSET_CATEGORY, LOSS_CATEGORY, NrmlEntry, NrmlFunction, OVERTURNING, lognormal_to_moments,
+    moments_to_lognormal, nrml_model_string, nrml_string, openquake_imt, overturning_entry,
+    write_nrml,
 };
 pub use options::{BootstrapUnit, FragilityOptions, IntensityMeasure};
 pub use output::{

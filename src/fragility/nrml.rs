@@ -9,12 +9,15 @@
 //! β = √ln(1 + (stddev/mean)²),  θ = mean / √(1 + (stddev/mean)²)
 //! ```
 //!
-//! One limit state, `overturning`; one function per fitted case, its `id`
-//! built from the case (`.` written `p`). OpenQuake knows PGA in g and PGV in
+//! One limit state, `overturning`, today ([`nrml_model_string`] writes any
+//! number, in order); one function per fitted case, its `id` built from the
+//! case (`.` written `p`). OpenQuake knows PGA in g and PGV in
 //! cm/s, so PGV curves are scaled by 100 and PGA/(g tan θc) curves are written
 //! in PGA, θ_PGA = θ/(H/B) (exact for one case, whose H/B is fixed). Cases
 //! that could not be fitted are left out, with an XML comment saying why.
-//! The loss category is `contents` (free-standing objects).
+//! The asset category is `buildings` and the loss category `contents`: the
+//! blocks are the contents (equipment, artefacts) of the buildings of an
+//! OpenQuake exposure. OpenQuake's reader requires both attributes.
 
 use std::path::Path;
 
@@ -24,6 +27,11 @@ use crate::error::{Error, Result};
 use crate::io_util::number;
 use crate::io_util::write_atomic;
 use crate::outcomes_csv::CaseKey;
+
+/// `assetCategory` of the model.
+pub const ASSET_CATEGORY: &str = "buildings";
+/// `lossCategory` of the model: the blocks are a building's contents.
+pub const LOSS_CATEGORY: &str = "contents";
 
 /// (θ, β) → (mean, standard deviation) of the lognormal intensity, with
 /// `expm1` so that small β keeps full precision.
@@ -50,44 +58,146 @@ pub fn openquake_imt(im: IntensityMeasure, key: &CaseKey) -> (&'static str, f64)
     }
 }
 
-/// The fragility model as NRML 0.5 text.
+/// The limit state rockfrag fits today.
+pub const OVERTURNING: &str = "overturning";
+
+/// One fragility function of an NRML model: a case and its lognormal
+/// parameters for every limit state of the model, in the model's order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NrmlFunction {
+    /// Function id (letters, digits, `-` and `_`).
+    pub id: String,
+    /// OpenQuake intensity measure type (`PGA`, `PGV`).
+    pub imt: &'static str,
+    /// Smallest and largest intensity of the fitted data, in OpenQuake's unit
+    /// for `imt`.
+    pub iml_range: (f64, f64),
+    /// (mean, standard deviation) of the intensity in OpenQuake's unit, one
+    /// pair per limit state, in the order of the model's limit states.
+    pub params: Vec<(f64, f64)>,
+}
+
+/// What the model holds for one case: a function, or why there is none
+/// (written as an XML comment).
+#[derive(Clone, Debug, PartialEq)]
+pub enum NrmlEntry {
+    /// A fitted case.
+    Function(NrmlFunction),
+    /// A case that could not be fitted: its id and the reason.
+    Omitted {
+        /// Function id the case would have had.
+        id: String,
+        /// Why it is left out.
+        reason: String,
+    },
+}
+
+/// The entry of one case for the single limit state [`OVERTURNING`]:
+/// θ and β converted to OpenQuake's unit and to (mean, stddev); `None` for a
+/// case without analyses (nothing to say about it).
+pub fn overturning_entry(f: &CaseFit) -> Option<NrmlEntry> {
+    let id = function_id(&f.key);
+    match (&f.fit, f.im_range) {
+        (Ok(fit), Some((lo, hi))) => {
+            let (imt, factor) = openquake_imt(f.im, &f.key);
+            Some(NrmlEntry::Function(NrmlFunction {
+                id,
+                imt,
+                iml_range: (lo * factor, hi * factor),
+                params: vec![lognormal_to_moments(fit.median() * factor, fit.beta())],
+            }))
+        }
+        (Err(reason), _) => Some(NrmlEntry::Omitted {
+            id,
+            reason: format!("{}: {reason}", reason.status()),
+        }),
+        (Ok(_), None) => None,
+    }
+}
+
+/// The fragility model as NRML 0.5 text, one limit state ([`OVERTURNING`]).
 pub fn nrml_string(fits: &[CaseFit]) -> String {
+    let entries: Vec<NrmlEntry> = fits.iter().filter_map(overturning_entry).collect();
+    nrml_model_string(&[OVERTURNING], &entries)
+}
+
+/// A fragility model of any number of limit states as NRML 0.5 text, in the
+/// layout OpenQuake's reader (`openquake.risklib.read_nrml`) requires:
+/// `fragilityModel` with `id`, `assetCategory` and `lossCategory`; its first
+/// two children `description` and `limitStates` (names separated by spaces,
+/// in order of increasing damage), then one `fragilityFunction` per fitted
+/// case, whose first child is `imls` and then one `params` per limit state
+/// in the order of `limit_states`. OpenQuake refuses a function with fewer
+/// `params` than limit states, so a case must be fitted for every limit
+/// state to be written; an [`NrmlEntry::Omitted`] becomes an XML comment.
+///
+/// Panics if a function's `params` do not match `limit_states` in number,
+/// or a limit-state name or function id is not a word of ASCII letters,
+/// digits, `_` and `-`.
+pub fn nrml_model_string(limit_states: &[&str], entries: &[NrmlEntry]) -> String {
+    let word = |w: &str| {
+        !w.is_empty()
+            && w.chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    };
+    for ls in limit_states {
+        assert!(word(ls), "limit state {ls:?} is not an NRML name");
+    }
     let mut s = String::new();
     s.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     s.push_str("<nrml xmlns=\"http://openquake.org/xmlns/nrml/0.5\">\n");
-    s.push_str("<fragilityModel id=\"rockfrag-overturning\" lossCategory=\"contents\">\n");
+    // OpenQuake's model id: at most 75 characters of [A-Za-z0-9_:-]
+    let model_id = match limit_states {
+        [one] => format!("rockfrag-{one}"),
+        _ => "rockfrag-limit-states".to_string(),
+    };
     s.push_str(&format!(
-        "  <description>Overturning of free-standing rigid blocks: lognormal fragility \
+        "<fragilityModel id=\"{model_id}\" assetCategory=\"{ASSET_CATEGORY}\" \
+         lossCategory=\"{LOSS_CATEGORY}\">\n"
+    ));
+    s.push_str(&format!(
+        "  <description>Free-standing rigid blocks ({}): lognormal fragility \
          fitted by maximum likelihood over stripes (rockfrag {})</description>\n",
+        limit_states.join(", "),
         env!("CARGO_PKG_VERSION")
     ));
-    s.push_str("  <limitStates>overturning</limitStates>\n");
-    for f in fits {
-        let id = function_id(&f.key);
-        let (fit, (lo, hi)) = match (&f.fit, f.im_range) {
-            (Ok(fit), Some(range)) => (fit, range),
-            (Err(reason), _) => {
-                let why = format!("{}: {reason}", reason.status()).replace("--", "- -");
+    s.push_str(&format!(
+        "  <limitStates>{}</limitStates>\n",
+        limit_states.join(" ")
+    ));
+    for e in entries {
+        let f = match e {
+            NrmlEntry::Function(f) => f,
+            NrmlEntry::Omitted { id, reason } => {
+                let why = reason.replace("--", "- -");
                 s.push_str(&format!("  <!-- {id} not fitted ({why}) -->\n"));
                 continue;
             }
-            (Ok(_), None) => continue,
         };
-        let (imt, factor) = openquake_imt(f.im, &f.key);
-        let (mean, stddev) = lognormal_to_moments(fit.median() * factor, fit.beta());
+        assert!(word(&f.id), "function id {:?} is not an NRML id", f.id);
+        assert_eq!(
+            f.params.len(),
+            limit_states.len(),
+            "function {}: one (mean, stddev) per limit state",
+            f.id
+        );
         s.push_str(&format!(
-            "  <fragilityFunction id=\"{id}\" format=\"continuous\" shape=\"logncdf\">\n"
+            "  <fragilityFunction id=\"{}\" format=\"continuous\" shape=\"logncdf\">\n",
+            f.id
         ));
         s.push_str(&format!(
-            "    <imls imt=\"{imt}\" minIML=\"{}\" maxIML=\"{}\"/>\n",
-            number(lo * factor),
-            number(hi * factor)
+            "    <imls imt=\"{}\" minIML=\"{}\" maxIML=\"{}\"/>\n",
+            f.imt,
+            number(f.iml_range.0),
+            number(f.iml_range.1)
         ));
-        s.push_str(&format!(
-            "    <params ls=\"overturning\" mean=\"{}\" stddev=\"{}\"/>\n",
-            number(mean),
-            number(stddev)
-        ));
+        for (ls, &(mean, stddev)) in limit_states.iter().zip(&f.params) {
+            s.push_str(&format!(
+                "    <params ls=\"{ls}\" mean=\"{}\" stddev=\"{}\"/>\n",
+                number(mean),
+                number(stddev)
+            ));
+        }
         s.push_str("  </fragilityFunction>\n");
     }
     s.push_str("</fragilityModel>\n</nrml>\n");
