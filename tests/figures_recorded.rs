@@ -7,9 +7,10 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use rockfrag::figures::{FigureOptions, is_papers_setup};
+use rockfrag::figures::FigureOptions;
 use rockfrag::motion::{SynthesisSettings, synthesize, write_csv};
 use rockfrag::spec::{Motions, Study};
+use rockfrag::study::is_papers;
 
 /// A study of two recorded motions (CSV files beside the spec, PGA 0.25 g
 /// and 0.35 g as recorded, so neither is the synthetic sample's 0.6 g), run
@@ -97,16 +98,16 @@ fn recorded_study_figures_show_its_records_in_its_folder() {
 #[test]
 fn only_the_papers_setup_draws_the_papers_values() {
     let paper = Study::shenton_jones();
-    assert!(is_papers_setup(&paper));
+    assert!(is_papers(&paper));
     assert!(FigureOptions::for_study(&paper).papers);
     let mut wide = paper.clone();
     wide.widths = vec![1.0];
-    assert!(!is_papers_setup(&wide));
+    assert!(!is_papers(&wide));
     let mut few = paper.clone();
     if let Motions::Synthetic { records, .. } = &mut few.motions {
         *records = 5;
     }
-    assert!(!is_papers_setup(&few));
+    assert!(!is_papers(&few));
     let mut recorded = paper.clone();
     recorded.motions = Motions::Files(Vec::new());
     assert!(!FigureOptions::for_study(&recorded).papers);

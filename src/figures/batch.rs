@@ -31,12 +31,10 @@ use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
 use super::spectrum::SpectrumFigure;
 use crate::error::{Error, Result};
-use crate::motion::G_STANDARD;
 use crate::motion::{SynthesisSettings, Synthesizer, read_record};
-use crate::spec::{Intensity, Motions, Study};
+use crate::spec::{Motions, Study};
 use crate::study::Manifest;
 use crate::study::files::MANIFEST;
-use crate::study::paper;
 
 /// What to draw and how.
 #[derive(Clone, Debug, PartialEq)]
@@ -85,10 +83,10 @@ impl FigureOptions {
     /// The options that draw `study`'s own motions: its seed and generator
     /// settings for the sample record, the spectrum and the history, or its
     /// record files (and `g`) for a study of recorded motions; `papers` set
-    /// by [`is_papers_setup`]; every other field at its default.
+    /// by [`crate::study::is_papers`]; every other field at its default.
     pub fn for_study(study: &Study) -> FigureOptions {
         let mut options = FigureOptions {
-            papers: is_papers_setup(study),
+            papers: crate::study::is_papers(study),
             ..FigureOptions::default()
         };
         match &study.motions {
@@ -140,26 +138,6 @@ impl FigureOptions {
         }
         Ok(options)
     }
-}
-
-/// Whether `study` is the paper's set-up, whose cells may be compared with
-/// Tables 1–3: a synthetic ensemble of the paper's size under one of the
-/// readings of its section 4, standard gravity, PGA levels and the paper's
-/// block width (the figure itself matches H/B, e and PGA cell by cell).
-/// The same criterion as `summary.md`'s paper comparison.
-pub fn is_papers_setup(study: &Study) -> bool {
-    let synthetic = match &study.motions {
-        Motions::Synthetic {
-            settings, records, ..
-        } => {
-            paper::readings().iter().any(|r| r.settings == *settings) && *records == paper::RECORDS
-        }
-        Motions::Files(_) => false,
-    };
-    synthetic
-        && study.g == G_STANDARD
-        && matches!(study.intensity, Intensity::Pga(_))
-        && study.widths == [paper::WIDTH]
 }
 
 /// What [`study_figures`] did.

@@ -39,7 +39,7 @@ mod spectrum;
 pub mod style;
 mod work_precision;
 
-pub use batch::{FigureOptions, FiguresReport, is_papers_setup, study_figures};
+pub use batch::{FigureOptions, FiguresReport, study_figures};
 pub use data::{CurvePoint, OutcomeRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::FragilityFigure;

@@ -38,7 +38,7 @@ pub use merge::merge;
 pub use plan::{Case, Shard, Unit};
 pub use source::Source;
 pub(crate) use summary::sig3;
-pub use summary::{Counts, Tally};
+pub use summary::{Counts, Tally, is_papers};
 
 use crate::error::{Error, Result};
 use crate::motion::Record;

@@ -525,7 +525,7 @@ fn beside(ours: &str, paper: Option<String>) -> String {
 
 /// Whether `study` is the paper's set-up, cell for cell comparable with
 /// Tables 1–3 (its grids may be a subset of the paper's; its records follow
-/// one of the readings of section 4, [`paper::readings`]).
+/// one of the readings of section 4, [`crate::reproduce::readings`]).
 pub fn is_papers(study: &Study) -> bool {
     let synthetic_default = match &study.motions {
         Motions::Synthetic {
