@@ -109,7 +109,7 @@ fn write_study(dir: &Path, curves: bool, reversed: bool) {
                         let p = 1.0 / (1.0 + (-(im - 2.4 / aspect) / 0.15).exp());
                         writeln!(
                             text,
-                            "{case},{aspect},0.5,{e},{friction},{mu_s},{mu_k},pga,{im},{p},{},{}",
+                            "{case},{aspect},0.5,{e},{friction},{mu_s},{mu_k},overturning,pga,{im},{p},{},{}",
                             0.8 * p,
                             (1.2 * p + 0.02).min(1.0)
                         )

@@ -157,7 +157,8 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
 /// header name (the case columns and `im, im_value, p, p_lo, p_hi`): the
 /// fitted probability and its 90 % band on an IM grid. Only curves fitted
 /// against PGA (`im` = `pga`) are kept, since the figure draws them over the
-/// PGA stripes; an empty band (no bootstrap) reads as the curve itself.
+/// PGA stripes, and only the `overturning` limit state when the file has a
+/// `limit_state` column; an empty band (no bootstrap) reads as the curve itself.
 /// Returns the points sorted by case and IM.
 ///
 /// This is the one place that reads the fragility file's layout.
@@ -167,9 +168,11 @@ pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
         ["im", "im_value", "p", "p_lo", "p_hi"],
         "the fragility figure",
     )?;
+    let limit_state = table.column("limit_state");
     let mut points = Vec::new();
     while let Some(row) = table.next_row()? {
-        if row.field(im_name) != "pga" {
+        if row.field(im_name) != "pga" || limit_state.is_some_and(|i| row.field(i) != "overturning")
+        {
             continue;
         }
         let p = row.number(p)?;

@@ -67,13 +67,18 @@ mod output;
 
 pub use crate::outcomes_csv::CaseKey;
 pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile, replicate_seed};
-pub use case::{CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
-pub use data::{Analysis, CaseData, Outcomes, read_outcomes};
-pub use fit::{LognormalFit, Observation, Unfit, fit_lognormal};
+pub use case::{BetaModel, CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
+pub use data::{Analysis, CaseData, Outcomes, read_outcomes, read_outcomes_for};
+pub use fit::{
+    CROSSING_TOLERANCE, LognormalFit, Observation, Unfit, curves_cross, fit_common_beta,
+    fit_lognormal,
+};
 pub use nrml::{
     lognormal_to_moments, moments_to_lognormal, nrml_string, openquake_imt, write_nrml,
 };
-pub use options::{BootstrapUnit, FragilityOptions, IntensityMeasure};
+pub use options::{
+    BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_LIMIT_STATES,
+};
 pub use output::{
     CURVES_HEADER, FRAGILITY_HEADER, OutputPaths, write_curves_csv, write_fragility_csv,
     write_outputs,
