@@ -262,3 +262,69 @@ fn common_beta_fit_of_one_limit_state_is_the_ordinary_fit() {
         assert!((x / y - 1.0).abs() < 1e-9, "{x} vs {y}");
     }
 }
+
+/// `rockfrag run` on a small spec with three limit states (rocking beyond
+/// 0.2 θc, sliding beyond 5 cm, overturning): one fragility.csv row per limit
+/// state, in the spec's order, all fitted, with the fitted medians rising
+/// with severity and the exceedance counts falling; each count is what
+/// outcomes.csv gives (overturned, or the measure above its threshold); the
+/// curves file has 101 points per limit state; fragility.xml keeps the
+/// overturning limit state alone.
+#[test]
+fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
+    let spec = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/specs/limit-states.toml"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = common::rockfrag(&["run", spec, "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+
+    let mut reader = csv::Reader::from_path(out.join("fragility.csv")).unwrap();
+    let header = reader.headers().unwrap().clone();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    let names: Vec<&str> = rows.iter().map(|r| &r[col("limit_state")]).collect();
+    assert_eq!(names, ["rocks-0.2", "slides-5cm", "overturning"]);
+    let mut last = (0.0, usize::MAX);
+    for r in &rows {
+        assert_eq!(&r[col("status")], "ok", "{r:?}");
+        let median: f64 = r[col("median")].parse().unwrap();
+        let exceeded: usize = r[col("n_exceeded")].parse().unwrap();
+        eprintln!(
+            "{}: θ = {median:.3} g, {exceeded} exceeded",
+            &r[col("limit_state")]
+        );
+        assert!(median > last.0 && exceeded < last.1, "{r:?}");
+        last = (median, exceeded);
+    }
+
+    // The counts, recomputed from outcomes.csv.
+    let mut outcomes = csv::Reader::from_path(out.join("outcomes.csv")).unwrap();
+    let oh = outcomes.headers().unwrap().clone();
+    let oc = |name: &str| oh.iter().position(|h| h == name).unwrap();
+    let (mut rocks, mut slides, mut overturned) = (0, 0, 0);
+    for r in outcomes.records().map(Result::unwrap) {
+        let o = &r[oc("overturned")] == "true";
+        let theta: f64 = r[oc("theta_max_over_theta_c")].parse().unwrap();
+        let slip: f64 = r[oc("slip_max")].parse().unwrap();
+        rocks += usize::from(o || theta > 0.2);
+        slides += usize::from(o || slip > 0.05);
+        overturned += usize::from(o);
+    }
+    let count = |i: usize| rows[i][col("n_exceeded")].parse::<usize>().unwrap();
+    assert_eq!([count(0), count(1), count(2)], [rocks, slides, overturned]);
+
+    let curves = std::fs::read_to_string(out.join("fragility_curves.csv")).unwrap();
+    for name in names {
+        let n = curves
+            .lines()
+            .filter(|l| l.split(',').nth(7) == Some(name))
+            .count();
+        assert_eq!(n, 101, "{name}");
+    }
+    let xml = std::fs::read_to_string(out.join("fragility.xml")).unwrap();
+    assert_eq!(xml.matches("<fragilityFunction ").count(), 1);
+    assert!(xml.contains("ls=\"overturning\""));
+}
