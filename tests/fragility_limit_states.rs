@@ -9,7 +9,7 @@ use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rockfrag::fragility::{
     Analysis, BetaModel, CaseData, CaseFit, CaseKey, FragilityOptions, LimitState, LognormalFit,
-    Observation, curves_cross, fit_case, fit_common_beta, fit_lognormal,
+    Observation, curves_cross, fit_case, fit_common_beta, fit_lognormal, read_outcomes_for,
 };
 use rockfrag::solver::Friction;
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -327,4 +327,22 @@ fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
     let xml = std::fs::read_to_string(out.join("fragility.xml")).unwrap();
     assert_eq!(xml.matches("<fragilityFunction ").count(), 1);
     assert!(xml.contains("ls=\"overturning\""));
+
+    // A measure the spec accepts but this file lacks (time in mode is off)
+    // is an error naming the column and the limit state.
+    let options = FragilityOptions {
+        limit_state: vec![LimitState {
+            name: "rocks-1s".into(),
+            measure: "t_rock".into(),
+            exceeds: Some(1.0),
+        }],
+        ..FragilityOptions::default()
+    };
+    let err = read_outcomes_for(&out.join("outcomes.csv"), &options)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("no `t_rock` column") && err.contains("rocks-1s"),
+        "{err}"
+    );
 }
