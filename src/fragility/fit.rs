@@ -86,7 +86,9 @@ fn quadratic_form(m: &[[f64; 2]; 2], g: [f64; 2]) -> f64 {
     g[0] * (m[0][0] * g[0] + m[0][1] * g[1]) + g[1] * (m[1][0] * g[0] + m[1][1] * g[1])
 }
 
-/// Why a lognormal fragility cannot be fitted to a set of counts.
+/// Why a lognormal fragility cannot be fitted to a set of counts. The
+/// variants and keywords speak of overturning, the first limit state; for
+/// another limit state read "exceeded" (the messages do).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Unfit {
     /// No analyses at all (every row of the case failed or was absent).
@@ -141,10 +143,16 @@ impl std::fmt::Display for Unfit {
         match self {
             Unfit::NoData => write!(f, "no successful analyses"),
             Unfit::NoneOverturned => {
-                write!(f, "no analysis overturned: the median is beyond the data")
+                write!(
+                    f,
+                    "no analysis exceeded the limit state: the median is beyond the data"
+                )
             }
             Unfit::AllOverturned => {
-                write!(f, "every analysis overturned: the median is below the data")
+                write!(
+                    f,
+                    "every analysis exceeded the limit state: the median is below the data"
+                )
             }
             Unfit::SingleLevel { im } => {
                 write!(
@@ -157,13 +165,13 @@ impl std::fmt::Display for Unfit {
                 first_overturn,
             } => write!(
                 f,
-                "perfectly separated: none overturn below {first_overturn}, all overturn above \
-                 {last_survival}; the maximum-likelihood β is 0, no finite fit"
+                "perfectly separated: none exceed the limit state below {first_overturn}, all \
+                 exceed it above {last_survival}; the maximum-likelihood β is 0, no finite fit"
             ),
             Unfit::Decreasing => {
                 write!(
                     f,
-                    "overturning becomes less likely with intensity: not a fragility"
+                    "exceeding the limit state becomes less likely with intensity: not a fragility"
                 )
             }
             Unfit::NoConvergence { iterations } => {
