@@ -701,7 +701,10 @@ fn cli_fits_a_generated_study() {
     assert!(o.status.success(), "{}", stderr(&o));
     let out = stdout(&o);
     eprintln!("{out}");
-    assert!(out.contains("not fitted: no analysis exceeded the limit state"), "{out}");
+    assert!(
+        out.contains("not fitted: no analysis exceeded the limit state"),
+        "{out}"
+    );
     assert!(out.contains("1 failed analyses skipped"), "{out}");
     let csv = std::fs::read_to_string(dir.path().join("fragility.csv")).unwrap();
     assert_eq!(csv.lines().count(), 3);
