@@ -235,4 +235,10 @@ fn limit_states_round_trip_and_default_to_overturning() {
     assert_eq!(only.len(), 1);
     assert_eq!(only[0].name, "overturning");
     assert_eq!(only[0].measure, "overturned");
+
+    // A time-in-mode measure is accepted when [output] writes that column
+    // (bad-limit-state-column-not-written.toml is the refusal).
+    let timed = "[output]\ntime_in_mode = true\n[[fragility.limit_state]]\n\
+                 name = \"rocks-1s\"\nmeasure = \"t_rock\"\nexceeds = 1.0\n";
+    assert!(Study::from_toml(timed, &origin).is_ok());
 }
