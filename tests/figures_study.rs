@@ -241,6 +241,45 @@ fn svg(dir: &Path, name: &str) -> PathBuf {
     dir.join(format!("{name}.svg"))
 }
 
+/// A study fitted for a second limit state (`uplift`, every case) has its
+/// curves drawn too: as many solid and dashed series again (thin, without
+/// bands, so the bands stay one per overturning curve), named in the title,
+/// and the axis says P(exceeded).
+#[test]
+fn other_limit_states_are_drawn_as_thin_curves() {
+    let study = tempfile::tempdir().unwrap();
+    write_study(study.path(), true, false);
+    let path = study.path().join("fragility_curves.csv");
+    let text = fs::read_to_string(&path).unwrap();
+    let mut more = text.clone();
+    for line in text.lines().skip(1) {
+        let mut f: Vec<String> = line.split(',').map(str::to_string).collect();
+        f[7] = "uplift".into();
+        let p: f64 = f[10].parse().unwrap();
+        f[10] = p.sqrt().to_string();
+        more.push_str(&f.join(","));
+        more.push('\n');
+    }
+    fs::write(&path, more).unwrap();
+    let out = study.path().join("figures");
+    study_figures(study.path(), &out, &quick()).unwrap();
+    let series = ASPECTS.len() * RESTITUTIONS.len();
+    let f = marks(&svg(&out, "fragility"));
+    assert_eq!(f.solid(IM_POINTS), 2 * series, "solid curves (μ = ∞)");
+    assert_eq!(f.dashed(IM_POINTS), 2 * series, "dashed curves (Coulomb)");
+    assert_eq!(
+        f.polygons,
+        2 * series,
+        "bands of the overturning curves only"
+    );
+    assert!(f.has_text("P(exceeded)"), "{:?}", f.texts);
+    assert!(
+        f.texts.iter().any(|t| t.contains("thin: uplift")),
+        "{:?}",
+        f.texts
+    );
+}
+
 #[test]
 fn every_figure_parses_and_has_its_curves() {
     // Each SVG is well-formed and carries the expected number of series (see
