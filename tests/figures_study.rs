@@ -109,7 +109,7 @@ fn write_study(dir: &Path, curves: bool, reversed: bool) {
                         let p = 1.0 / (1.0 + (-(im - 2.4 / aspect) / 0.15).exp());
                         writeln!(
                             text,
-                            "{case},{aspect},0.5,{e},{friction},{mu_s},{mu_k},pga,{im},{p},{},{}",
+                            "{case},{aspect},0.5,{e},{friction},{mu_s},{mu_k},overturning,pga,{im},{p},{},{}",
                             0.8 * p,
                             (1.2 * p + 0.02).min(1.0)
                         )
@@ -242,6 +242,45 @@ fn contents(dir: &Path) -> BTreeMap<String, Vec<u8>> {
 
 fn svg(dir: &Path, name: &str) -> PathBuf {
     dir.join(format!("{name}.svg"))
+}
+
+/// A study fitted for a second limit state (`uplift`, every case) has its
+/// curves drawn too: as many solid and dashed series again (thin, without
+/// bands, so the bands stay one per overturning curve), named in the title,
+/// and the axis says P(exceeded).
+#[test]
+fn other_limit_states_are_drawn_as_thin_curves() {
+    let study = tempfile::tempdir().unwrap();
+    write_study(study.path(), true, false);
+    let path = study.path().join("fragility_curves.csv");
+    let text = fs::read_to_string(&path).unwrap();
+    let mut more = text.clone();
+    for line in text.lines().skip(1) {
+        let mut f: Vec<String> = line.split(',').map(str::to_string).collect();
+        f[7] = "uplift".into();
+        let p: f64 = f[10].parse().unwrap();
+        f[10] = p.sqrt().to_string();
+        more.push_str(&f.join(","));
+        more.push('\n');
+    }
+    fs::write(&path, more).unwrap();
+    let out = study.path().join("figures");
+    study_figures(study.path(), &out, &quick()).unwrap();
+    let series = ASPECTS.len() * RESTITUTIONS.len();
+    let f = marks(&svg(&out, "fragility"));
+    assert_eq!(f.solid(IM_POINTS), 2 * series, "solid curves (μ = ∞)");
+    assert_eq!(f.dashed(IM_POINTS), 2 * series, "dashed curves (Coulomb)");
+    assert_eq!(
+        f.polygons,
+        2 * series,
+        "bands of the overturning curves only"
+    );
+    assert!(f.has_text("P(exceeded)"), "{:?}", f.texts);
+    assert!(
+        f.texts.iter().any(|t| t.contains("thin: uplift")),
+        "{:?}",
+        f.texts
+    );
 }
 
 #[test]

@@ -54,11 +54,13 @@ mod fixture {
         for x in levels() {
             let p = normal.cdf((x / theta).ln() / beta);
             for _ in 0..trials {
+                let overturned = rng.random::<f64>() < p;
                 case.analyses.push(Analysis {
                     record: case.records.len(),
                     pga: x,
                     im: x,
-                    overturned: rng.random::<f64>() < p,
+                    overturned,
+                    exceeded: u64::from(overturned),
                 });
                 case.records.push(case.records.len().to_string());
             }
@@ -274,7 +276,7 @@ fn bootstrap_is_bit_identical_for_any_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| fit_case(&case, &options))
+            .install(|| fit_case(&case, &options).remove(0))
     };
     let (one, four) = (run(1), run(4));
     assert!(one.bootstrap.is_some());
@@ -362,10 +364,11 @@ fn unfittable_bootstrap_replicates_are_counted() {
                 pga,
                 im: pga,
                 overturned: pga >= c,
+                exceeded: u64::from(pga >= c),
             });
         }
     }
-    let fit = fit_case(&case, &FragilityOptions::default());
+    let fit = fit_case(&case, &FragilityOptions::default()).remove(0);
     assert!(fit.fit.is_ok(), "{:?}", fit.fit);
     let b = fit.bootstrap.unwrap();
     eprintln!("{} fitted, unfit {:?}", b.fitted, b.unfit);
@@ -494,14 +497,15 @@ fn nrml_parses_with_the_expected_elements() {
             bootstrap: 0,
             ..FragilityOptions::default()
         },
-    );
+    )
+    .remove(0);
     let mut unfitted_case = fixture::independent_case(THETA, BETA, 5, 6);
     unfitted_case.key.aspect = 6.0;
     unfitted_case
         .analyses
         .iter_mut()
-        .for_each(|a| a.overturned = false);
-    let unfitted = fit_case(&unfitted_case, &FragilityOptions::default());
+        .for_each(|a| (a.overturned, a.exceeded) = (false, 0));
+    let unfitted = fit_case(&unfitted_case, &FragilityOptions::default()).remove(0);
     let text = nrml_string(&[fitted.clone(), unfitted]);
     let doc = roxmltree::Document::parse(&text).unwrap();
     let root = doc.root_element();
@@ -551,13 +555,14 @@ fn nrml_parses_with_the_expected_elements() {
             bootstrap: 0,
             ..FragilityOptions::default()
         },
-    );
+    )
+    .remove(0);
     let pgv = FragilityOptions {
         im: IntensityMeasure::Pgv,
         bootstrap: 0,
         ..FragilityOptions::default()
     };
-    let as_pgv = fit_case(&fixture::independent_case(THETA, BETA, 40, 5), &pgv);
+    let as_pgv = fit_case(&fixture::independent_case(THETA, BETA, 40, 5), &pgv).remove(0);
     for (f, imt, factor) in [(over_tan, "PGA", 1.0), (as_pgv, "PGV", 100.0)] {
         let text = nrml_string(&[f]);
         let doc = roxmltree::Document::parse(&text).unwrap();
@@ -593,11 +598,13 @@ fn csv_outputs_have_the_documented_headers() {
         bootstrap: 100,
         ..FragilityOptions::default()
     };
-    let fitted = fit_case(&fixture::independent_case(THETA, BETA, 30, 8), &options);
+    let fitted = fit_case(&fixture::independent_case(THETA, BETA, 30, 8), &options).remove(0);
     let mut none = fixture::independent_case(THETA, BETA, 3, 9);
     none.key.restitution = 0.5;
-    none.analyses.iter_mut().for_each(|a| a.overturned = false);
-    let unfitted = fit_case(&none, &options);
+    none.analyses
+        .iter_mut()
+        .for_each(|a| (a.overturned, a.exceeded) = (false, 0));
+    let unfitted = fit_case(&none, &options).remove(0);
     let paths = write_outputs(dir.path(), &[fitted, unfitted]).unwrap();
 
     let text = std::fs::read_to_string(&paths.fragility).unwrap();
@@ -605,8 +612,8 @@ fn csv_outputs_have_the_documented_headers() {
     let header = lines.next().unwrap();
     assert_eq!(header, FRAGILITY_HEADER);
     assert!(header.starts_with(
-        "aspect,width,restitution,friction,mu_s,mu_k,im,median,beta,median_lo,median_hi,\
-         beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,status"
+        "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,median,beta,median_lo,\
+         median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,status"
     ));
     let cols: Vec<&str> = header.split(',').collect();
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
@@ -614,6 +621,9 @@ fn csv_outputs_have_the_documented_headers() {
     let get =
         |r: &Vec<&str>, name: &str| r[cols.iter().position(|c| *c == name).unwrap()].to_string();
     assert_eq!(get(&rows[0], "status"), "ok");
+    assert_eq!(get(&rows[0], "limit_state"), "overturning");
+    assert_eq!(get(&rows[0], "beta_model"), "separate");
+    assert_eq!(get(&rows[0], "n_exceeded"), get(&rows[0], "n_overturned"));
     for name in [
         "median",
         "beta",
@@ -650,7 +660,8 @@ fn csv_outputs_have_the_documented_headers() {
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
             assert_eq!(f[0], "0");
-            [9, 10, 11, 8]
+            assert_eq!(f[7], "overturning");
+            [10, 11, 12, 9]
                 .iter()
                 .map(|&i| f[i].parse().unwrap())
                 .collect()
@@ -690,7 +701,10 @@ fn cli_fits_a_generated_study() {
     assert!(o.status.success(), "{}", stderr(&o));
     let out = stdout(&o);
     eprintln!("{out}");
-    assert!(out.contains("not fitted: no analysis overturned"), "{out}");
+    assert!(
+        out.contains("not fitted: no analysis exceeded the limit state"),
+        "{out}"
+    );
     assert!(out.contains("1 failed analyses skipped"), "{out}");
     let csv = std::fs::read_to_string(dir.path().join("fragility.csv")).unwrap();
     assert_eq!(csv.lines().count(), 3);

@@ -198,3 +198,47 @@ fn raw_spec_serialises_to_json() {
     let back: SpecFile = serde_json::from_value(json).unwrap();
     assert_eq!(back, study.to_spec_file());
 }
+
+/// Limit states parse in order, survive the canonical round trip, and a spec
+/// without them keeps its canonical text free of them (so its hash is the
+/// one it had before limit states existed).
+#[test]
+fn limit_states_round_trip_and_default_to_overturning() {
+    let origin = fixtures().join("limit-states.toml");
+    let text = r#"
+        [fragility]
+        bootstrap = 0
+        [[fragility.limit_state]]
+        name = "uplift"
+        measure = "theta_max_over_theta_c"
+        exceeds = 0.0
+        [[fragility.limit_state]]
+        name = "slides-5cm"
+        measure = "slip_max"
+        exceeds = 0.05
+        [[fragility.limit_state]]
+        name = "overturning"
+        measure = "overturned"
+    "#;
+    let study = Study::from_toml(text, &origin).unwrap();
+    let options = study.fragility.clone().unwrap();
+    let names: Vec<String> = options.limit_states().into_iter().map(|l| l.name).collect();
+    assert_eq!(names, ["uplift", "slides-5cm", "overturning"]);
+    assert_eq!(options.limit_state[1].exceeds, Some(0.05));
+    assert_eq!(options.limit_state[2].exceeds, None);
+    let again = Study::from_toml(&study.to_toml(), &origin).unwrap();
+    assert_eq!(again, study);
+
+    let plain = Study::from_toml("[fragility]\n", &origin).unwrap();
+    assert!(!plain.to_toml().contains("limit_state"));
+    let only = plain.fragility.unwrap().limit_states();
+    assert_eq!(only.len(), 1);
+    assert_eq!(only[0].name, "overturning");
+    assert_eq!(only[0].measure, "overturned");
+
+    // A time-in-mode measure is accepted when [output] writes that column
+    // (bad-limit-state-column-not-written.toml is the refusal).
+    let timed = "[output]\ntime_in_mode = true\n[[fragility.limit_state]]\n\
+                 name = \"rocks-1s\"\nmeasure = \"t_rock\"\nexceeds = 1.0\n";
+    assert!(Study::from_toml(timed, &origin).is_ok());
+}

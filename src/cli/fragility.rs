@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::ValueEnum;
 use rockfrag::fragility::{
-    BootstrapUnit, CaseFit, FragilityOptions, IntensityMeasure, Interval, fit_cases, read_outcomes,
-    write_outputs,
+    BetaModel, BootstrapUnit, CaseFit, FragilityOptions, IntensityMeasure, Interval, fit_cases,
+    read_outcomes_for, write_outputs,
 };
 
 /// Intensity measure, as a CLI value.
@@ -97,7 +97,7 @@ pub fn fit_and_write(
     options: &FragilityOptions,
 ) -> anyhow::Result<String> {
     let input = dir.join("outcomes.csv");
-    let outcomes = read_outcomes(&input, options.im)?;
+    let outcomes = read_outcomes_for(&input, options)?;
     if outcomes.cases.is_empty() {
         anyhow::bail!("{}: no analyses to fit", input.display());
     }
@@ -129,8 +129,9 @@ fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
     };
     let header: Vec<String> = [
         "case",
+        "limit state",
         "analyses",
-        "overturned",
+        "exceeded",
         "stripes",
         "records",
         &format!("median{unit} [{pct}%]"),
@@ -152,14 +153,18 @@ fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
             Ok(fit) => (
                 format!("{}{}", sig(fit.median()), band(boot.and_then(|b| b.median))),
                 format!("{}{}", sig(fit.beta()), band(boot.and_then(|b| b.beta))),
-                "ok".to_string(),
+                match f.beta_model {
+                    BetaModel::Separate => "ok".to_string(),
+                    BetaModel::Common => "ok (β common to the case's limit states)".to_string(),
+                },
             ),
             Err(reason) => ("-".into(), "-".into(), format!("not fitted: {reason}")),
         };
         rows.push(vec![
             f.key.to_string(),
+            f.limit_state.clone(),
             f.n_analyses.to_string(),
-            f.n_overturned.to_string(),
+            f.n_exceeded.to_string(),
             f.n_stripes.to_string(),
             f.n_records.to_string(),
             median,
@@ -186,9 +191,10 @@ fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
         if let Some(b) = f.bootstrap.as_ref().filter(|b| b.unfit_total() > 0) {
             let reasons: Vec<String> = b.unfit.iter().map(|(k, n)| format!("{k} {n}")).collect();
             text.push_str(&format!(
-                "note: {}: {} of {} bootstrap replicates could not be fitted ({}); \
+                "note: {} {}: {} of {} bootstrap replicates could not be fitted ({}); \
                  the intervals come from the other {}\n",
                 f.key,
+                f.limit_state,
                 b.unfit_total(),
                 b.replicates,
                 reasons.join(", "),

@@ -41,10 +41,13 @@ pub struct OutcomeRow {
 }
 
 /// One point of a fitted fragility curve.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct CurvePoint {
     /// The block and its contact.
     pub case: CaseKey,
+    /// The limit state (`overturning` for a file without a `limit_state`
+    /// column, which predates limit states).
+    pub limit_state: String,
     /// Intensity measure, PGA (g).
     pub im: f64,
     /// Fitted probability of overturning.
@@ -158,7 +161,7 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
 /// fitted probability and its 90 % band on an IM grid. Only curves fitted
 /// against PGA (`im` = `pga`) are kept, since the figure draws them over the
 /// PGA stripes; an empty band (no bootstrap) reads as the curve itself.
-/// Returns the points sorted by case and IM.
+/// Returns the points sorted by case, limit state (by name) and IM.
 ///
 /// This is the one place that reads the fragility file's layout.
 pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
@@ -167,6 +170,7 @@ pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
         ["im", "im_value", "p", "p_lo", "p_hi"],
         "the fragility figure",
     )?;
+    let limit_state = table.column("limit_state");
     let mut points = Vec::new();
     while let Some(row) = table.next_row()? {
         if row.field(im_name) != "pga" {
@@ -182,13 +186,21 @@ pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
         };
         points.push(CurvePoint {
             case: row.case()?,
+            limit_state: limit_state
+                .map_or("overturning", |i| row.field(i))
+                .to_string(),
             im: row.number(im)?,
             p,
             p_lo: band(lo)?,
             p_hi: band(hi)?,
         });
     }
-    points.sort_by(|a, b| a.case.total_cmp(&b.case).then(a.im.total_cmp(&b.im)));
+    points.sort_by(|a, b| {
+        a.case
+            .total_cmp(&b.case)
+            .then_with(|| a.limit_state.cmp(&b.limit_state))
+            .then(a.im.total_cmp(&b.im))
+    });
     Ok(points)
 }
 

@@ -6,7 +6,10 @@
 //! PGA stripe as points (filled for infinite friction, open otherwise).
 //!
 //! Without fitted curves (no `fragility_curves.csv`) the observed fractions
-//! are joined by straight lines and the title says so.
+//! are joined by straight lines and the title says so. A study fitted for
+//! several limit states has its overturning curves drawn as above and those
+//! of the other limit states as thin lines of the same colour and pattern,
+//! without bands, named in the title.
 
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
@@ -33,8 +36,11 @@ pub struct FragilitySeries {
     pub restitution: usize,
     /// Index into [`FragilityFigure::frictions`] (sets the pattern).
     pub friction: usize,
-    /// Fitted curve (im, p, p_lo, p_hi), IM ascending; empty without a fit.
+    /// Fitted overturning curve (im, p, p_lo, p_hi), IM ascending; empty
+    /// without a fit.
     pub fit: Vec<(f64, f64, f64, f64)>,
+    /// Fitted curves (im, p) of the other limit states, by name.
+    pub others: Vec<Vec<(f64, f64)>>,
     /// Observed stripes (pga, fraction overturned, analyses).
     pub observed: Vec<(f64, f64, usize)>,
 }
@@ -63,6 +69,8 @@ pub struct FragilityFigure {
     pub panels: Vec<FragilityPanel>,
     /// Largest PGA or IM shown (g).
     pub im_max: f64,
+    /// Names of the limit states other than overturning with fitted curves.
+    pub other_limit_states: Vec<String>,
 }
 
 impl FragilityFigure {
@@ -79,6 +87,13 @@ impl FragilityFigure {
         let frictions = distinct_friction(cases.iter().map(|c| c.friction));
         let blocks = distinct_blocks(&cases);
         let several_widths = distinct(cases.iter().map(|c| c.width)).len() > 1;
+        let mut other_limit_states: Vec<String> = curves
+            .iter()
+            .map(|c| c.limit_state.clone())
+            .filter(|ls| ls != "overturning")
+            .collect();
+        other_limit_states.sort();
+        other_limit_states.dedup();
         let mut im_max = 0.0_f64;
         let mut panels = Vec::new();
         for &(aspect, width) in &blocks {
@@ -93,8 +108,19 @@ impl FragilityFigure {
                     };
                     let fit: Vec<(f64, f64, f64, f64)> = curves
                         .iter()
-                        .filter(|c| c.case == case)
+                        .filter(|c| c.case == case && c.limit_state == "overturning")
                         .map(|c| (c.im, c.p, c.p_lo, c.p_hi))
+                        .collect();
+                    let others: Vec<Vec<(f64, f64)>> = other_limit_states
+                        .iter()
+                        .map(|ls| {
+                            curves
+                                .iter()
+                                .filter(|c| c.case == case && &c.limit_state == ls)
+                                .map(|c| (c.im, c.p))
+                                .collect::<Vec<_>>()
+                        })
+                        .filter(|c| !c.is_empty())
                         .collect();
                     let mine: Vec<_> = rows.iter().filter(|r| r.case == case).collect();
                     let observed: Vec<(f64, f64, usize)> = distinct(mine.iter().map(|r| r.pga))
@@ -105,18 +131,20 @@ impl FragilityFigure {
                             (pga, k as f64 / at.len() as f64, at.len())
                         })
                         .collect();
-                    if fit.is_empty() && observed.is_empty() {
+                    if fit.is_empty() && observed.is_empty() && others.is_empty() {
                         continue;
                     }
                     im_max = fit
                         .iter()
                         .map(|p| p.0)
                         .chain(observed.iter().map(|o| o.0))
+                        .chain(others.iter().flatten().map(|p| p.0))
                         .fold(im_max, f64::max);
                     series.push(FragilitySeries {
                         restitution: ie,
                         friction: jf,
                         fit,
+                        others,
                         observed,
                     });
                 }
@@ -128,7 +156,12 @@ impl FragilityFigure {
             panels.push(FragilityPanel { label, series });
         }
         let fitted = data.curves.is_some();
-        let title = if fitted {
+        let title = if fitted && !other_limit_states.is_empty() {
+            format!(
+                "Fragility: overturning with 90 % band, thin: {}; observed overturning (points)",
+                other_limit_states.join(", ")
+            )
+        } else if fitted {
             "Fragility: fitted curves with 90 % band (lines), observed stripe fractions (points)"
                 .to_string()
         } else {
@@ -142,6 +175,7 @@ impl FragilityFigure {
             fitted,
             panels,
             im_max,
+            other_limit_states,
         }
     }
 
@@ -202,7 +236,11 @@ impl Figure for FragilityFigure {
         let body = layout::side_label(
             &frame.body,
             style,
-            "P(overturning)",
+            if self.other_limit_states.is_empty() {
+                "P(overturning)"
+            } else {
+                "P(exceeded)"
+            },
             frame.top,
             frame.x_area,
         )?;
@@ -228,7 +266,12 @@ impl Figure for FragilityFigure {
                     colour.mix(BAND_ALPHA).filled(),
                 )))?;
             }
-            if self.fitted && panel.series.iter().all(|s| s.fit.is_empty()) {
+            if self.fitted
+                && panel
+                    .series
+                    .iter()
+                    .all(|s| s.fit.is_empty() && s.others.is_empty())
+            {
                 // a block none of whose cases could be fitted (all or none
                 // overturned, or stripes separated): say so in the panel
                 let font = style.tick_font();
@@ -256,6 +299,14 @@ impl Figure for FragilityFigure {
                     s.observed.iter().map(|o| (o.0, o.1)).collect()
                 };
                 curve!(chart, points, line, Dash::nth(s.friction), style);
+            }
+            // the other limit states, thin, after every overturning curve
+            for s in &order {
+                let colour = restitution_colour(s.restitution);
+                let thin = colour.stroke_width(style.ipx(0.5 * super::style::LINE_PT));
+                for other in &s.others {
+                    curve!(chart, other.clone(), thin, Dash::nth(s.friction), style);
+                }
             }
             // hollow (finite friction) markers first: a filled one on top
             // at the same place leaves a ring showing both

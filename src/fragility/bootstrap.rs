@@ -13,7 +13,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
 use super::data::CaseData;
-use super::fit::{LognormalFit, Observation, Unfit, fit_lognormal};
+use super::fit::{LognormalFit, Observation, Unfit, fit_common_beta, fit_lognormal};
 use super::options::BootstrapUnit;
 
 /// A two-sided percentile interval.
@@ -58,7 +58,9 @@ impl BootstrapSummary {
 
 /// Bootstraps the fit of `case`: `replicates` resamples by `unit`, replicate
 /// r seeded from (`seed`, r), intervals at two-sided level `confidence`
-/// (e.g. 0.9 → 5th and 95th percentiles), curve bands on `grid`.
+/// (e.g. 0.9 → 5th and 95th percentiles), curve bands on `grid`. Fits the
+/// case's first limit state ([`Analysis::exceeds`](super::Analysis::exceeds)`(0)`,
+/// overturning unless limit states were given).
 pub fn bootstrap(
     case: &CaseData,
     grid: &[f64],
@@ -67,11 +69,57 @@ pub fn bootstrap(
     seed: u64,
     confidence: f64,
 ) -> BootstrapSummary {
-    let plan = Plan::new(case);
+    let plan = Plan::new(case, 0);
     let fits: Vec<Result<LognormalFit, Unfit>> = (0..replicates as u64)
         .into_par_iter()
-        .map(|r| plan.replicate(unit, replicate_seed(seed, r)))
+        .map(|r| fit_lognormal(&plan.resample(unit, replicate_seed(seed, r))))
         .collect();
+    summarise(fits, grid, replicates, confidence)
+}
+
+/// Bootstraps the common-β fit of limit states `limit_states` of `case`
+/// ([`fit_common_beta`]): each replicate draws the same records (or
+/// analyses) for every limit state, as the one seed makes it, and refits
+/// them jointly. One summary per limit state, in the order given.
+pub(crate) fn bootstrap_common_beta(
+    case: &CaseData,
+    limit_states: &[usize],
+    grid: &[f64],
+    replicates: usize,
+    unit: BootstrapUnit,
+    seed: u64,
+    confidence: f64,
+) -> Vec<BootstrapSummary> {
+    let plans: Vec<Plan> = limit_states.iter().map(|&k| Plan::new(case, k)).collect();
+    let fits: Vec<Result<Vec<LognormalFit>, Unfit>> = (0..replicates as u64)
+        .into_par_iter()
+        .map(|r| {
+            let obs: Vec<Vec<Observation>> = plans
+                .iter()
+                .map(|p| p.resample(unit, replicate_seed(seed, r)))
+                .collect();
+            let sets: Vec<&[Observation]> = obs.iter().map(Vec::as_slice).collect();
+            fit_common_beta(&sets)
+        })
+        .collect();
+    (0..limit_states.len())
+        .map(|j| {
+            let one = fits
+                .iter()
+                .map(|f| f.as_ref().map(|v| v[j]).map_err(|e| *e))
+                .collect();
+            summarise(one, grid, replicates, confidence)
+        })
+        .collect()
+}
+
+/// Percentile intervals and bands from the replicates' fits.
+fn summarise(
+    fits: Vec<Result<LognormalFit, Unfit>>,
+    grid: &[f64],
+    replicates: usize,
+    confidence: f64,
+) -> BootstrapSummary {
     let mut unfit = BTreeMap::new();
     let mut ok = Vec::with_capacity(fits.len());
     for f in fits {
@@ -148,7 +196,8 @@ fn std_dev(v: &[f64]) -> Option<f64> {
     })
 }
 
-/// A case's analyses arranged for resampling: each as (IM group, overturned).
+/// A case's analyses arranged for resampling: each as (IM group, exceeded
+/// the limit state).
 struct Plan {
     /// Distinct intensities, ascending.
     levels: Vec<f64>,
@@ -159,7 +208,7 @@ struct Plan {
 }
 
 impl Plan {
-    fn new(case: &CaseData) -> Self {
+    fn new(case: &CaseData, limit_state: usize) -> Self {
         let mut levels: Vec<f64> = case.analyses.iter().map(|a| a.im).collect();
         levels.sort_by(f64::total_cmp);
         levels.dedup();
@@ -171,8 +220,8 @@ impl Plan {
         for a in &case.analyses {
             let g = levels.partition_point(|&x| x < a.im);
             let s = stripes.partition_point(|&x| x < a.pga);
-            by_record[a.record].push((g, a.overturned));
-            by_stripe[s].push((g, a.overturned));
+            by_record[a.record].push((g, a.exceeds(limit_state)));
+            by_stripe[s].push((g, a.exceeds(limit_state)));
         }
         by_record.retain(|r| !r.is_empty());
         Plan {
@@ -182,7 +231,8 @@ impl Plan {
         }
     }
 
-    fn replicate(&self, unit: BootstrapUnit, seed: u64) -> Result<LognormalFit, Unfit> {
+    /// The counts of one resample drawn from a generator seeded with `seed`.
+    fn resample(&self, unit: BootstrapUnit, seed: u64) -> Vec<Observation> {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         let mut trials = vec![0u64; self.levels.len()];
         let mut overturned = vec![0u64; self.levels.len()];
@@ -208,8 +258,7 @@ impl Plan {
                 }
             }
         }
-        let obs: Vec<Observation> = self
-            .levels
+        self.levels
             .iter()
             .zip(trials.iter().zip(&overturned))
             .filter(|(_, (n, _))| **n > 0)
@@ -218,8 +267,7 @@ impl Plan {
                 trials,
                 overturned,
             })
-            .collect();
-        fit_lognormal(&obs)
+            .collect()
     }
 }
 

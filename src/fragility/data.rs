@@ -4,9 +4,9 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::options::IntensityMeasure;
-use crate::error::Result;
-use crate::outcomes_csv::{CaseKey, Column, OutcomesReader};
+use super::options::{FragilityOptions, IntensityMeasure, LimitState};
+use crate::error::{Error, Result};
+use crate::outcomes_csv::{CaseKey, Column, MeasureKind, OutcomesReader};
 use crate::solver::Friction;
 
 /// One successful analysis of a case.
@@ -20,6 +20,16 @@ pub struct Analysis {
     pub im: f64,
     /// Whether the block overturned.
     pub overturned: bool,
+    /// Which limit states the analysis exceeded: bit k for limit state k of
+    /// [`Outcomes::limit_states`] (overturning alone: bit 0 = `overturned`).
+    pub exceeded: u64,
+}
+
+impl Analysis {
+    /// Whether the analysis exceeded limit state `k`.
+    pub fn exceeds(&self, k: usize) -> bool {
+        self.exceeded >> k & 1 == 1
+    }
 }
 
 /// All analyses of one case.
@@ -60,6 +70,9 @@ impl CaseData {
 pub struct Outcomes {
     /// The intensity measure stored in [`Analysis::im`].
     pub im: IntensityMeasure,
+    /// The limit states whose exceedance [`Analysis::exceeded`] records, in
+    /// order of increasing severity.
+    pub limit_states: Vec<LimitState>,
     /// One entry per case.
     pub cases: Vec<CaseData>,
     /// Failed rows whose case could not be read (counted, not attributed).
@@ -72,6 +85,24 @@ pub struct Outcomes {
 /// is skipped and counted in [`CaseData::failed`], or in
 /// [`Outcomes::failed_unattributed`] if its case cannot be read.
 pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
+    read_outcomes_with(path, im, &[LimitState::overturning()])
+}
+
+/// Reads `outcomes.csv` for the intensity measure and limit states of
+/// `options` (see [`read_outcomes`]). An analysis exceeds a limit state when
+/// it overturned or its measure is above the threshold (a yes/no measure:
+/// is yes); an empty numeric field (e.g. a time that did not occur) is not
+/// above any threshold.
+pub fn read_outcomes_for(path: &Path, options: &FragilityOptions) -> Result<Outcomes> {
+    options.validate()?;
+    read_outcomes_with(path, options.im, &options.limit_states())
+}
+
+fn read_outcomes_with(
+    path: &Path,
+    im: IntensityMeasure,
+    limit_states: &[LimitState],
+) -> Result<Outcomes> {
     let (mut table, [pga_col, record_col, overturned_col]) = OutcomesReader::open(
         path,
         [Column::Pga, Column::Record, Column::Overturned],
@@ -84,8 +115,28 @@ pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
         );
     }
 
+    // (column index, kind, threshold) of each limit state's measure.
+    let mut measures = Vec::with_capacity(limit_states.len());
+    for ls in limit_states {
+        let Some((column, kind)) = ls.column() else {
+            return Err(Error::invalid(
+                "fragility.limit_state.measure",
+                &ls.measure,
+                "a numeric or yes/no column of outcomes.csv",
+            ));
+        };
+        let Some(i) = table.column(column) else {
+            return Err(table.header_error(format!(
+                "no `{}` column, which limit state {:?} needs",
+                ls.measure, ls.name
+            )));
+        };
+        measures.push((i, kind, ls.exceeds.unwrap_or(0.0)));
+    }
+
     let mut out = Outcomes {
         im,
+        limit_states: limit_states.to_vec(),
         cases: Vec::new(),
         failed_unattributed: 0,
     };
@@ -123,6 +174,16 @@ pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
             IntensityMeasure::Pgv => row.positive(pgv.expect("checked above"))?,
         };
         let overturned = row.boolean(overturned_col)?;
+        let mut exceeded = 0u64;
+        for (k, &(i, kind, threshold)) in measures.iter().enumerate() {
+            let above = overturned
+                || match kind {
+                    MeasureKind::Flag => row.boolean(i)?,
+                    MeasureKind::Number if row.field(i).is_empty() => false,
+                    MeasureKind::Number => row.number(i)? > threshold,
+                };
+            exceeded |= u64::from(above) << k;
+        }
         let name = row.text(record_col)?;
         let records = &mut case.records;
         let record = *record_index[c].entry(name.to_string()).or_insert_with(|| {
@@ -134,6 +195,7 @@ pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
             pga,
             im: value,
             overturned,
+            exceeded,
         });
     }
     Ok(out)

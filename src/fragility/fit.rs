@@ -86,7 +86,9 @@ fn quadratic_form(m: &[[f64; 2]; 2], g: [f64; 2]) -> f64 {
     g[0] * (m[0][0] * g[0] + m[0][1] * g[1]) + g[1] * (m[1][0] * g[0] + m[1][1] * g[1])
 }
 
-/// Why a lognormal fragility cannot be fitted to a set of counts.
+/// Why a lognormal fragility cannot be fitted to a set of counts. The
+/// variants and keywords speak of overturning, the first limit state; for
+/// another limit state read "exceeded" (the messages do).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Unfit {
     /// No analyses at all (every row of the case failed or was absent).
@@ -141,10 +143,16 @@ impl std::fmt::Display for Unfit {
         match self {
             Unfit::NoData => write!(f, "no successful analyses"),
             Unfit::NoneOverturned => {
-                write!(f, "no analysis overturned: the median is beyond the data")
+                write!(
+                    f,
+                    "no analysis exceeded the limit state: the median is beyond the data"
+                )
             }
             Unfit::AllOverturned => {
-                write!(f, "every analysis overturned: the median is below the data")
+                write!(
+                    f,
+                    "every analysis exceeded the limit state: the median is below the data"
+                )
             }
             Unfit::SingleLevel { im } => {
                 write!(
@@ -157,13 +165,13 @@ impl std::fmt::Display for Unfit {
                 first_overturn,
             } => write!(
                 f,
-                "perfectly separated: none overturn below {first_overturn}, all overturn above \
-                 {last_survival}; the maximum-likelihood β is 0, no finite fit"
+                "perfectly separated: none exceed the limit state below {first_overturn}, all \
+                 exceed it above {last_survival}; the maximum-likelihood β is 0, no finite fit"
             ),
             Unfit::Decreasing => {
                 write!(
                     f,
-                    "overturning becomes less likely with intensity: not a fragility"
+                    "exceeding the limit state becomes less likely with intensity: not a fragility"
                 )
             }
             Unfit::NoConvergence { iterations } => {
@@ -286,6 +294,193 @@ pub fn fit_lognormal(observations: &[Observation]) -> Result<LognormalFit, Unfit
         loglik: eval.loglik + constant,
         iterations,
     })
+}
+
+/// Fits K limit states' counts with one β and a median each, by maximum
+/// likelihood: P(exceed k | x) = Φ(a_k + b ln x), so θ_k = exp(−a_k/b) and a
+/// common β = 1/b. The log-likelihood is the sum of the K binomial ones;
+/// it is concave in (a_1 … a_K, b), and Newton's method with step halving
+/// finds its maximum as for one limit state. Curves with one β never cross.
+///
+/// Each set must be fittable alone (else its [`Unfit`] is returned). Each
+/// returned fit's `cov` is the (a_k, b) block of the joint covariance, its
+/// `loglik` that limit state's term at the joint maximum (the terms sum to
+/// the joint maximum), `iterations` the joint count.
+///
+/// # Panics
+/// As [`fit_lognormal`]; also if `sets` is empty.
+pub fn fit_common_beta(sets: &[&[Observation]]) -> Result<Vec<LognormalFit>, Unfit> {
+    assert!(!sets.is_empty(), "no limit states to fit");
+    let mut groups = Vec::with_capacity(sets.len());
+    let mut starts = Vec::with_capacity(sets.len());
+    for obs in sets {
+        // Each alone first: identifiability, and the starting point.
+        starts.push(fit_lognormal(obs)?);
+        groups.push(
+            obs.iter()
+                .filter(|o| o.trials > 0)
+                .map(|o| Group {
+                    u: o.im.ln(),
+                    n: o.trials as f64,
+                    z: o.overturned as f64,
+                })
+                .collect::<Vec<_>>(),
+        );
+    }
+    let k = sets.len();
+    let n_total: f64 = groups.iter().flatten().map(|g| g.n).sum();
+    let u_bar = groups.iter().flatten().map(|g| g.n * g.u).sum::<f64>() / n_total;
+    // Start from the separate fits: the mean slope, intercepts re-centred.
+    let b0 = starts.iter().map(|f| f.b).sum::<f64>() / k as f64;
+    let mut p: Vec<f64> = starts.iter().map(|f| f.a + b0 * u_bar).collect();
+    p.push(b0);
+    let joint = |p: &[f64]| -> (f64, Vec<f64>, Vec<Vec<f64>>) {
+        let mut loglik = 0.0;
+        let mut score = vec![0.0; k + 1];
+        let mut info = vec![vec![0.0; k + 1]; k + 1];
+        for (j, g) in groups.iter().enumerate() {
+            let e = evaluate(g, [p[j], p[k]], u_bar);
+            loglik += e.loglik;
+            score[j] += e.score[0];
+            score[k] += e.score[1];
+            info[j][j] += e.info[0][0];
+            info[j][k] += e.info[0][1];
+            info[k][j] += e.info[0][1];
+            info[k][k] += e.info[1][1];
+        }
+        (loglik, score, info)
+    };
+    let (mut loglik, mut score, mut info) = joint(&p);
+    let mut iterations = 0;
+    loop {
+        if iterations == MAX_ITERATIONS {
+            return Err(Unfit::NoConvergence { iterations });
+        }
+        iterations += 1;
+        let Some(step) = cholesky(&info).map(|l| cholesky_solve(&l, &score)) else {
+            return Err(Unfit::NoConvergence { iterations });
+        };
+        let rel = step
+            .iter()
+            .zip(&p)
+            .map(|(d, x)| d.abs() / x.abs().max(1.0))
+            .fold(0.0, f64::max);
+        let mut t = 1.0;
+        let mut halvings = 0;
+        let mut next: Vec<f64> = p.iter().zip(&step).map(|(x, d)| x + d).collect();
+        let mut next_eval = joint(&next);
+        // Step halving, as in `fit_lognormal`.
+        while rel > LINE_SEARCH_ABOVE && (next_eval.0 < loglik || next_eval.0.is_nan()) {
+            halvings += 1;
+            if halvings > 60 {
+                return Err(Unfit::NoConvergence { iterations });
+            }
+            t *= 0.5;
+            next = p.iter().zip(&step).map(|(x, d)| x + t * d).collect();
+            next_eval = joint(&next);
+        }
+        p = next;
+        (loglik, score, info) = next_eval;
+        if rel <= TOLERANCE {
+            break;
+        }
+    }
+    let b = p[k];
+    if !loglik.is_finite() || b.is_nan() {
+        return Err(Unfit::NoConvergence { iterations });
+    }
+    if b <= 0.0 {
+        return Err(Unfit::Decreasing);
+    }
+    let Some(l) = cholesky(&info) else {
+        return Err(Unfit::NoConvergence { iterations });
+    };
+    // Columns j and k of the inverse information.
+    let unit = |i: usize| {
+        (0..=k)
+            .map(|r| f64::from(u8::from(r == i)))
+            .collect::<Vec<_>>()
+    };
+    let inv_b = cholesky_solve(&l, &unit(k));
+    Ok((0..k)
+        .map(|j| {
+            let inv_j = cholesky_solve(&l, &unit(j));
+            let cov_c = [[inv_j[j], inv_j[k]], [inv_b[j], inv_b[k]]];
+            let var_a = cov_c[0][0] - 2.0 * u_bar * cov_c[0][1] + u_bar * u_bar * cov_c[1][1];
+            let cov_ab = cov_c[0][1] - u_bar * cov_c[1][1];
+            let constant: f64 = sets[j]
+                .iter()
+                .filter(|o| o.trials > 0)
+                .map(|o| ln_binomial(o.trials, o.overturned))
+                .sum();
+            LognormalFit {
+                a: p[j] - b * u_bar,
+                b,
+                cov: [[var_a, cov_ab], [cov_ab, cov_c[1][1]]],
+                loglik: evaluate(&groups[j], [p[j], b], u_bar).loglik + constant,
+                iterations,
+            }
+        })
+        .collect())
+}
+
+/// Probabilities within this of 0 or 1 are too close to tell curves apart:
+/// a crossing there does not count ([`curves_cross`]).
+pub const CROSSING_TOLERANCE: f64 = 1e-3;
+
+/// Whether two fitted curves cross at an intensity in (0, `im_max`] where
+/// their common probability is in ([`CROSSING_TOLERANCE`], 1 − it): two
+/// lognormal curves with β₁ ≠ β₂ meet once, where
+/// (u − ln θ₁)/β₁ = (u − ln θ₂)/β₂, i.e. u* = (β₂ ln θ₁ − β₁ ln θ₂)/(β₂ − β₁);
+/// curves with equal β never cross. A meeting in a tail (both near 0 or 1)
+/// changes no probability by more than the tolerance, so it is let pass.
+pub fn curves_cross(first: &LognormalFit, second: &LognormalFit, im_max: f64) -> bool {
+    let (b1, b2) = (first.beta(), second.beta());
+    if b1 == b2 {
+        return false;
+    }
+    let (m1, m2) = (first.median().ln(), second.median().ln());
+    let u_star = (b2 * m1 - b1 * m2) / (b2 - b1);
+    let p = first.probability(u_star.exp());
+    u_star.is_finite()
+        && u_star <= im_max.ln()
+        && p > CROSSING_TOLERANCE
+        && p < 1.0 - CROSSING_TOLERANCE
+}
+
+/// Lower-triangular Cholesky factor of a symmetric positive-definite matrix.
+fn cholesky(m: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
+    let n = m.len();
+    let mut l = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        for j in 0..=i {
+            let s: f64 = (0..j).map(|r| l[i][r] * l[j][r]).sum();
+            if i == j {
+                let d = m[i][i] - s;
+                if !(d > 0.0 && d.is_finite()) {
+                    return None;
+                }
+                l[i][i] = d.sqrt();
+            } else {
+                l[i][j] = (m[i][j] - s) / l[j][j];
+            }
+        }
+    }
+    Some(l)
+}
+
+/// Solves L Lᵀ x = g.
+fn cholesky_solve(l: &[Vec<f64>], g: &[f64]) -> Vec<f64> {
+    let n = l.len();
+    let mut y = vec![0.0; n];
+    for i in 0..n {
+        y[i] = (g[i] - (0..i).map(|r| l[i][r] * y[r]).sum::<f64>()) / l[i][i];
+    }
+    let mut x = vec![0.0; n];
+    for i in (0..n).rev() {
+        x[i] = (y[i] - (i + 1..n).map(|r| l[r][i] * x[r]).sum::<f64>()) / l[i][i];
+    }
+    x
 }
 
 #[derive(Clone, Copy, Debug)]

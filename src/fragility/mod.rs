@@ -1,5 +1,6 @@
-//! Lognormal overturning fragility curves fitted to a study's outcomes, with
-//! bootstrap confidence bands and an OpenQuake export.
+//! Lognormal fragility curves fitted to a study's outcomes, one per case and
+//! limit state (overturning unless the spec names others), with bootstrap
+//! confidence bands and an OpenQuake export.
 //!
 //! ```text
 //! outcomes.csv ─▶ data: cases, stripes, records ─▶ fit: probit MLE (θ, β, SEs)
@@ -30,6 +31,21 @@
 //! separated (no overturning below some intensity, all above it: the
 //! maximum-likelihood β is 0). The fit then returns an [`Unfit`] reason,
 //! written to the `status` column with the numbers left empty.
+//!
+//! ## Limit states
+//!
+//! A spec may list limit states in order of increasing severity
+//! (`[[fragility.limit_state]]`, [`LimitState`]): an analysis exceeds one when
+//! it overturned or its measure — a numeric or yes/no column of
+//! `outcomes.csv` — is above the threshold (is yes). Each is fitted as above
+//! with "overturned" read as "exceeded". Curves of one case must not cross: a
+//! more severe limit state cannot be more likely. Two lognormal curves with
+//! β₁ ≠ β₂ always meet once; when the separate fits of a case meet within the
+//! case's grid where the probability is between 10⁻³ and 1 − 10⁻³
+//! ([`curves_cross`]), the case's fitted limit states are refitted jointly
+//! with one β and a median each ([`fit_common_beta`]): the summed
+//! log-likelihood Σₖ ℓ(aₖ, b) is concave, and curves with one β never
+//! cross. The `beta_model` column says which was done.
 //!
 //! ## Uncertainty
 //!
@@ -67,15 +83,20 @@ mod output;
 
 pub use crate::outcomes_csv::CaseKey;
 pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile, replicate_seed};
-pub use case::{CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
-pub use data::{Analysis, CaseData, Outcomes, read_outcomes};
-pub use fit::{LognormalFit, Observation, Unfit, fit_lognormal};
+pub use case::{BetaModel, CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
+pub use data::{Analysis, CaseData, Outcomes, read_outcomes, read_outcomes_for};
+pub use fit::{
+    CROSSING_TOLERANCE, LognormalFit, Observation, Unfit, curves_cross, fit_common_beta,
+    fit_lognormal,
+};
 pub use nrml::{
     ASSET_CATEGORY, LOSS_CATEGORY, NrmlEntry, NrmlFunction, OVERTURNING, lognormal_to_moments,
     moments_to_lognormal, nrml_model_string, nrml_string, openquake_imt, overturning_entry,
     write_nrml,
 };
-pub use options::{BootstrapUnit, FragilityOptions, IntensityMeasure};
+pub use options::{
+    BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_LIMIT_STATES,
+};
 pub use output::{
     CURVES_HEADER, FRAGILITY_HEADER, OutputPaths, write_curves_csv, write_fragility_csv,
     write_outputs,

@@ -1,9 +1,52 @@
-//! What a fit is asked for: the intensity measure and the fit's settings
-//! (the spec's `[fragility]` table).
+//! What a fit is asked for: the intensity measure, the limit states and the
+//! fit's settings (the spec's `[fragility]` table).
 
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::outcomes_csv::{Column, MeasureKind};
+
+/// Most limit states a fit accepts (each analysis keeps its exceedances as
+/// the bits of a `u64`).
+pub const MAX_LIMIT_STATES: usize = 64;
+
+/// One limit state: exceeded by an analysis that overturned, or whose
+/// `measure` is above `exceeds` (or, for a yes/no measure, is yes).
+///
+/// ```toml
+/// [[fragility.limit_state]]
+/// name = "slides-5cm"
+/// measure = "slip_max"
+/// exceeds = 0.05
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LimitState {
+    /// Name, written to the `limit_state` column (unique within a fit).
+    pub name: String,
+    /// A numeric or yes/no column of `outcomes.csv` (see [`Column::measure_kind`]).
+    pub measure: String,
+    /// Threshold: exceeded when the measure is above it. Required for a
+    /// numeric measure, left out for a yes/no one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exceeds: Option<f64>,
+}
+
+impl LimitState {
+    /// The one limit state of a fit that names none: overturning.
+    pub fn overturning() -> Self {
+        LimitState {
+            name: "overturning".into(),
+            measure: Column::Overturned.name().into(),
+            exceeds: None,
+        }
+    }
+
+    /// The measure's column, if `measure` names one that can be a measure.
+    pub fn column(&self) -> Option<(Column, MeasureKind)> {
+        Column::from_name(&self.measure).and_then(|c| c.measure_kind().map(|k| (c, k)))
+    }
+}
 
 /// The intensity measure the curves are fitted against.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -40,7 +83,7 @@ impl IntensityMeasure {
 }
 
 /// Settings of the fragility fit. Plain data with documented defaults.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FragilityOptions {
     /// Intensity measure (default: PGA in g).
@@ -59,6 +102,11 @@ pub struct FragilityOptions {
     /// Points of each curve's IM grid, evenly spaced from 0 to the largest
     /// intensity of the case, ≥ 2 (default: 101).
     pub grid_points: usize,
+    /// Limit states in order of increasing severity, one fit per case and
+    /// limit state (spec: `[[fragility.limit_state]]`; default: none, which
+    /// means overturning alone, see [`FragilityOptions::limit_states`]).
+    #[serde(rename = "limit_state", skip_serializing_if = "Vec::is_empty")]
+    pub limit_state: Vec<LimitState>,
 }
 
 impl Default for FragilityOptions {
@@ -70,12 +118,26 @@ impl Default for FragilityOptions {
             seed: 1,
             confidence: 0.9,
             grid_points: 101,
+            limit_state: Vec::new(),
         }
     }
 }
 
 impl FragilityOptions {
-    /// Checks the ranges documented on each field.
+    /// The limit states fitted: those given, or overturning alone.
+    pub fn limit_states(&self) -> Vec<LimitState> {
+        if self.limit_state.is_empty() {
+            vec![LimitState::overturning()]
+        } else {
+            self.limit_state.clone()
+        }
+    }
+
+    /// Checks the ranges documented on each field, and that the limit states
+    /// have distinct names, known measures, a threshold exactly when the
+    /// measure is numeric, thresholds that rise along a measure, and
+    /// overturning (if named) last: an overturned analysis exceeds every
+    /// limit state, so none can be more severe.
     pub fn validate(&self) -> Result<()> {
         if !(self.confidence > 0.0 && self.confidence < 1.0) {
             return Err(Error::invalid(
@@ -90,6 +152,96 @@ impl FragilityOptions {
                 self.grid_points,
                 "an integer ≥ 2",
             ));
+        }
+        if self.limit_state.len() > MAX_LIMIT_STATES {
+            return Err(Error::invalid(
+                "fragility.limit_state",
+                self.limit_state.len(),
+                &format!("at most {MAX_LIMIT_STATES} limit states"),
+            ));
+        }
+        for (i, ls) in self.limit_state.iter().enumerate() {
+            let field = |f: &str| format!("fragility.limit_state[{i}].{f}");
+            let earlier = &self.limit_state[..i];
+            if ls.name.trim().is_empty() || ls.name.contains([',', '"', '\n']) {
+                return Err(Error::invalid(
+                    &field("name"),
+                    format!("{:?}", ls.name),
+                    "a name without commas, quotes or newlines",
+                ));
+            }
+            if earlier.iter().any(|e| e.name == ls.name) {
+                return Err(Error::invalid(
+                    &field("name"),
+                    format!("{:?}", ls.name),
+                    "a limit-state name not already used",
+                ));
+            }
+            let Some((column, kind)) = ls.column() else {
+                return Err(Error::invalid(
+                    &field("measure"),
+                    format!("{:?}", ls.measure),
+                    &format!(
+                        "a numeric or yes/no column of outcomes.csv: {}",
+                        Column::measures()
+                            .map(Column::name)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ));
+            };
+            match (kind, ls.exceeds) {
+                (MeasureKind::Flag, Some(x)) => {
+                    return Err(Error::invalid(
+                        &field("exceeds"),
+                        x,
+                        &format!("no threshold: `{}` is a yes/no column", ls.measure),
+                    ));
+                }
+                (MeasureKind::Number, None) => {
+                    return Err(Error::invalid(
+                        &field("measure"),
+                        format!("{:?}", ls.measure),
+                        "an `exceeds` threshold beside a numeric measure",
+                    ));
+                }
+                (MeasureKind::Number, Some(x)) if !x.is_finite() => {
+                    return Err(Error::invalid(&field("exceeds"), x, "a finite number"));
+                }
+                _ => {}
+            }
+            if let Some(prev) = earlier.iter().rev().find(|e| e.measure == ls.measure) {
+                let expected = match prev.exceeds {
+                    Some(t) => format!(
+                        "a threshold above {t}, that of the less severe limit state {:?} \
+                         on the same measure (limit states go in order of increasing severity)",
+                        prev.name
+                    ),
+                    None => format!(
+                        "a measure other than that of limit state {:?}, which it would repeat",
+                        prev.name
+                    ),
+                };
+                let exceeds = ls.exceeds.zip(prev.exceeds);
+                if exceeds.is_none_or(|(x, t)| x <= t) {
+                    return match ls.exceeds {
+                        Some(x) => Err(Error::invalid(&field("exceeds"), x, &expected)),
+                        None => Err(Error::invalid(
+                            &field("measure"),
+                            format!("{:?}", ls.measure),
+                            &expected,
+                        )),
+                    };
+                }
+            }
+            if column == Column::Overturned && i + 1 < self.limit_state.len() {
+                return Err(Error::invalid(
+                    &field("measure"),
+                    format!("{:?}", ls.measure),
+                    "overturning only in the last limit state: an overturned analysis \
+                     exceeds every limit state, so none can be more severe",
+                ));
+            }
         }
         Ok(())
     }

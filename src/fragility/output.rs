@@ -1,4 +1,4 @@
-//! The CSV outputs: one row per case (`fragility.csv`) and the sampled curves
+//! The CSV outputs: one row per case and limit state (`fragility.csv`) and the sampled curves
 //! with their bands (`fragility_curves.csv`). Both are written atomically;
 //! numbers use the shortest representation that reads back exactly, and a
 //! number that does not exist (a case that could not be fitted, a band without
@@ -13,23 +13,29 @@ use crate::io_util::number;
 use crate::io_util::write_atomic;
 use crate::outcomes_csv::CaseKey;
 
-/// Header of `fragility.csv`. `median`, `median_lo`, `median_hi`,
+/// Header of `fragility.csv`, one row per case and limit state (a case's
+/// limit states together, in order of severity). `limit_state` names the
+/// limit state; `n_overturned` counts the analyses that overturned,
+/// `n_exceeded` those that exceeded the limit state (what was fitted);
+/// `beta_model` is `separate` (fitted alone) or `common` (one β shared with
+/// the case's other fitted limit states, because the separate curves
+/// crossed; empty when not fitted). `median`, `median_lo`, `median_hi`,
 /// `se_median`, `boot_sd_median`, `im_min`, `im_max` are in the unit of `im`
 /// (`im_unit`); `loglik` includes the binomial coefficients; `status` is `ok`
 /// or an [`Unfit`](super::Unfit) keyword; `boot_unfit` counts the replicates
 /// that could not be fitted, `boot_unfit_reasons` lists them as `reason=count`
 /// separated by spaces.
-pub const FRAGILITY_HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,im,median,beta,\
-median_lo,median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,status,\
-im_unit,n_analyses,n_overturned,n_failed,im_min,im_max,iterations,boot_replicates,boot_fitted,\
-boot_unfit,boot_unfit_reasons,boot_sd_median,boot_sd_beta";
+pub const FRAGILITY_HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
+median,beta,median_lo,median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,\
+status,im_unit,n_analyses,n_overturned,n_failed,im_min,im_max,iterations,boot_replicates,\
+boot_fitted,boot_unfit,boot_unfit_reasons,boot_sd_median,boot_sd_beta,beta_model,n_exceeded";
 
-/// Header of `fragility_curves.csv`: `case` is the 0-based row of the case in
-/// `fragility.csv`; `im_value` is the intensity (unit of `im`); `p` the fitted
-/// probability of overturning; `p_lo`, `p_hi` the pointwise bootstrap band
+/// Header of `fragility_curves.csv`: `case` is the 0-based row of the case
+/// and limit state in `fragility.csv`; `im_value` is the intensity (unit of
+/// `im`); `p` the fitted probability of exceeding the limit state; `p_lo`, `p_hi` the pointwise bootstrap band
 /// (empty without a bootstrap). Only fitted cases have rows.
 pub const CURVES_HEADER: &str =
-    "case,aspect,width,restitution,friction,mu_s,mu_k,im,im_value,p,p_lo,p_hi";
+    "case,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,im_value,p,p_lo,p_hi";
 
 /// The files [`write_outputs`] wrote.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,7 +48,9 @@ pub struct OutputPaths {
     pub nrml: PathBuf,
 }
 
-/// Writes `fragility.csv`, `fragility_curves.csv` and `fragility.xml` into `dir`.
+/// Writes `fragility.csv`, `fragility_curves.csv` and `fragility.xml` into
+/// `dir`. The NRML file holds the `overturning` limit state alone (the fits
+/// of that name).
 pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
     let paths = OutputPaths {
         fragility: dir.join("fragility.csv"),
@@ -51,7 +59,12 @@ pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
     };
     write_fragility_csv(&paths.fragility, fits)?;
     write_curves_csv(&paths.curves, fits)?;
-    nrml::write_nrml(&paths.nrml, fits)?;
+    let overturning: Vec<CaseFit> = fits
+        .iter()
+        .filter(|f| f.limit_state == "overturning")
+        .cloned()
+        .collect();
+    nrml::write_nrml(&paths.nrml, &overturning)?;
     Ok(paths)
 }
 
@@ -75,6 +88,7 @@ pub fn write_fragility_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
             };
             let fields = [
                 key_fields(&f.key),
+                f.limit_state.clone(),
                 f.im.name().to_string(),
                 opt(fit.map(|x| x.median())),
                 opt(fit.map(|x| x.beta())),
@@ -101,6 +115,8 @@ pub fn write_fragility_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
                 reasons.unwrap_or_default(),
                 opt(boot.and_then(|b| b.sd_median)),
                 opt(boot.and_then(|b| b.sd_beta)),
+                fit.map_or(String::new(), |_| f.beta_model.name().to_string()),
+                f.n_exceeded.to_string(),
             ];
             writeln!(w, "{}", fields.join(","))?;
         }
@@ -127,7 +143,8 @@ pub fn write_curves_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
                 let lo = opt(band.map(|b| b.curve_lo[i]));
                 let hi = opt(band.map(|b| b.curve_hi[i]));
                 let (x, p) = (number(x), number(p));
-                writeln!(w, "{case},{key},{},{x},{p},{lo},{hi}", f.im.name())?;
+                let (ls, im) = (&f.limit_state, f.im.name());
+                writeln!(w, "{case},{key},{ls},{im},{x},{p},{lo},{hi}")?;
             }
         }
         Ok(())

@@ -150,7 +150,50 @@ pub const STATS: [Column; 4] = [
     Column::Events,
 ];
 
+/// What a column holds, when it can serve as a limit state's measure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeasureKind {
+    /// A yes/no flag (`true`/`false`).
+    Flag,
+    /// A number (an empty field, e.g. a time that did not occur, is absent).
+    Number,
+}
+
 impl Column {
+    /// The column named `name`, among every column a file can have.
+    pub fn from_name(name: &str) -> Option<Column> {
+        Columns {
+            pgv: true,
+            files: true,
+            time_in_mode: true,
+            stats: true,
+        }
+        .list()
+        .into_iter()
+        .find(|c| c.name() == name)
+    }
+
+    /// Whether the column can be a limit state's measure, and as what: the
+    /// outcome columns ([`OUTCOME`], [`TIME_IN_MODE`], [`STATS`]) are.
+    pub fn measure_kind(self) -> Option<MeasureKind> {
+        match self {
+            Column::Overturned | Column::Uplifted | Column::Moved => Some(MeasureKind::Flag),
+            c if OUTCOME.contains(&c) || TIME_IN_MODE.contains(&c) || STATS.contains(&c) => {
+                Some(MeasureKind::Number)
+            }
+            _ => None,
+        }
+    }
+
+    /// Every column that can be a measure, in file order.
+    pub fn measures() -> impl Iterator<Item = Column> {
+        OUTCOME
+            .into_iter()
+            .chain(TIME_IN_MODE)
+            .chain(STATS)
+            .filter(|c| c.measure_kind().is_some())
+    }
+
     /// The column's name in the header.
     pub const fn name(self) -> &'static str {
         match self {

@@ -39,6 +39,6 @@ mod read;
 mod write;
 
 pub use case::{CaseKey, cmp_friction};
-pub use columns::{CASE, CASE_COLUMNS, Column, Columns, OUTCOME, STATS, TIME_IN_MODE};
+pub use columns::{CASE, CASE_COLUMNS, Column, Columns, MeasureKind, OUTCOME, STATS, TIME_IN_MODE};
 pub use read::{OutcomesReader, Row};
 pub use write::RecordInfo;

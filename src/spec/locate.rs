@@ -42,15 +42,21 @@ impl Origin<'_> {
     }
 }
 
-/// Line (1-based) of the table header `[a.b]` in `text`, or `None`.
-fn header_line(lines: &[&str], table: &str) -> Option<usize> {
-    lines.iter().position(|l| {
-        let t = l.trim();
-        t.strip_prefix('[')
-            .and_then(|t| t.split(']').next())
-            .map(|h| h.trim().trim_start_matches('[').trim() == table)
-            .unwrap_or(false)
-    })
+/// Line index (0-based) of the `nth` (0-based) header `[a.b]` or `[[a.b]]`
+/// of `table` in `lines`, or `None`.
+fn header_line(lines: &[&str], table: &str, nth: usize) -> Option<usize> {
+    lines
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| {
+            let t = l.trim();
+            t.strip_prefix('[')
+                .and_then(|t| t.split(']').next())
+                .map(|h| h.trim().trim_start_matches('[').trim() == table)
+                .unwrap_or(false)
+        })
+        .nth(nth)
+        .map(|(i, _)| i)
 }
 
 /// Whether `line` assigns `key` (`key = …` or `key.sub = …`).
@@ -69,6 +75,16 @@ fn assigns(line: &str, key: &str) -> bool {
 /// header, else the header itself; 0 if not written.
 fn locate(text: &str, field: &str) -> usize {
     let lines: Vec<&str> = text.lines().collect();
+    // The index of each part, `[i]`, if any: for an array of tables
+    // (`fragility.limit_state[1].name`) it picks the table's i-th header.
+    let index: Vec<usize> = field
+        .split('.')
+        .map(|p| {
+            p.split_once('[')
+                .and_then(|(_, i)| i.trim_end_matches(']').parse().ok())
+                .unwrap_or(0)
+        })
+        .collect();
     let parts: Vec<&str> = field
         .split('.')
         .map(|p| p.split('[').next().unwrap_or(p))
@@ -78,7 +94,7 @@ fn locate(text: &str, field: &str) -> usize {
         let (start, header) = if table.is_empty() {
             (0, None)
         } else {
-            match header_line(&lines, &table) {
+            match header_line(&lines, &table, index[split - 1]) {
                 Some(h) => (h + 1, Some(h)),
                 None => continue,
             }
@@ -143,6 +159,9 @@ mod tests {
         assert_eq!(locate(text, "solver.rtol"), 6);
         assert_eq!(locate(text, "solver.atol"), 5);
         assert_eq!(locate(text, "records"), 0);
+        let tables = "[[f.ls]]\nname = \"a\"\n[[f.ls]]\nname = \"a\"\n";
+        assert_eq!(locate(tables, "f.ls[1].name"), 4);
+        assert_eq!(locate(tables, "f.ls[0].name"), 2);
     }
 
     #[test]

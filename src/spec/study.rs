@@ -163,7 +163,7 @@ impl Study {
             },
             solver: self.solver,
             output: self.output,
-            fragility: self.fragility,
+            fragility: self.fragility.clone(),
         }
     }
 

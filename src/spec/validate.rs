@@ -5,11 +5,12 @@
 //! first. `[output]` holds only switches and needs no check.
 
 use super::locate::Origin;
-use super::raw::{FrictionEntry, GridFile, SpecFile};
+use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
 use super::study::{Intensity, Motions, RecordFile, Study, friction_label};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::{G_STANDARD, SynthesisSettings};
+use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{Block, Friction, SolverSettings};
 use std::path::Path;
 
@@ -37,7 +38,7 @@ impl SpecFile {
         let recorded = matches!(motions, Motions::Files(_));
         let grid = grid(&spec, self.grid, g, recorded)?;
         solver(&spec, &self.solver)?;
-        fragility(&spec, self.fragility.as_ref())?;
+        fragility(&spec, self.fragility.as_ref(), &self.output)?;
 
         Ok(Study {
             name,
@@ -410,10 +411,30 @@ fn solver(spec: &Origin, solver: &SolverSettings) -> Result<()> {
 }
 
 /// `[fragility]`, if given: the options' own checks, whose fields already
-/// carry the `fragility.` prefix.
-fn fragility(spec: &Origin, options: Option<&FragilityOptions>) -> Result<()> {
-    match options {
-        Some(options) => options.validate().map_err(|e| spec.nested("", e)),
-        None => Ok(()),
+/// carry the `fragility.` prefix; and a limit state's measure must be a
+/// column this study writes (time in mode and the solver's counters only
+/// when `[output]` asks for them).
+fn fragility(spec: &Origin, options: Option<&FragilityOptions>, output: &OutputFile) -> Result<()> {
+    let Some(options) = options else {
+        return Ok(());
+    };
+    options.validate().map_err(|e| spec.nested("", e))?;
+    for (i, ls) in options.limit_state.iter().enumerate() {
+        let Some((column, _)) = ls.column() else {
+            continue;
+        };
+        let switch = if TIME_IN_MODE.contains(&column) && !output.time_in_mode {
+            "time_in_mode"
+        } else if STATS.contains(&column) && !output.stats {
+            "stats"
+        } else {
+            continue;
+        };
+        return Err(spec.bad(
+            &format!("fragility.limit_state[{i}].measure"),
+            &format!("{:?}", ls.measure),
+            &format!("a column outcomes.csv will have: set `[output] {switch} = true` to write it"),
+        ));
     }
+    Ok(())
 }

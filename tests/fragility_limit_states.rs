@@ -1,0 +1,348 @@
+//! Limit states of the fragility fit: one lognormal curve per case and limit
+//! state, recovered from simulated exceedances; curves of one case that
+//! cross are refitted with one β and then do not cross; and a small study
+//! with three limit states whose fitted medians rise with severity.
+
+mod common;
+
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rockfrag::fragility::{
+    Analysis, BetaModel, CaseData, CaseFit, CaseKey, FragilityOptions, LimitState, LognormalFit,
+    Observation, curves_cross, fit_case, fit_common_beta, fit_lognormal, read_outcomes_for,
+};
+use rockfrag::solver::Friction;
+use statrs::distribution::{ContinuousCDF, Normal};
+
+/// The three limit states of the issue, in order of severity.
+fn limit_states() -> Vec<LimitState> {
+    let ls = |name: &str, measure: &str, exceeds| LimitState {
+        name: name.into(),
+        measure: measure.into(),
+        exceeds,
+    };
+    vec![
+        ls("uplift", "theta_max_over_theta_c", Some(0.0)),
+        ls("slides-5cm", "slip_max", Some(0.05)),
+        ls("overturning", "overturned", None),
+    ]
+}
+
+/// A case whose analyses exceed limit state k with probability
+/// Φ(ln(x/θ_k)/β_k), nested through one uniform draw per analysis (exceeding
+/// k means U < P_k(x)), every analysis its own record. `ims` gives each
+/// analysis its intensity (stripes: repeated levels; continuous: all distinct).
+fn simulated_case(curves: &[(f64, f64)], ims: &[f64], seed: u64) -> CaseData {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let normal = Normal::standard();
+    let mut case = CaseData {
+        key: CaseKey {
+            aspect: 4.0,
+            width: 0.5,
+            restitution: 0.0,
+            friction: Friction::Infinite,
+        },
+        records: Vec::new(),
+        analyses: Vec::new(),
+        failed: 0,
+    };
+    for &x in ims {
+        let u: f64 = rng.random();
+        let mut exceeded = 0u64;
+        for (k, &(theta, beta)) in curves.iter().enumerate() {
+            exceeded |= u64::from(u < normal.cdf((x / theta).ln() / beta)) << k;
+        }
+        case.analyses.push(Analysis {
+            record: case.records.len(),
+            pga: x,
+            im: x,
+            overturned: exceeded >> (curves.len() - 1) & 1 == 1,
+            exceeded,
+        });
+        case.records.push(case.records.len().to_string());
+    }
+    case
+}
+
+/// 20 stripes, 0.05 … 1.0 g, `per` analyses each.
+fn stripes(per: usize) -> Vec<f64> {
+    (1..=20)
+        .flat_map(|i| std::iter::repeat_n(0.05 * i as f64, per))
+        .collect()
+}
+
+/// `n` intensities drawn log-uniformly in [0.05, 1] g: no two alike.
+fn continuous(n: usize, seed: u64) -> Vec<f64> {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    (0..n)
+        .map(|_| (0.05f64.ln() + rng.random::<f64>() * 20f64.ln()).exp())
+        .collect()
+}
+
+fn options(bootstrap: usize) -> FragilityOptions {
+    FragilityOptions {
+        bootstrap,
+        limit_state: limit_states(),
+        ..FragilityOptions::default()
+    }
+}
+
+/// True (θ, β) of uplift, sliding and overturning: β falls with severity, so
+/// the curves meet only beyond 2 g, outside the data (no common β needed).
+const NESTED: [(f64, f64); 3] = [(0.15, 0.5), (0.3, 0.4), (0.5, 0.3)];
+
+/// From 6000 simulated analyses, on stripes and at continuous intensities,
+/// each limit state's separate fit recovers its θ and β within 4 of its
+/// delta-method standard errors (those being below 6 % of the value, so the
+/// check has teeth); the fits are separate and their medians rise.
+#[test]
+fn each_limit_state_recovers_its_median_and_beta() {
+    for (label, ims) in [
+        ("stripes", stripes(300)),
+        ("continuous", continuous(6000, 7)),
+    ] {
+        let case = simulated_case(&NESTED, &ims, 11);
+        let fits = fit_case(&case, &options(0));
+        assert_eq!(fits.len(), 3);
+        let mut last_median = 0.0;
+        for (f, (ls, &(theta, beta))) in fits.iter().zip(limit_states().iter().zip(&NESTED)) {
+            assert_eq!(f.limit_state, ls.name);
+            assert_eq!(f.beta_model, BetaModel::Separate, "{label} {}", ls.name);
+            let fit = f.fit.as_ref().unwrap();
+            eprintln!(
+                "{label} {}: θ = {:.4} ± {:.4} (true {theta}), β = {:.4} ± {:.4} (true {beta})",
+                ls.name,
+                fit.median(),
+                fit.se_median(),
+                fit.beta(),
+                fit.se_beta()
+            );
+            assert!(fit.se_median() < 0.06 * fit.median());
+            assert!(fit.se_beta() < 0.06 * fit.beta());
+            assert!((fit.median() - theta).abs() < 4.0 * fit.se_median());
+            assert!((fit.beta() - beta).abs() < 4.0 * fit.se_beta());
+            assert!(fit.median() > last_median);
+            last_median = fit.median();
+        }
+        assert_eq!(fits[2].n_exceeded, fits[2].n_overturned);
+        assert!(fits[0].n_exceeded > fits[1].n_exceeded);
+    }
+}
+
+/// Exceedance counts of limit state `k` grouped by intensity.
+fn counts(case: &CaseData, k: usize) -> Vec<Observation> {
+    let mut obs: Vec<Observation> = Vec::new();
+    let mut sorted = case.analyses.clone();
+    sorted.sort_by(|a, b| a.im.total_cmp(&b.im));
+    for a in sorted {
+        let z = u64::from(a.exceeds(k));
+        match obs.last_mut() {
+            Some(o) if o.im == a.im => {
+                o.trials += 1;
+                o.overturned += z;
+            }
+            _ => obs.push(Observation {
+                im: a.im,
+                trials: 1,
+                overturned: z,
+            }),
+        }
+    }
+    obs
+}
+
+/// Binomial log-likelihood without its constant.
+fn loglik(obs: &[Observation], a: f64, b: f64) -> f64 {
+    let n = Normal::standard();
+    obs.iter()
+        .map(|o| {
+            let p = n.cdf(a + b * o.im.ln());
+            let z = o.overturned as f64;
+            let m = (o.trials - o.overturned) as f64;
+            (if z > 0.0 { z * p.ln() } else { 0.0 })
+                + if m > 0.0 { m * (1.0 - p).ln() } else { 0.0 }
+        })
+        .sum()
+}
+
+/// Two limit states whose separate fits cross (the severe one much wider:
+/// true θ, β = 0.3 g, 0.3 and 0.4 g, 0.8, meeting at 0.25 g where P ≈ 0.28)
+/// are refitted with one β: both say `common`, their β are one number, the
+/// medians keep their order, the more severe curve never lies above the
+/// other on the grid, and the joint fit is the constrained maximum (a nudge
+/// of any parameter lowers the summed log-likelihood, which is below the
+/// separate fits' sum). Its bootstrap refits jointly: every replicate has
+/// one β, so the two β intervals are the same.
+#[test]
+fn crossing_curves_are_refitted_with_one_beta() {
+    let truth = [(0.3, 0.3), (0.4, 0.8)];
+    let case = simulated_case(&truth, &stripes(200), 3);
+    let (o0, o1) = (counts(&case, 0), counts(&case, 1));
+    let (s0, s1) = (fit_lognormal(&o0).unwrap(), fit_lognormal(&o1).unwrap());
+    assert!(
+        curves_cross(&s0, &s1, 1.0),
+        "the premise: separate fits cross"
+    );
+
+    let opts = FragilityOptions {
+        bootstrap: 200,
+        limit_state: limit_states()[1..].to_vec(),
+        ..FragilityOptions::default()
+    };
+    let fits: Vec<CaseFit> = fit_case(&case, &opts);
+    let f: Vec<&LognormalFit> = fits.iter().map(|f| f.fit.as_ref().unwrap()).collect();
+    eprintln!(
+        "separate: θ {:.4} {:.4}, β {:.4} {:.4}; common: θ {:.4} {:.4}, β {:.4}",
+        s0.median(),
+        s1.median(),
+        s0.beta(),
+        s1.beta(),
+        f[0].median(),
+        f[1].median(),
+        f[0].beta()
+    );
+    assert!(fits.iter().all(|f| f.beta_model == BetaModel::Common));
+    assert_eq!(f[0].b, f[1].b);
+    assert!(f[0].median() < f[1].median());
+    assert!(!curves_cross(f[0], f[1], 1.0));
+    let (c0, c1) = (
+        fits[0].curve.as_ref().unwrap(),
+        fits[1].curve.as_ref().unwrap(),
+    );
+    for (p0, p1) in c0.probability.iter().zip(&c1.probability) {
+        assert!(p1 <= p0, "{p1} > {p0}");
+    }
+
+    let joint = |a0: f64, a1: f64, b: f64| loglik(&o0, a0, b) + loglik(&o1, a1, b);
+    let best = joint(f[0].a, f[1].a, f[0].b);
+    for (d0, d1, db) in [
+        (1e-4, 0.0, 0.0),
+        (-1e-4, 0.0, 0.0),
+        (0.0, 1e-4, 0.0),
+        (0.0, -1e-4, 0.0),
+        (0.0, 0.0, 1e-3),
+        (0.0, 0.0, -1e-3),
+    ] {
+        assert!(joint(f[0].a + d0, f[1].a + d1, f[0].b + db) < best);
+    }
+    assert!(best < loglik(&o0, s0.a, s0.b) + loglik(&o1, s1.a, s1.b));
+    // The per-limit-state log-likelihoods (constants included) sum to the
+    // joint one: each differs from `loglik` by its own constant only.
+    let separate_constants =
+        (s0.loglik - loglik(&o0, s0.a, s0.b)) + (s1.loglik - loglik(&o1, s1.a, s1.b));
+    assert!((f[0].loglik + f[1].loglik - best - separate_constants).abs() < 1e-6);
+
+    let (b0, b1) = (
+        fits[0].bootstrap.as_ref().unwrap(),
+        fits[1].bootstrap.as_ref().unwrap(),
+    );
+    assert_eq!(b0.beta, b1.beta);
+    assert_eq!(b0.fitted, b1.fitted);
+    assert!(b0.fitted > 190, "{} of 200 replicates fitted", b0.fitted);
+    let beta = b0.beta.unwrap();
+    assert!(beta.lo < f[0].beta() && f[0].beta() < beta.hi);
+}
+
+/// With one limit state, the common-β fit is the ordinary fit (to 1e-9).
+#[test]
+fn common_beta_fit_of_one_limit_state_is_the_ordinary_fit() {
+    let case = simulated_case(&[(0.5, 0.4)], &stripes(50), 5);
+    let obs = counts(&case, 0);
+    let one = fit_lognormal(&obs).unwrap();
+    let joint = fit_common_beta(&[&obs]).unwrap();
+    assert_eq!(joint.len(), 1);
+    let j = joint[0];
+    for (x, y) in [
+        (one.median(), j.median()),
+        (one.beta(), j.beta()),
+        (one.loglik, j.loglik),
+        (one.se_median(), j.se_median()),
+        (one.se_beta(), j.se_beta()),
+    ] {
+        assert!((x / y - 1.0).abs() < 1e-9, "{x} vs {y}");
+    }
+}
+
+/// `rockfrag run` on a small spec with three limit states (rocking beyond
+/// 0.2 θc, sliding beyond 5 cm, overturning): one fragility.csv row per limit
+/// state, in the spec's order, all fitted, with the fitted medians rising
+/// with severity and the exceedance counts falling; each count is what
+/// outcomes.csv gives (overturned, or the measure above its threshold); the
+/// curves file has 101 points per limit state; fragility.xml keeps the
+/// overturning limit state alone.
+#[test]
+fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
+    let spec = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/specs/limit-states.toml"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = common::rockfrag(&["run", spec, "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+
+    let mut reader = csv::Reader::from_path(out.join("fragility.csv")).unwrap();
+    let header = reader.headers().unwrap().clone();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    let names: Vec<&str> = rows.iter().map(|r| &r[col("limit_state")]).collect();
+    assert_eq!(names, ["rocks-0.2", "slides-5cm", "overturning"]);
+    let mut last = (0.0, usize::MAX);
+    for r in &rows {
+        assert_eq!(&r[col("status")], "ok", "{r:?}");
+        let median: f64 = r[col("median")].parse().unwrap();
+        let exceeded: usize = r[col("n_exceeded")].parse().unwrap();
+        eprintln!(
+            "{}: θ = {median:.3} g, {exceeded} exceeded",
+            &r[col("limit_state")]
+        );
+        assert!(median > last.0 && exceeded < last.1, "{r:?}");
+        last = (median, exceeded);
+    }
+
+    // The counts, recomputed from outcomes.csv.
+    let mut outcomes = csv::Reader::from_path(out.join("outcomes.csv")).unwrap();
+    let oh = outcomes.headers().unwrap().clone();
+    let oc = |name: &str| oh.iter().position(|h| h == name).unwrap();
+    let (mut rocks, mut slides, mut overturned) = (0, 0, 0);
+    for r in outcomes.records().map(Result::unwrap) {
+        let o = &r[oc("overturned")] == "true";
+        let theta: f64 = r[oc("theta_max_over_theta_c")].parse().unwrap();
+        let slip: f64 = r[oc("slip_max")].parse().unwrap();
+        rocks += usize::from(o || theta > 0.2);
+        slides += usize::from(o || slip > 0.05);
+        overturned += usize::from(o);
+    }
+    let count = |i: usize| rows[i][col("n_exceeded")].parse::<usize>().unwrap();
+    assert_eq!([count(0), count(1), count(2)], [rocks, slides, overturned]);
+
+    let curves = std::fs::read_to_string(out.join("fragility_curves.csv")).unwrap();
+    for name in names {
+        let n = curves
+            .lines()
+            .filter(|l| l.split(',').nth(7) == Some(name))
+            .count();
+        assert_eq!(n, 101, "{name}");
+    }
+    let xml = std::fs::read_to_string(out.join("fragility.xml")).unwrap();
+    assert_eq!(xml.matches("<fragilityFunction ").count(), 1);
+    assert!(xml.contains("ls=\"overturning\""));
+
+    // A measure the spec accepts but this file lacks (time in mode is off)
+    // is an error naming the column and the limit state.
+    let options = FragilityOptions {
+        limit_state: vec![LimitState {
+            name: "rocks-1s".into(),
+            measure: "t_rock".into(),
+            exceeds: Some(1.0),
+        }],
+        ..FragilityOptions::default()
+    };
+    let err = read_outcomes_for(&out.join("outcomes.csv"), &options)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("no `t_rock` column") && err.contains("rocks-1s"),
+        "{err}"
+    );
+}
