@@ -268,8 +268,10 @@ fn common_beta_fit_of_one_limit_state_is_the_ordinary_fit() {
 /// state, in the spec's order, all fitted, with the fitted medians rising
 /// with severity and the exceedance counts falling; each count is what
 /// outcomes.csv gives (overturned, or the measure above its threshold); the
-/// curves file has 101 points per limit state; fragility.xml keeps the
-/// overturning limit state alone.
+/// curves file has 101 points per limit state; fragility.xml holds the
+/// three limit states in order, with one `params` per limit state in the
+/// case's function (what OpenQuake's reader requires), each the fitted θ
+/// and β as (mean, stddev) of the lognormal (round trip to 1e-9).
 #[test]
 fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
     let spec = concat!(
@@ -286,7 +288,7 @@ fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
     let col = |name: &str| header.iter().position(|h| h == name).unwrap();
     let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
     let names: Vec<&str> = rows.iter().map(|r| &r[col("limit_state")]).collect();
-    assert_eq!(names, ["rocks-0.2", "slides-5cm", "overturning"]);
+    assert_eq!(names, ["rocks-20pc", "slides-5cm", "overturning"]);
     let mut last = (0.0, usize::MAX);
     for r in &rows {
         assert_eq!(&r[col("status")], "ok", "{r:?}");
@@ -325,8 +327,38 @@ fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
         assert_eq!(n, 101, "{name}");
     }
     let xml = std::fs::read_to_string(out.join("fragility.xml")).unwrap();
-    assert_eq!(xml.matches("<fragilityFunction ").count(), 1);
-    assert!(xml.contains("ls=\"overturning\""));
+    let doc = roxmltree::Document::parse(&xml).unwrap();
+    let ls = doc
+        .descendants()
+        .find(|n| n.has_tag_name("limitStates"))
+        .unwrap();
+    assert_eq!(
+        ls.text().unwrap().trim(),
+        "rocks-20pc slides-5cm overturning"
+    );
+    let functions: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("fragilityFunction"))
+        .collect();
+    assert_eq!(functions.len(), 1, "{xml}");
+    let params: Vec<_> = functions[0]
+        .children()
+        .filter(|n| n.has_tag_name("params"))
+        .collect();
+    assert_eq!(params.len(), 3, "{xml}");
+    for (p, row) in params.iter().zip(&rows) {
+        assert_eq!(p.attribute("ls"), Some(&row[col("limit_state")]));
+        let mean: f64 = p.attribute("mean").unwrap().parse().unwrap();
+        let sd: f64 = p.attribute("stddev").unwrap().parse().unwrap();
+        let (median, beta) = rockfrag::fragility::moments_to_lognormal(mean, sd);
+        let want_m: f64 = row[col("median")].parse().unwrap();
+        let want_b: f64 = row[col("beta")].parse().unwrap();
+        assert!(
+            (median - want_m).abs() < 1e-9 * want_m,
+            "{median} vs {want_m}"
+        );
+        assert!((beta - want_b).abs() < 1e-9 * want_b, "{beta} vs {want_b}");
+    }
 
     // A measure the spec accepts but this file lacks (time in mode is off)
     // is an error naming the column and the limit state.

@@ -53,6 +53,7 @@ fn case(aspect: f64, theta: f64, beta: f64, n: usize, scale: f64) -> CaseData {
                 pga: x,
                 im: x * scale,
                 overturned: j < k,
+                exceeded: (j < k) as u64,
             });
             c.records.push(c.records.len().to_string());
         }
@@ -69,6 +70,7 @@ fn fit(c: &CaseData, im: IntensityMeasure) -> CaseFit {
             ..FragilityOptions::default()
         },
     )
+    .remove(0)
 }
 
 /// One function as OpenQuake reads it.
@@ -171,7 +173,10 @@ fn read_as_openquake(text: &str, expected: &[&str]) -> Vec<Read> {
 fn overturning_model_has_what_openquake_reads() {
     let fitted = fit(&case(4.0, 0.5, 0.4, 40, 1.0), IntensityMeasure::Pga);
     let mut none = case(6.0, 0.5, 0.4, 5, 1.0);
-    none.analyses.iter_mut().for_each(|a| a.overturned = false);
+    none.analyses.iter_mut().for_each(|a| {
+        a.overturned = false;
+        a.exceeded = 0;
+    });
     let unfitted = fit(&none, IntensityMeasure::Pga);
     assert!(unfitted.fit.is_err());
     let text = nrml_string(&[fitted.clone(), unfitted]);

@@ -115,10 +115,73 @@ pub fn overturning_entry(f: &CaseFit) -> Option<NrmlEntry> {
     }
 }
 
-/// The fragility model as NRML 0.5 text, one limit state ([`OVERTURNING`]).
+/// The fragility model as NRML 0.5 text: every limit state of `fits`, in
+/// the order they first appear (the spec's order of increasing severity),
+/// and one function per case fitted for all of them. A case with a limit
+/// state that could not be fitted stays out, with a comment saying which
+/// and why (OpenQuake needs every limit state of a function).
 pub fn nrml_string(fits: &[CaseFit]) -> String {
-    let entries: Vec<NrmlEntry> = fits.iter().filter_map(overturning_entry).collect();
-    nrml_model_string(&[OVERTURNING], &entries)
+    let mut limit_states: Vec<&str> = Vec::new();
+    for f in fits {
+        if !limit_states.contains(&f.limit_state.as_str()) {
+            limit_states.push(&f.limit_state);
+        }
+    }
+    if limit_states.is_empty() {
+        limit_states.push(OVERTURNING);
+    }
+    // The fits of one case, in the order of their first appearance.
+    let mut cases: Vec<Vec<&CaseFit>> = Vec::new();
+    for f in fits {
+        match cases.iter_mut().find(|c| c[0].key == f.key) {
+            Some(c) => c.push(f),
+            None => cases.push(vec![f]),
+        }
+    }
+    let entries: Vec<NrmlEntry> = cases
+        .iter()
+        .filter_map(|case| case_entry(case, &limit_states))
+        .collect();
+    nrml_model_string(&limit_states, &entries)
+}
+
+/// The entry of one case: its fits, one per limit state of `limit_states`.
+fn case_entry(case: &[&CaseFit], limit_states: &[&str]) -> Option<NrmlEntry> {
+    let first = case[0];
+    let id = function_id(&first.key);
+    let (imt, factor) = openquake_imt(first.im, &first.key);
+    let mut params = Vec::with_capacity(limit_states.len());
+    let mut unfitted = Vec::new();
+    for ls in limit_states {
+        match case.iter().find(|f| f.limit_state == *ls) {
+            Some(f) => match &f.fit {
+                Ok(fit) => params.push(lognormal_to_moments(fit.median() * factor, fit.beta())),
+                Err(reason) => unfitted.push(format!("{ls}: {}: {reason}", reason.status())),
+            },
+            None => unfitted.push(format!("{ls}: no fit")),
+        }
+    }
+    if !unfitted.is_empty() {
+        if case.len() == 1 && limit_states.len() == 1 {
+            // One limit state: the reason alone, as before.
+            let reason = unfitted.remove(0);
+            let reason = reason
+                .split_once(": ")
+                .map_or(reason.clone(), |(_, r)| r.to_string());
+            return Some(NrmlEntry::Omitted { id, reason });
+        }
+        return Some(NrmlEntry::Omitted {
+            id,
+            reason: unfitted.join("; "),
+        });
+    }
+    let (lo, hi) = first.im_range?;
+    Some(NrmlEntry::Function(NrmlFunction {
+        id,
+        imt,
+        iml_range: (lo * factor, hi * factor),
+        params,
+    }))
 }
 
 /// A fragility model of any number of limit states as NRML 0.5 text, in the

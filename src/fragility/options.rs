@@ -163,11 +163,18 @@ impl FragilityOptions {
         for (i, ls) in self.limit_state.iter().enumerate() {
             let field = |f: &str| format!("fragility.limit_state[{i}].{f}");
             let earlier = &self.limit_state[..i];
-            if ls.name.trim().is_empty() || ls.name.contains([',', '"', '\n']) {
+            // The name is written into fragility.xml, where OpenQuake takes
+            // limit states as words of ASCII letters, digits, `_` and `-`.
+            let word = |w: &str| {
+                !w.is_empty()
+                    && w.chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+            };
+            if !word(&ls.name) {
                 return Err(Error::invalid(
                     &field("name"),
                     format!("{:?}", ls.name),
-                    "a name without commas, quotes or newlines",
+                    "a name of ASCII letters, digits, '_' and '-' (OpenQuake's limit-state names)",
                 ));
             }
             if earlier.iter().any(|e| e.name == ls.name) {

@@ -49,8 +49,8 @@ pub struct OutputPaths {
 }
 
 /// Writes `fragility.csv`, `fragility_curves.csv` and `fragility.xml` into
-/// `dir`. The NRML file holds the `overturning` limit state alone (the fits
-/// of that name).
+/// `dir`. The NRML file holds every limit state, in order (see
+/// [`nrml::nrml_string`]).
 pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
     let paths = OutputPaths {
         fragility: dir.join("fragility.csv"),
@@ -59,12 +59,7 @@ pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
     };
     write_fragility_csv(&paths.fragility, fits)?;
     write_curves_csv(&paths.curves, fits)?;
-    let overturning: Vec<CaseFit> = fits
-        .iter()
-        .filter(|f| f.limit_state == "overturning")
-        .cloned()
-        .collect();
-    nrml::write_nrml(&paths.nrml, &overturning)?;
+    nrml::write_nrml(&paths.nrml, fits)?;
     Ok(paths)
 }
 

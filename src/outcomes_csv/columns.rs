@@ -165,6 +165,7 @@ impl Column {
         Columns {
             pgv: true,
             files: true,
+            scale: true,
             time_in_mode: true,
             stats: true,
         }
