@@ -129,28 +129,6 @@ fn each_limit_state_recovers_its_median_and_beta() {
     }
 }
 
-/// Exceedance counts of limit state `k` grouped by intensity.
-fn counts(case: &CaseData, k: usize) -> Vec<Observation> {
-    let mut obs: Vec<Observation> = Vec::new();
-    let mut sorted = case.analyses.clone();
-    sorted.sort_by(|a, b| a.im.total_cmp(&b.im));
-    for a in sorted {
-        let z = u64::from(a.exceeds(k));
-        match obs.last_mut() {
-            Some(o) if o.im == a.im => {
-                o.trials += 1;
-                o.overturned += z;
-            }
-            _ => obs.push(Observation {
-                im: a.im,
-                trials: 1,
-                overturned: z,
-            }),
-        }
-    }
-    obs
-}
-
 /// Binomial log-likelihood without its constant.
 fn loglik(obs: &[Observation], a: f64, b: f64) -> f64 {
     let n = Normal::standard();
@@ -177,7 +155,7 @@ fn loglik(obs: &[Observation], a: f64, b: f64) -> f64 {
 fn crossing_curves_are_refitted_with_one_beta() {
     let truth = [(0.3, 0.3), (0.4, 0.8)];
     let case = simulated_case(&truth, &stripes(200), 3);
-    let (o0, o1) = (counts(&case, 0), counts(&case, 1));
+    let (o0, o1) = (case.observations(0), case.observations(1));
     let (s0, s1) = (fit_lognormal(&o0).unwrap(), fit_lognormal(&o1).unwrap());
     assert!(
         curves_cross(&s0, &s1, 1.0),
@@ -247,7 +225,7 @@ fn crossing_curves_are_refitted_with_one_beta() {
 #[test]
 fn common_beta_fit_of_one_limit_state_is_the_ordinary_fit() {
     let case = simulated_case(&[(0.5, 0.4)], &stripes(50), 5);
-    let obs = counts(&case, 0);
+    let obs = case.observations(0);
     let one = fit_lognormal(&obs).unwrap();
     let joint = fit_common_beta(&[&obs]).unwrap();
     assert_eq!(joint.len(), 1);

@@ -163,10 +163,7 @@ pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<
             message: "no successful analyses to draw".to_string(),
         });
     }
-    std::fs::create_dir_all(out).map_err(|source| Error::Io {
-        path: out.to_path_buf(),
-        source,
-    })?;
+    std::fs::create_dir_all(out).map_err(Error::io(out))?;
     let ext = options.format.extension();
     let file = |name: &str| out.join(format!("{name}.{ext}"));
     let mut report = FiguresReport::default();

@@ -143,23 +143,7 @@ pub fn fit_case(case: &CaseData, options: &FragilityOptions) -> Vec<CaseFit> {
 
 /// Limit state `k` of `case` fitted alone, without the bootstrap.
 fn separate(case: &CaseData, k: usize, name: &str, options: &FragilityOptions) -> CaseFit {
-    let mut observations: Vec<Observation> = Vec::new();
-    let mut sorted = case.analyses.clone();
-    sorted.sort_by(|x, y| x.im.total_cmp(&y.im));
-    for a in &sorted {
-        let exceeded = u64::from(a.exceeds(k));
-        match observations.last_mut() {
-            Some(o) if o.im == a.im => {
-                o.trials += 1;
-                o.overturned += exceeded;
-            }
-            _ => observations.push(Observation {
-                im: a.im,
-                trials: 1,
-                overturned: exceeded,
-            }),
-        }
-    }
+    let observations = case.observations(k);
     let im_range = observations
         .first()
         .zip(observations.last())

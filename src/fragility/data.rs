@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use super::fit::Observation;
 use super::options::{FragilityOptions, IntensityMeasure, LimitState};
 use crate::error::{Error, Result};
 use crate::outcomes_csv::{CaseKey, Column, MeasureKind, OutcomesReader};
@@ -54,6 +55,29 @@ impl CaseData {
             seen[a.record] = true;
         }
         seen.iter().filter(|&&s| s).count()
+    }
+
+    /// The analyses grouped by equal intensity, in increasing intensity:
+    /// trials and exceedances of limit state `k` at each (what is fitted).
+    pub fn observations(&self, k: usize) -> Vec<Observation> {
+        let mut sorted = self.analyses.clone();
+        sorted.sort_by(|x, y| x.im.total_cmp(&y.im));
+        let mut observations: Vec<Observation> = Vec::new();
+        for a in &sorted {
+            let exceeded = u64::from(a.exceeds(k));
+            match observations.last_mut() {
+                Some(o) if o.im == a.im => {
+                    o.trials += 1;
+                    o.overturned += exceeded;
+                }
+                _ => observations.push(Observation {
+                    im: a.im,
+                    trials: 1,
+                    overturned: exceeded,
+                }),
+            }
+        }
+        observations
     }
 
     /// Number of stripes (distinct PGA levels) with at least one successful analysis.

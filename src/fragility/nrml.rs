@@ -22,7 +22,7 @@
 use std::path::Path;
 
 use super::case::CaseFit;
-use super::options::IntensityMeasure;
+use super::options::{IntensityMeasure, is_nrml_name};
 use crate::error::{Error, Result};
 use crate::io_util::number;
 use crate::io_util::write_atomic;
@@ -198,13 +198,8 @@ fn case_entry(case: &[&CaseFit], limit_states: &[&str]) -> Option<NrmlEntry> {
 /// or a limit-state name or function id is not a word of ASCII letters,
 /// digits, `_` and `-`.
 pub fn nrml_model_string(limit_states: &[&str], entries: &[NrmlEntry]) -> String {
-    let word = |w: &str| {
-        !w.is_empty()
-            && w.chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-    };
     for ls in limit_states {
-        assert!(word(ls), "limit state {ls:?} is not an NRML name");
+        assert!(is_nrml_name(ls), "limit state {ls:?} is not an NRML name");
     }
     let mut s = String::new();
     s.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
@@ -237,7 +232,11 @@ pub fn nrml_model_string(limit_states: &[&str], entries: &[NrmlEntry]) -> String
                 continue;
             }
         };
-        assert!(word(&f.id), "function id {:?} is not an NRML id", f.id);
+        assert!(
+            is_nrml_name(&f.id),
+            "function id {:?} is not an NRML id",
+            f.id
+        );
         assert_eq!(
             f.params.len(),
             limit_states.len(),
@@ -270,10 +269,7 @@ pub fn nrml_model_string(limit_states: &[&str], entries: &[NrmlEntry]) -> String
 /// Writes [`nrml_string`] to `path`, atomically.
 pub fn write_nrml(path: &Path, fits: &[CaseFit]) -> Result<()> {
     let text = nrml_string(fits);
-    write_atomic(path, |w| w.write_all(text.as_bytes())).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    write_atomic(path, |w| w.write_all(text.as_bytes())).map_err(Error::io(path))
 }
 
 /// A fragility-function id from the case: letters, digits, `-` and `_` only
@@ -327,9 +323,6 @@ mod tests {
         };
         let id = function_id(&key);
         assert_eq!(id, "block-a4-w0p5-e0p25-coulomb-ms0p6-mkinf");
-        assert!(
-            id.chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-        );
+        assert!(is_nrml_name(&id));
     }
 }

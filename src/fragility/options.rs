@@ -163,14 +163,8 @@ impl FragilityOptions {
         for (i, ls) in self.limit_state.iter().enumerate() {
             let field = |f: &str| format!("fragility.limit_state[{i}].{f}");
             let earlier = &self.limit_state[..i];
-            // The name is written into fragility.xml, where OpenQuake takes
-            // limit states as words of ASCII letters, digits, `_` and `-`.
-            let word = |w: &str| {
-                !w.is_empty()
-                    && w.chars()
-                        .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-            };
-            if !word(&ls.name) {
+            // The name is written into fragility.xml.
+            if !is_nrml_name(&ls.name) {
                 return Err(Error::invalid(
                     &field("name"),
                     format!("{:?}", ls.name),
@@ -252,6 +246,15 @@ impl FragilityOptions {
         }
         Ok(())
     }
+}
+
+/// Whether `w` is a name OpenQuake's NRML reader takes for a limit state or
+/// a fragility function: a non-empty word of ASCII letters, digits, `_`
+/// and `-`.
+pub fn is_nrml_name(w: &str) -> bool {
+    !w.is_empty()
+        && w.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
 /// What a bootstrap replicate resamples.

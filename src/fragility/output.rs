@@ -117,10 +117,7 @@ pub fn write_fragility_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
         }
         Ok(())
     })
-    .map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    .map_err(Error::io(path))
 }
 
 /// Writes `fragility_curves.csv` (header [`CURVES_HEADER`]).
@@ -144,10 +141,7 @@ pub fn write_curves_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
         }
         Ok(())
     })
-    .map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    .map_err(Error::io(path))
 }
 
 /// The six case columns, comma-separated (absent μ as an empty field).

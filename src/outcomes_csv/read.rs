@@ -47,10 +47,7 @@ impl OutcomesReader {
         columns: [C; N],
         purpose: &str,
     ) -> Result<(OutcomesReader, [usize; N])> {
-        let file = std::fs::File::open(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let file = std::fs::File::open(path).map_err(Error::io(path))?;
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .from_reader(file);

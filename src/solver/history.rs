@@ -64,9 +64,6 @@ impl History {
             }
             Ok(())
         })
-        .map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })
+        .map_err(Error::io(path))
     }
 }

@@ -93,10 +93,7 @@ impl Intensity {
 impl Study {
     /// Reads and validates a spec file; record files are relative to its folder.
     pub fn load(path: &Path) -> Result<Study> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
         Study::from_toml(&text, path)
     }
 
