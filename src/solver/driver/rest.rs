@@ -35,6 +35,10 @@ impl Run<'_> {
     }
 }
 
+/// Smallest motion (m) a departure from rest must be able to make to be
+/// taken: a picometre, far below anything physical or measurable.
+const MIN_EXCURSION: f64 = 1e-12;
+
 /// The first time in [t, t_end] at which f(s, ẍg, ÿg) > 0 for s = +1 or −1,
 /// where f is linear in the (linear) forcing, so the crossing is exact.
 /// Moves `t` to that time (or to t_end) and returns the side s.
@@ -44,13 +48,28 @@ fn first_exceedance(
     t_end: f64,
     f: impl Fn(f64, f64, f64) -> f64,
 ) -> Option<f64> {
+    if *t >= t_end {
+        // Nothing left of this segment: the next one decides at the same
+        // instant, from its own (exact) sample rather than this segment's
+        // extrapolated end.
+        return None;
+    }
     let (ax0, ay0) = seg.at(*t);
     let (ax1, ay1) = seg.at(t_end);
     let mut best: Option<(f64, f64)> = None;
     for s in [1.0, -1.0] {
         let (f0, f1) = (f(s, ax0, ay0), f(s, ax1, ay1));
-        let tc = if f0 > 0.0 {
+        // f starts positive and falls to 0 within the segment after a
+        // window w: the block departs and comes back, moving about
+        // f0·w²/2 (m; f is an acceleration, m/s²). Below a picometre that is
+        // no motion at all (a peak within ulps of the threshold, met at a
+        // sample), and taking it would start rock (or slide), return to rest
+        // at the same instant, and loop there.
+        let w = (t_end - *t) * (f0 / (f0 - f1));
+        let tc = if f0 > 0.0 && (f1 > 0.0 || 0.5 * f0 * w * w > MIN_EXCURSION) {
             Some(*t)
+        } else if f0 > 0.0 {
+            None
         } else if f1 > 0.0 {
             Some(*t + (t_end - *t) * (f0 / (f0 - f1)))
         } else {
