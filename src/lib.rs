@@ -20,6 +20,8 @@
 //! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
 //!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
+//! - [`uncertainty`]: distributions of uncertain block parameters and the
+//!   per-analysis draws from them;
 //! - [`solver`]: the event-driven block solver (rest, slide, rock, slide-rock,
 //!   free flight; impacts with restitution and Coulomb friction);
 //! - [`outcome`]: what one analysis produces;
@@ -64,6 +66,7 @@
 pub mod error;
 mod io_util;
 pub mod stats;
+pub mod uncertainty;
 pub mod motion;
 pub mod outcome;
 pub mod solver;

@@ -201,7 +201,8 @@ fn run_ensemble(study: &Study) -> Result<[Cell; CELLS]> {
                 cases
                     .iter()
                     .map(|case| {
-                        let o = simulate(&case.analysis, &record, &study.solver, None)?;
+                        let (_, analysis) = case.analysis(study, &unit)?;
+                        let o = simulate(&analysis, &record, &study.solver, None)?;
                         let [ai, _, ei, _] = case.index;
                         Ok((
                             cell_index(ai, ei, unit.level),

@@ -121,7 +121,10 @@ fn grazing_to_the_ulp_at_a_sample() {
             let rec = Record::from_acc("grazing", 0.02, acc).unwrap();
             for e in [0.0, 0.5] {
                 let o = simulate(&Analysis::new(bl, e), &rec, &set, None).unwrap_or_else(|err| {
-                    panic!("{integrator:?}, peak (1 + {}e-16)·g/4, e = {e}: {err}", i - 200)
+                    panic!(
+                        "{integrator:?}, peak (1 + {}e-16)·g/4, e = {e}: {err}",
+                        i - 200
+                    )
                 });
                 // Barely above the threshold for one sample: it cannot overturn.
                 assert!(!o.overturned);

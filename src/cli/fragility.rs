@@ -7,9 +7,12 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::ValueEnum;
 use rockfrag::fragility::{
-    BetaModel, BootstrapUnit, CaseFit, FragilityOptions, IntensityMeasure, Interval, fit_cases,
-    read_outcomes_for, write_outputs,
+    BetaModel, BootstrapUnit, CaseFit, FragilityOptions, IntensityMeasure, Interval, LimitState,
+    fit_cases, read_outcomes_for, write_outputs,
 };
+use rockfrag::outcomes_csv::Pooled;
+use rockfrag::spec::Study;
+use rockfrag::study::Manifest;
 
 /// Intensity measure, as a CLI value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -54,11 +57,87 @@ pub struct FragilityArgs {
     /// fragility.xml [default: DIR].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// A limit state, in order of increasing severity (repeat the flag):
+    /// `NAME=MEASURE>THRESHOLD` for a numeric column of outcomes.csv
+    /// (e.g. `slides-5cm=slip_max>0.05`), `NAME=MEASURE` for a yes/no one
+    /// (e.g. `overturning=overturned`). [default: the study's
+    /// `[[fragility.limit_state]]` tables from DIR/manifest.json, else
+    /// overturning alone]
+    #[arg(long = "limit-state", value_name = "NAME=MEASURE[>X]", value_parser = parse_limit_state)]
+    pub limit_states: Vec<LimitState>,
+    /// Case parameters to pool into one curve, comma-separated: `width`,
+    /// `aspect`, `restitution`, `friction`. Those the study draws per
+    /// analysis (its `[uncertainty]`, read from DIR/manifest.json) are
+    /// always pooled.
+    #[arg(long, value_name = "PARAMS", value_delimiter = ',', value_enum)]
+    pub pool: Vec<PoolArg>,
+}
+
+/// A case parameter that `--pool` pools over.
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
+pub enum PoolArg {
+    /// Base width 2B.
+    Width,
+    /// Aspect ratio H/B.
+    Aspect,
+    /// Coefficient of restitution e.
+    Restitution,
+    /// Friction coefficients μs, μk (Coulomb cases only).
+    Friction,
+}
+
+/// Parses `NAME=MEASURE>THRESHOLD` or `NAME=MEASURE`.
+fn parse_limit_state(text: &str) -> Result<LimitState, String> {
+    let (name, rest) = text.split_once('=').ok_or_else(|| {
+        format!("{text:?}: expected NAME=MEASURE>THRESHOLD (e.g. slides-5cm=slip_max>0.05) or NAME=MEASURE")
+    })?;
+    let (measure, exceeds) = match rest.split_once('>') {
+        Some((m, x)) => {
+            let x: f64 = x
+                .trim()
+                .parse()
+                .map_err(|_| format!("{text:?}: threshold {x:?} is not a number"))?;
+            (m, Some(x))
+        }
+        None => (rest, None),
+    };
+    Ok(LimitState {
+        name: name.trim().to_string(),
+        measure: measure.trim().to_string(),
+        exceeds,
+    })
 }
 
 impl FragilityArgs {
-    fn options(&self) -> FragilityOptions {
-        FragilityOptions {
+    /// The fit's options: the flags, with the limit states and pooled
+    /// parameters of the study recorded in `DIR/manifest.json` when there
+    /// is one (flags take precedence; pooled parameters add up).
+    fn options(&self) -> anyhow::Result<FragilityOptions> {
+        let manifest = self.dir.join("manifest.json");
+        let study = if manifest.exists() {
+            let m = Manifest::read(&manifest)?;
+            Some(Study::from_toml_unchecked(&m.spec_toml, &manifest)?)
+        } else {
+            None
+        };
+        let mut pool = study.as_ref().map_or(Pooled::default(), Study::pooled);
+        for p in &self.pool {
+            match p {
+                PoolArg::Width => pool.width = true,
+                PoolArg::Aspect => pool.aspect = true,
+                PoolArg::Restitution => pool.restitution = true,
+                PoolArg::Friction => pool.friction = true,
+            }
+        }
+        let limit_state = if self.limit_states.is_empty() {
+            study
+                .as_ref()
+                .and_then(|s| s.fragility.as_ref())
+                .map_or(Vec::new(), |f| f.limit_state.clone())
+        } else {
+            self.limit_states.clone()
+        };
+        Ok(FragilityOptions {
             im: match self.im {
                 ImArg::Pga => IntensityMeasure::Pga,
                 ImArg::Pgv => IntensityMeasure::Pgv,
@@ -70,14 +149,16 @@ impl FragilityArgs {
                 ResampleArg::Analyses => BootstrapUnit::Analyses,
             },
             seed: self.seed,
+            limit_state,
+            pool,
             ..FragilityOptions::default()
-        }
+        })
     }
 }
 
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
-    let options = args.options();
+    let options = args.options()?;
     let out = args.out.as_ref().unwrap_or(&args.dir);
     let text = fit_and_write(&args.dir, out, &options)?;
     let mut stdout = std::io::stdout().lock();

@@ -32,6 +32,7 @@ use super::restitution::RestitutionFigure;
 use super::spectrum::SpectrumFigure;
 use crate::error::{Error, Result};
 use crate::motion::{SynthesisSettings, Synthesizer, read_record};
+use crate::outcomes_csv::Pooled;
 use crate::spec::{Motions, Study};
 use crate::study::Manifest;
 use crate::study::files::MANIFEST;
@@ -62,6 +63,9 @@ pub struct FigureOptions {
     /// figure may draw the paper's Tables 1–3 beside its means (default:
     /// false; see [`FigureOptions::for_study`]).
     pub papers: bool,
+    /// Case parameters the study draws per analysis (its `[uncertainty]`):
+    /// the figures pool the analyses over them (default: none).
+    pub pooled: Pooled,
 }
 
 impl Default for FigureOptions {
@@ -75,6 +79,7 @@ impl Default for FigureOptions {
             synthesis: SynthesisSettings::default(),
             record_files: Vec::new(),
             papers: false,
+            pooled: Pooled::default(),
         }
     }
 }
@@ -87,6 +92,7 @@ impl FigureOptions {
     pub fn for_study(study: &Study) -> FigureOptions {
         let mut options = FigureOptions {
             papers: crate::study::is_papers(study),
+            pooled: study.pooled(),
             ..FigureOptions::default()
         };
         match &study.motions {
@@ -155,7 +161,7 @@ pub struct FiguresReport {
 /// Errors: [`Error::Io`] if `outcomes.csv` is missing or a file cannot be
 /// written, [`Error::Parse`] for malformed CSV.
 pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<FiguresReport> {
-    let data = StudyData::load(dir)?;
+    let data = StudyData::load_pooled(dir, options.pooled)?;
     if data.outcomes.is_empty() {
         return Err(Error::Parse {
             path: dir.join("outcomes.csv"),
@@ -203,7 +209,16 @@ pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<
     }
     write(&fragility, file("fragility"), &mut report)?;
 
+    // Both figures are drawn over fixed values of H/B (and e): a parameter
+    // drawn per analysis has none.
+    let drawn = |what: &str, param: &str| {
+        format!(
+            "{what}: skipped, {param} is drawn per analysis ([uncertainty]) and the figure \
+             is drawn over fixed values of it"
+        )
+    };
     match FrictionDemandFigure::from_study(&data) {
+        _ if options.pooled.aspect => report.notes.push(drawn("friction_demand", "H/B")),
         Some(fig) if options.papers => write(&fig, file("friction_demand"), &mut report)?,
         Some(fig) => write(&fig.without_paper(), file("friction_demand"), &mut report)?,
         None => report.notes.push(
@@ -211,11 +226,17 @@ pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<
         ),
     }
 
-    write(
-        &RestitutionFigure::from_study(&data),
-        file("restitution"),
-        &mut report,
-    )?;
+    if options.pooled.restitution {
+        report.notes.push(drawn("restitution", "e"));
+    } else if options.pooled.aspect {
+        report.notes.push(drawn("restitution", "H/B"));
+    } else {
+        write(
+            &RestitutionFigure::from_study(&data),
+            file("restitution"),
+            &mut report,
+        )?;
+    }
     Ok(report)
 }
 

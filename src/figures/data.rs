@@ -10,7 +10,7 @@
 use std::path::Path;
 
 use crate::error::Result;
-use crate::outcomes_csv::{CaseKey, Column, OutcomesReader, cmp_friction};
+use crate::outcomes_csv::{CaseKey, Column, OutcomesReader, Pooled, cmp_friction};
 use crate::solver::Friction;
 
 /// One analysis as the figures need it: the case, the intensity and the
@@ -83,7 +83,24 @@ pub struct StudyData {
 impl StudyData {
     /// Reads `dir/outcomes.csv` and, if present, `dir/fragility_curves.csv`.
     pub fn load(dir: &Path) -> Result<StudyData> {
-        let outcomes = read_outcomes(&dir.join("outcomes.csv"))?;
+        StudyData::load_pooled(dir, Pooled::default())
+    }
+
+    /// As [`StudyData::load`], with each analysis in the case that pools
+    /// the parameters `pooled` (those the study draws per analysis).
+    pub fn load_pooled(dir: &Path, pooled: Pooled) -> Result<StudyData> {
+        let mut outcomes = read_outcomes(&dir.join("outcomes.csv"))?;
+        if pooled.any() {
+            for row in &mut outcomes {
+                row.case = row.case.pooled(pooled);
+            }
+            outcomes.sort_by(|a, b| {
+                a.case
+                    .total_cmp(&b.case)
+                    .then(a.pga.total_cmp(&b.pga))
+                    .then(a.record.cmp(&b.record))
+            });
+        }
         let curves_path = dir.join("fragility_curves.csv");
         let curves = if curves_path.exists() {
             Some(read_fragility_curves(&curves_path)?)

@@ -7,7 +7,7 @@ use std::path::Path;
 use super::fit::Observation;
 use super::options::{FragilityOptions, IntensityMeasure, LimitState};
 use crate::error::{Error, Result};
-use crate::outcomes_csv::{CaseKey, Column, MeasureKind, OutcomesReader};
+use crate::outcomes_csv::{CaseKey, Column, MeasureKind, OutcomesReader, Pooled};
 use crate::solver::Friction;
 
 /// One successful analysis of a case.
@@ -109,7 +109,7 @@ pub struct Outcomes {
 /// is skipped and counted in [`CaseData::failed`], or in
 /// [`Outcomes::failed_unattributed`] if its case cannot be read.
 pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
-    read_outcomes_with(path, im, &[LimitState::overturning()])
+    read_outcomes_with(path, im, &[LimitState::overturning()], Pooled::default())
 }
 
 /// Reads `outcomes.csv` for the intensity measure and limit states of
@@ -119,13 +119,14 @@ pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
 /// above any threshold.
 pub fn read_outcomes_for(path: &Path, options: &FragilityOptions) -> Result<Outcomes> {
     options.validate()?;
-    read_outcomes_with(path, options.im, &options.limit_states())
+    read_outcomes_with(path, options.im, &options.limit_states(), options.pool)
 }
 
 fn read_outcomes_with(
     path: &Path,
     im: IntensityMeasure,
     limit_states: &[LimitState],
+    pool: Pooled,
 ) -> Result<Outcomes> {
     let (mut table, [pga_col, record_col, overturned_col]) = OutcomesReader::open(
         path,
@@ -168,7 +169,8 @@ fn read_outcomes_with(
     let mut record_index: Vec<HashMap<String, usize>> = Vec::new();
     while let Some(row) = table.next_row()? {
         let failed = row.failed();
-        let key = match row.case() {
+        // The analysis's own parameters, and the case it pools into.
+        let own = match row.case() {
             Ok(key) => key,
             Err(_) if failed => {
                 out.failed_unattributed += 1;
@@ -176,6 +178,7 @@ fn read_outcomes_with(
             }
             Err(e) => return Err(e),
         };
+        let key = own.pooled(pool);
         let c = *case_index.entry(KeyBits::of(&key)).or_insert_with(|| {
             out.cases.push(CaseData {
                 key,
@@ -194,7 +197,7 @@ fn read_outcomes_with(
         let pga = row.positive(pga_col)?;
         let value = match im {
             IntensityMeasure::Pga => pga,
-            IntensityMeasure::PgaOverTan => pga * case.key.aspect,
+            IntensityMeasure::PgaOverTan => pga * own.aspect,
             IntensityMeasure::Pgv => row.positive(pgv.expect("checked above"))?,
         };
         let overturned = row.boolean(overturned_col)?;

@@ -150,6 +150,14 @@ fn case_entry(case: &[&CaseFit], limit_states: &[&str]) -> Option<NrmlEntry> {
     let first = case[0];
     let id = function_id(&first.key);
     let (imt, factor) = openquake_imt(first.im, &first.key);
+    if factor.is_nan() {
+        return Some(NrmlEntry::Omitted {
+            id,
+            reason: "H/B is drawn per analysis, so PGA/(g tan θc) has no single PGA \
+                     equivalent; fit against PGA for OpenQuake"
+                .to_string(),
+        });
+    }
     let mut params = Vec::with_capacity(limit_states.len());
     let mut unfitted = Vec::new();
     for ls in limit_states {
@@ -277,8 +285,13 @@ pub fn write_nrml(path: &Path, fits: &[CaseFit]) -> Result<()> {
 /// `block-a4-w0p5-e0p2-coulomb-ms0p6-mk0p5`.
 fn function_id(k: &CaseKey) -> String {
     let num = |x: f64| {
-        x.to_string()
-            .chars()
+        // A drawn parameter (NaN in a pooled case) reads `drawn`.
+        let text = if x.is_nan() {
+            "drawn".to_string()
+        } else {
+            x.to_string()
+        };
+        text.chars()
             .map(|c| match c {
                 '.' => 'p',
                 '-' => 'm',

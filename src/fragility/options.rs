@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::outcomes_csv::{Column, MeasureKind};
+use crate::outcomes_csv::{Column, MeasureKind, Pooled};
 
 /// Most limit states a fit accepts (each analysis keeps its exceedances as
 /// the bits of a `u64`).
@@ -107,6 +107,11 @@ pub struct FragilityOptions {
     /// means overturning alone, see [`FragilityOptions::limit_states`]).
     #[serde(rename = "limit_state", skip_serializing_if = "Vec::is_empty")]
     pub limit_state: Vec<LimitState>,
+    /// Case parameters pooled into one curve: those a study draws per
+    /// analysis (its `[uncertainty]`, filled in when the spec is read), or
+    /// any a user chooses (`rockfrag fragility --pool`). Not a spec field.
+    #[serde(skip)]
+    pub pool: Pooled,
 }
 
 impl Default for FragilityOptions {
@@ -119,6 +124,7 @@ impl Default for FragilityOptions {
             confidence: 0.9,
             grid_points: 101,
             limit_state: Vec::new(),
+            pool: Pooled::default(),
         }
     }
 }

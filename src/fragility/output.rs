@@ -25,6 +25,8 @@ use crate::outcomes_csv::CaseKey;
 /// or an [`Unfit`](super::Unfit) keyword; `boot_unfit` counts the replicates
 /// that could not be fitted, `boot_unfit_reasons` lists them as `reason=count`
 /// separated by spaces.
+/// A case column is empty when the parameter was drawn per analysis (the
+/// spec's `[uncertainty]`): the case pools the analyses over its draws.
 pub const FRAGILITY_HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
 median,beta,median_lo,median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,\
 status,im_unit,n_analyses,n_overturned,n_failed,im_min,im_max,iterations,boot_replicates,\
@@ -144,13 +146,14 @@ pub fn write_curves_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
     .map_err(Error::io(path))
 }
 
-/// The six case columns, comma-separated (absent μ as an empty field).
+/// The six case columns, comma-separated (absent μ, or a parameter drawn
+/// per analysis and pooled, as an empty field).
 fn key_fields(k: &CaseKey) -> String {
     format!(
         "{},{},{},{},{},{}",
-        k.aspect,
-        k.width,
-        k.restitution,
+        opt(Some(k.aspect)),
+        opt(Some(k.width)),
+        opt(Some(k.restitution)),
         k.friction_name(),
         opt(k.mu_s()),
         opt(k.mu_k())

@@ -6,7 +6,12 @@ use crate::solver::Friction;
 
 /// One block configuration, as the case columns of `outcomes.csv` give it:
 /// what a fragility curve is fitted for and a figure's series is drawn for.
-#[derive(Clone, Copy, Debug, PartialEq)]
+///
+/// A parameter drawn per analysis (a spec's `[uncertainty]`) is NaN in the
+/// key of a case, which pools the analyses over its draws (see
+/// [`CaseKey::pooled`]); keys compare NaN equal to NaN, so pooled cases
+/// group like any other.
+#[derive(Clone, Copy, Debug)]
 pub struct CaseKey {
     /// Aspect ratio H/B.
     pub aspect: f64,
@@ -18,7 +23,86 @@ pub struct CaseKey {
     pub friction: Friction,
 }
 
+/// Which case parameters a study draws per analysis (its `[uncertainty]`):
+/// their columns vary from row to row, and a case pools the analyses over
+/// them. `friction` stands for μs and μk together.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Pooled {
+    /// Base width 2B.
+    pub width: bool,
+    /// Aspect ratio H/B.
+    pub aspect: bool,
+    /// Coefficient of restitution e.
+    pub restitution: bool,
+    /// Friction coefficients μs, μk.
+    pub friction: bool,
+}
+
+impl Pooled {
+    /// Whether any parameter is pooled.
+    pub fn any(&self) -> bool {
+        self.width || self.aspect || self.restitution || self.friction
+    }
+
+    /// The pooled parameters' column names (`mu_s` for friction), in
+    /// column order.
+    pub fn names(&self) -> Vec<&'static str> {
+        [
+            (self.aspect, "aspect"),
+            (self.width, "width"),
+            (self.restitution, "restitution"),
+            (self.friction, "mu_s, mu_k"),
+        ]
+        .into_iter()
+        .filter_map(|(p, n)| p.then_some(n))
+        .collect()
+    }
+}
+
+/// Equal bit for bit up to the sign of zero: NaN (a pooled parameter)
+/// equals NaN.
+fn same(a: f64, b: f64) -> bool {
+    a == b || (a.is_nan() && b.is_nan())
+}
+
+impl PartialEq for CaseKey {
+    fn eq(&self, other: &CaseKey) -> bool {
+        same(self.aspect, other.aspect)
+            && same(self.width, other.width)
+            && same(self.restitution, other.restitution)
+            && match (self.friction, other.friction) {
+                (Friction::Infinite, Friction::Infinite) => true,
+                (Friction::Coulomb { mu_s, mu_k }, Friction::Coulomb { mu_s: s2, mu_k: k2 }) => {
+                    same(mu_s, s2) && same(mu_k, k2)
+                }
+                _ => false,
+            }
+    }
+}
+
 impl CaseKey {
+    /// This key with the `pooled` parameters set to NaN: the case that
+    /// the analysis belongs to when those parameters are drawn. Pooled
+    /// friction stays Coulomb, with NaN coefficients.
+    pub fn pooled(mut self, pooled: Pooled) -> CaseKey {
+        if pooled.aspect {
+            self.aspect = f64::NAN;
+        }
+        if pooled.width {
+            self.width = f64::NAN;
+        }
+        if pooled.restitution {
+            self.restitution = f64::NAN;
+        }
+        if pooled.friction && matches!(self.friction, Friction::Coulomb { .. }) {
+            self.friction = Friction::Coulomb {
+                mu_s: f64::NAN,
+                mu_k: f64::NAN,
+            };
+        }
+        self
+    }
+
     /// The `friction` column's value: `inf` or `coulomb`.
     pub fn friction_name(&self) -> &'static str {
         match self.friction {
@@ -54,19 +138,29 @@ impl CaseKey {
     }
 }
 
+/// A case parameter as text: its value, or `drawn` when pooled (NaN).
+fn param(x: f64) -> String {
+    if x.is_nan() {
+        "drawn".to_string()
+    } else {
+        x.to_string()
+    }
+}
+
 impl std::fmt::Display for CaseKey {
-    /// `H/B=4 2B=0.5 e=0 inf`, or `… coulomb μs=0.7 μk=0.6`.
+    /// `H/B=4 2B=0.5 e=0 inf`, or `… coulomb μs=0.7 μk=0.6`; a pooled
+    /// parameter reads `drawn` (`e=drawn`).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
             "H/B={} 2B={} e={} {}",
-            self.aspect,
-            self.width,
-            self.restitution,
+            param(self.aspect),
+            param(self.width),
+            param(self.restitution),
             self.friction_name()
         )?;
         if let Friction::Coulomb { mu_s, mu_k } = self.friction {
-            write!(f, " μs={mu_s} μk={mu_k}")?;
+            write!(f, " μs={} μk={}", param(mu_s), param(mu_k))?;
         }
         Ok(())
     }

@@ -163,7 +163,17 @@ impl Row<'_> {
 
     /// The case of this row: H/B and 2B finite and > 0, e finite, `friction`
     /// `inf` (μ columns empty) or `coulomb` (μs, μk numbers, `inf` allowed).
+    /// An empty H/B, 2B, e, or μs and μk under `coulomb`, reads as NaN: a
+    /// parameter drawn per analysis, pooled in a fitted case (as
+    /// `fragility.csv` writes it; see [`CaseKey::pooled`]).
     pub fn case(&self) -> Result<CaseKey> {
+        let pooled = |i: usize, read: &dyn Fn(usize) -> Result<f64>| {
+            if self.field(i).is_empty() {
+                Ok(f64::NAN)
+            } else {
+                read(i)
+            }
+        };
         let [aspect, width, restitution, friction, mu_s, mu_k] = self.table.case;
         let friction = match self.field(friction) {
             "inf" => {
@@ -176,12 +186,20 @@ impl Row<'_> {
             }
             "coulomb" => {
                 let mu = |i| {
-                    self.field(i)
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|x| !x.is_nan())
-                        .ok_or_else(|| self.error(i, "a number or inf under friction coulomb"))
+                    pooled(i, &|i| {
+                        self.field(i)
+                            .parse::<f64>()
+                            .ok()
+                            .filter(|x| !x.is_nan())
+                            .ok_or_else(|| self.error(i, "a number or inf under friction coulomb"))
+                    })
                 };
+                // Both empty (drawn, pooled) or both numbers.
+                for (i, other) in [(mu_s, mu_k), (mu_k, mu_s)] {
+                    if self.field(i).is_empty() && !self.field(other).is_empty() {
+                        return Err(self.error(i, "a number or inf under friction coulomb"));
+                    }
+                }
                 Friction::Coulomb {
                     mu_s: mu(mu_s)?,
                     mu_k: mu(mu_k)?,
@@ -190,9 +208,9 @@ impl Row<'_> {
             _ => return Err(self.error(friction, "inf or coulomb")),
         };
         Ok(CaseKey {
-            aspect: self.positive(aspect)?,
-            width: self.positive(width)?,
-            restitution: self.finite(restitution)?,
+            aspect: pooled(aspect, &|i| self.positive(i))?,
+            width: pooled(width, &|i| self.positive(i))?,
+            restitution: pooled(restitution, &|i| self.finite(i))?,
             friction,
         })
     }

@@ -24,6 +24,9 @@
 //! friction = ["inf", { mu_s = 0.7, mu_k = 0.6 }]
 //! pga = [0.3, 0.6]            # g; or pgv = [0.2, 0.4] in m/s
 //!
+//! # [uncertainty]             # or drawn per analysis, instead of a grid list:
+//! # restitution = { dist = "uniform", min = 0.0, max = 0.9 }
+//!
 //! [solver]                    # SolverSettings (default: nonlinear, rtol 1e-8, …)
 //! [output]
 //! summary = true
@@ -31,10 +34,11 @@
 mod locate;
 mod raw;
 mod study;
+mod uncertainty;
 mod validate;
 
-pub use raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
+pub use raw::{FrictionEntry, GridFile, OutputFile, SpecFile, UncertaintyFile};
 pub use study::{
-    Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study, fnv1a64,
-    friction_label,
+    Draw, Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study,
+    Uncertainty, fnv1a64, friction_label, param_text,
 };

@@ -7,6 +7,7 @@ use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::SynthesisSettings;
 use crate::solver::{Friction, SolverSettings};
+use crate::uncertainty::Value;
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::path::Path;
@@ -43,6 +44,10 @@ pub struct SpecFile {
     pub motion: Option<SynthesisSettings>,
     /// The grids of the study.
     pub grid: GridFile,
+    /// Block parameters drawn per analysis instead of taken from the grid
+    /// (default: none; see [`UncertaintyFile`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<UncertaintyFile>,
     /// Numerical settings of the solver (default: `SolverSettings::default()`).
     pub solver: SolverSettings,
     /// What to write.
@@ -55,19 +60,24 @@ pub struct SpecFile {
 }
 
 /// The `[grid]` table: every combination of its values is analysed under
-/// every record at every intensity level.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// every record at every intensity level. A block list left out takes its
+/// default unless the parameter is drawn under `[uncertainty]`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct GridFile {
     /// Base widths 2B, m (default: `[0.5]`).
-    pub width: Vec<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub width: Option<Vec<f64>>,
     /// Aspect ratios H/B (default: `[2, 4, 6]`).
-    pub aspect: Vec<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<Vec<f64>>,
     /// Coefficients of restitution e in [0, 1] (default: `[0, 0.3, 0.6, 0.9]`).
-    pub restitution: Vec<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<Vec<f64>>,
     /// Friction models: `"inf"` or `{ mu_s = …, mu_k = … }` (or `[mu_s, mu_k]`)
     /// with 0 ≤ μk ≤ μs (default: `["inf"]`).
-    pub friction: Vec<FrictionEntry>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<Vec<FrictionEntry>>,
     /// Intensity levels as PGA, g, each record scaled to it
     /// (default: `[0.3, 0.6, 0.9, 1.2]` when `pgv` is not given).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -84,18 +94,49 @@ pub struct GridFile {
     pub scale_factors: Option<Vec<f64>>,
 }
 
-impl Default for GridFile {
-    fn default() -> Self {
-        GridFile {
-            width: vec![0.5],
-            aspect: vec![2.0, 4.0, 6.0],
-            restitution: vec![0.0, 0.3, 0.6, 0.9],
-            friction: vec![FrictionEntry(Friction::Infinite)],
-            pga: None,
-            pgv: None,
-            scale_factors: None,
-        }
-    }
+/// Default grid lists, for the lists a spec leaves out.
+impl GridFile {
+    /// Default base widths 2B, m.
+    pub const WIDTH: [f64; 1] = [0.5];
+    /// Default aspect ratios H/B.
+    pub const ASPECT: [f64; 3] = [2.0, 4.0, 6.0];
+    /// Default coefficients of restitution.
+    pub const RESTITUTION: [f64; 4] = [0.0, 0.3, 0.6, 0.9];
+}
+
+/// The `[uncertainty]` table: block parameters drawn per analysis, each
+/// replacing the grid list of the same name (`mu_s` and `mu_k_over_mu_s`
+/// replace `grid.friction`, μk = μs · (μk/μs) ≤ μs by construction).
+///
+/// ```toml
+/// [uncertainty]
+/// restitution = { dist = "uniform", min = 0.0, max = 0.9 }
+/// mu_s = { dist = "lognormal", median = 0.6, beta = 0.15 }
+/// mu_k_over_mu_s = { dist = "uniform", min = 0.7, max = 1.0 }
+/// width = { dist = "normal", mean = 0.5, sd = 0.02, min = 0.4, max = 0.6 }
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct UncertaintyFile {
+    /// Seed of the draws (default: the study's `seed`, or 1 with
+    /// `record_files`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// Base width 2B, m: a distribution.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub width: Option<Value>,
+    /// Aspect ratio H/B: a distribution.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<Value>,
+    /// Coefficient of restitution e: a distribution within [0, 1].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<Value>,
+    /// Static friction μs: a distribution or a number (needs `mu_k_over_mu_s`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu_s: Option<Value>,
+    /// μk/μs within [0, 1]: a distribution or a number (needs `mu_s`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu_k_over_mu_s: Option<Value>,
 }
 
 /// The `[output]` table. `outcomes.csv` and `manifest.json` are always

@@ -2,11 +2,13 @@
 //! in range. It is built only by [`SpecFile::validate`], and written back as
 //! canonical spec text by [`Study::to_toml`].
 
-use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
+use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile, UncertaintyFile};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::SynthesisSettings;
+use crate::outcomes_csv::Pooled;
 use crate::solver::{Friction, SolverSettings};
+use crate::uncertainty::{Param, Value, analysis_seed, uniforms};
 use std::path::{Path, PathBuf};
 
 /// The paper's study (Shenton and Jones), the default of `rockfrag run`.
@@ -28,7 +30,9 @@ pub struct Study {
     pub motions: Motions,
     /// Intensity levels.
     pub intensity: Intensity,
-    /// Base widths 2B, m.
+    /// Base widths 2B, m. A parameter drawn under `[uncertainty]` has the
+    /// one placeholder value NaN in its list (and friction the one model
+    /// Coulomb with NaN coefficients): one case pools all its draws.
     pub widths: Vec<f64>,
     /// Aspect ratios H/B.
     pub aspects: Vec<f64>,
@@ -36,12 +40,91 @@ pub struct Study {
     pub restitutions: Vec<f64>,
     /// Friction models.
     pub frictions: Vec<Friction>,
+    /// Block parameters drawn per analysis, if any.
+    pub uncertainty: Option<Uncertainty>,
     /// Solver settings.
     pub solver: SolverSettings,
     /// Output options.
     pub output: OutputFile,
     /// Fragility fit on completion, if the spec asks for one.
     pub fragility: Option<FragilityOptions>,
+}
+
+/// The validated `[uncertainty]` table: what each analysis draws.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Uncertainty {
+    /// Seed of the draws.
+    pub seed: u64,
+    /// The value of each parameter of [`Param::ALL`], in its order (`None`:
+    /// from the grid).
+    pub values: [Option<Value>; 5],
+}
+
+/// The block parameters of one analysis, after its draws.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Draw {
+    /// Base width 2B, m.
+    pub width: f64,
+    /// Aspect ratio H/B.
+    pub aspect: f64,
+    /// Coefficient of restitution e.
+    pub restitution: f64,
+    /// Friction model.
+    pub friction: Friction,
+}
+
+impl Uncertainty {
+    /// The value given for `param`, if any.
+    pub fn get(&self, param: Param) -> Option<&Value> {
+        let i = Param::ALL.iter().position(|&p| p == param).expect("listed");
+        self.values[i].as_ref()
+    }
+
+    /// Whether `param` is drawn (not fixed, not from the grid).
+    pub fn is_drawn(&self, param: Param) -> bool {
+        self.get(param).is_some_and(Value::is_drawn)
+    }
+
+    /// The case parameters that vary from analysis to analysis.
+    pub fn pooled(&self) -> Pooled {
+        Pooled {
+            width: self.is_drawn(Param::Width),
+            aspect: self.is_drawn(Param::Aspect),
+            restitution: self.is_drawn(Param::Restitution),
+            friction: self.is_drawn(Param::MuS) || self.is_drawn(Param::MuKOverMuS),
+        }
+    }
+
+    /// The parameters of the analysis of case `case` (index in canonical
+    /// order) on record `record` at level `level`, whose grid values are
+    /// `grid`: each parameter given here replaces the grid's, drawn from the
+    /// stream [`analysis_seed`]`(seed, record, level, case)`.
+    pub fn draw(&self, grid: Draw, record: usize, level: usize, case: usize) -> Draw {
+        let u = uniforms(analysis_seed(
+            self.seed,
+            record as u64,
+            level as u64,
+            case as u64,
+        ));
+        let value = |i: usize, grid: f64| self.values[i].as_ref().map_or(grid, |v| v.at(u[i]));
+        let friction = match (&self.values[3], &self.values[4]) {
+            (Some(s), Some(r)) => {
+                let mu_s = s.at(u[3]);
+                // μk = μs · (μk/μs): μk ≤ μs by construction.
+                Friction::Coulomb {
+                    mu_s,
+                    mu_k: mu_s * r.at(u[4]),
+                }
+            }
+            _ => grid.friction,
+        };
+        Draw {
+            width: value(0, grid.width),
+            aspect: value(1, grid.aspect),
+            restitution: value(2, grid.restitution),
+            friction,
+        }
+    }
 }
 
 /// The ground motions of a study.
@@ -136,6 +219,12 @@ impl Study {
                 None,
             ),
         };
+        let drawn = |p: Param| {
+            self.uncertainty
+                .as_ref()
+                .is_some_and(|u| u.get(p).is_some())
+        };
+        let grid_list = |p: Param, v: &Vec<f64>| (!drawn(p)).then(|| v.clone());
         let (pga, pgv, scale_factors) = match &self.intensity {
             Intensity::Pga(v) => (Some(v.clone()), None, None),
             Intensity::Pgv(v) => (None, Some(v.clone()), None),
@@ -150,14 +239,23 @@ impl Study {
             record_files,
             motion,
             grid: GridFile {
-                width: self.widths.clone(),
-                aspect: self.aspects.clone(),
-                restitution: self.restitutions.clone(),
-                friction: self.frictions.iter().map(|&f| FrictionEntry(f)).collect(),
+                width: grid_list(Param::Width, &self.widths),
+                aspect: grid_list(Param::Aspect, &self.aspects),
+                restitution: grid_list(Param::Restitution, &self.restitutions),
+                friction: (!drawn(Param::MuS))
+                    .then(|| self.frictions.iter().map(|&f| FrictionEntry(f)).collect()),
                 pga,
                 pgv,
                 scale_factors,
             },
+            uncertainty: self.uncertainty.as_ref().map(|u| UncertaintyFile {
+                seed: Some(u.seed),
+                width: u.values[0],
+                aspect: u.values[1],
+                restitution: u.values[2],
+                mu_s: u.values[3],
+                mu_k_over_mu_s: u.values[4],
+            }),
             solver: self.solver,
             output: self.output,
             fragility: self.fragility.clone(),
@@ -173,6 +271,13 @@ impl Study {
     /// Stable 64-bit hash of the study: FNV-1a of [`Study::to_toml`].
     pub fn hash(&self) -> u64 {
         fnv1a64(self.to_toml().as_bytes())
+    }
+
+    /// The case parameters drawn per analysis (none without `[uncertainty]`).
+    pub fn pooled(&self) -> Pooled {
+        self.uncertainty
+            .as_ref()
+            .map_or(Pooled::default(), Uncertainty::pooled)
     }
 
     /// Number of records per intensity level.
@@ -194,11 +299,23 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
     h
 }
 
-/// A friction model as text: `inf` or `coulomb(μs, μk)`.
+/// A friction model as text: `inf` or `coulomb(μs, μk)`; `coulomb(drawn)`
+/// when its coefficients are drawn per analysis (NaN, see [`Study::frictions`]).
 pub fn friction_label(f: Friction) -> String {
     match f {
         Friction::Infinite => "inf".to_string(),
+        Friction::Coulomb { mu_s, .. } if mu_s.is_nan() => "coulomb(drawn)".to_string(),
         Friction::Coulomb { mu_s, mu_k } => format!("coulomb(mu_s = {mu_s}, mu_k = {mu_k})"),
+    }
+}
+
+/// A case parameter as text: its value, or `drawn` for the placeholder NaN
+/// of a parameter drawn per analysis.
+pub fn param_text(x: f64) -> String {
+    if x.is_nan() {
+        "drawn".to_string()
+    } else {
+        x.to_string()
     }
 }
 

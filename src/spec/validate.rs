@@ -1,17 +1,19 @@
 //! The validation stage: [`SpecFile::validate`] checks a raw spec once, one
 //! function per table, and builds the [`Study`]. The tables are checked in a
-//! fixed order (top level, `[motion]` or `record_files`, `[grid]`, `[solver]`,
-//! `[fragility]`), so a spec with several faults always reports the same one
+//! fixed order (top level, `[motion]` or `record_files`, `[uncertainty]`,
+//! `[grid]`, `[solver]`, `[fragility]`), so a spec with several faults always reports the same one
 //! first. `[output]` holds only switches and needs no check.
 
 use super::locate::Origin;
 use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
-use super::study::{Intensity, Motions, RecordFile, Study, friction_label};
+use super::study::{Intensity, Motions, RecordFile, Study, Uncertainty, friction_label};
+use super::uncertainty::uncertainty;
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::{G_STANDARD, SynthesisSettings};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{Block, Friction, SolverSettings};
+use crate::uncertainty::{Param, Value};
 use std::path::Path;
 
 /// Largest ensemble size accepted.
@@ -36,9 +38,18 @@ impl SpecFile {
             Motions::Files(record_files(&spec, &self.record_files, check_files)?)
         };
         let recorded = matches!(motions, Motions::Files(_));
-        let grid = grid(&spec, self.grid, g, recorded)?;
+        let seed = match &motions {
+            Motions::Synthetic { seed, .. } => *seed,
+            Motions::Files(_) => 1,
+        };
+        let uncertainty = uncertainty(&spec, self.uncertainty, &self.grid, seed)?;
+        let grid = grid(&spec, self.grid, g, recorded, uncertainty.as_ref())?;
         solver(&spec, &self.solver)?;
         fragility(&spec, self.fragility.as_ref(), &self.output)?;
+        let mut fragility_options = self.fragility;
+        if let (Some(options), Some(u)) = (&mut fragility_options, &uncertainty) {
+            options.pool = u.pooled();
+        }
 
         Ok(Study {
             name,
@@ -50,9 +61,10 @@ impl SpecFile {
             aspects: grid.aspects,
             restitutions: grid.restitutions,
             frictions: grid.frictions,
+            uncertainty,
             solver: self.solver,
             output: self.output,
-            fragility: self.fragility,
+            fragility: fragility_options,
         })
     }
 }
@@ -235,30 +247,49 @@ struct Grid {
 
 /// `[grid]`: the block lists (every width–aspect pair must make a valid
 /// block under gravity `g`), the intensity levels and the friction models.
-fn grid(spec: &Origin, grid: GridFile, g: f64, recorded: bool) -> Result<Grid> {
-    let widths = grid_list(
-        spec,
-        "width",
-        &grid.width,
+/// A list left out takes its default, unless `[uncertainty]` gives the
+/// parameter: then the list is the one placeholder NaN (see [`Study::widths`]).
+fn grid(
+    spec: &Origin,
+    grid: GridFile,
+    g: f64,
+    recorded: bool,
+    uncertain: Option<&Uncertainty>,
+) -> Result<Grid> {
+    let given = |p: Param| uncertain.is_some_and(|u| u.get(p).is_some());
+    let list = |p: Param, values: Option<Vec<f64>>, default: &[f64]| match values {
+        Some(v) => Some(v),
+        None if given(p) => None,
+        None => Some(default.to_vec()),
+    };
+    let checked =
+        |p: Param, values, default, ok: fn(f64) -> bool, expected| match list(p, values, default) {
+            Some(v) => grid_list(spec, p.name(), &v, ok, expected),
+            None => Ok(vec![f64::NAN]),
+        };
+    let widths = checked(
+        Param::Width,
+        grid.width,
+        &GridFile::WIDTH,
         |v| v > 0.0,
         "a positive base width 2B in m",
     )?;
-    let aspects = grid_list(
-        spec,
-        "aspect",
-        &grid.aspect,
+    let aspects = checked(
+        Param::Aspect,
+        grid.aspect,
+        &GridFile::ASPECT,
         |v| v > 0.0,
         "a positive aspect ratio H/B",
     )?;
-    let restitutions = grid_list(
-        spec,
-        "restitution",
-        &grid.restitution,
+    let restitutions = checked(
+        Param::Restitution,
+        grid.restitution,
+        &GridFile::RESTITUTION,
         |v| (0.0..=1.0).contains(&v),
         "a coefficient of restitution in [0, 1]",
     )?;
-    for &w in &widths {
-        for &a in &aspects {
+    for &w in widths.iter().filter(|w| !w.is_nan()) {
+        for &a in aspects.iter().filter(|a| !a.is_nan()) {
             Block::new(w, a, g).map_err(|e| spec.nested("grid.", e))?;
         }
     }
@@ -266,7 +297,24 @@ fn grid(spec: &Origin, grid: GridFile, g: f64, recorded: bool) -> Result<Grid> {
         None => intensity(spec, grid.pga, grid.pgv)?,
         Some(factors) => scale_factors(spec, &factors, &grid.pga, &grid.pgv, recorded)?,
     };
-    let frictions = frictions(spec, &grid.friction)?;
+    let frictions = match (grid.friction, uncertain.and_then(|u| u.get(Param::MuS))) {
+        (Some(entries), _) => frictions(spec, &entries)?,
+        (None, None) => vec![Friction::Infinite],
+        (None, Some(mu_s)) => {
+            let u = uncertain.expect("mu_s given");
+            let ratio = u.get(Param::MuKOverMuS).expect("validated beside mu_s");
+            match (mu_s, ratio) {
+                (Value::Fixed(mu_s), Value::Fixed(r)) => vec![Friction::Coulomb {
+                    mu_s: *mu_s,
+                    mu_k: mu_s * r,
+                }],
+                _ => vec![Friction::Coulomb {
+                    mu_s: f64::NAN,
+                    mu_k: f64::NAN,
+                }],
+            }
+        }
+    };
     Ok(Grid {
         widths,
         aspects,

@@ -44,7 +44,7 @@ use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::Outcome;
 use crate::outcomes_csv::{Columns, RecordInfo};
-use crate::solver::simulate;
+use crate::solver::{Analysis, simulate};
 use crate::spec::{Motions, Study, fnv1a64};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use plan::columns;
@@ -316,12 +316,18 @@ fn run_chunk(
                 pgv: record.as_ref().ok().map(Record::pgv),
                 file: file_names[unit.record],
             };
-            let result = match record {
-                Ok(r) => solve(case, r, study),
-                Err(e) => Err(format!("record: {e}")),
+            let (key, result) = match case.analysis(study, &unit) {
+                Ok((key, analysis)) => (
+                    key,
+                    match record {
+                        Ok(r) => solve(&analysis, r, study),
+                        Err(e) => Err(format!("record: {e}")),
+                    },
+                ),
+                Err(e) => (case.key(), Err(format!("block: {e}"))),
             };
             let mut row = String::with_capacity(256);
-            cols.write_row(&mut row, &case.key(), &info, &result);
+            cols.write_row(&mut row, &key, &info, &result);
             row
         })
         .collect();
@@ -329,9 +335,13 @@ fn run_chunk(
 }
 
 /// One analysis; a solver error or panic becomes a message.
-fn solve(case: &Case, record: &Record, study: &Study) -> std::result::Result<Outcome, String> {
+fn solve(
+    analysis: &Analysis,
+    record: &Record,
+    study: &Study,
+) -> std::result::Result<Outcome, String> {
     let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        simulate(&case.analysis, record, &study.solver, None)
+        simulate(analysis, record, &study.solver, None)
     }));
     match attempt {
         Ok(Ok(o)) => Ok(o),

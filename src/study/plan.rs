@@ -8,11 +8,16 @@
 //! `outcomes.csv` lists units in that order and, within a unit, cases in
 //! theirs. Shard K/N owns the units with `unit mod N = K − 1` (round-robin,
 //! so every shard gets weak and strong levels alike).
+//!
+//! A parameter drawn under `[uncertainty]` is one placeholder (NaN) on its
+//! axis of cases; each analysis draws its own value ([`Case::analysis`]),
+//! from a stream keyed by (seed, record, level, case number), so the draws do
+//! not depend on which thread or shard runs the analysis.
 
 use crate::error::{Error, Result};
 use crate::outcomes_csv::{CaseKey, Columns};
 use crate::solver::{Analysis, Block, Friction};
-use crate::spec::{Intensity, Motions, Study};
+use crate::spec::{Draw, Intensity, Motions, Study};
 use std::fmt;
 use std::str::FromStr;
 
@@ -29,12 +34,45 @@ pub struct Case {
     pub friction: Friction,
     /// Indices into the study's grids: (aspect, width, restitution, friction).
     pub index: [usize; 4],
-    /// The analysis to run (block at rest).
-    pub analysis: Analysis,
+    /// Position of the case in canonical order.
+    pub number: usize,
 }
 
 impl Case {
-    /// The case columns of this case's rows in `outcomes.csv`.
+    /// The analysis of this case on unit `unit` of `study` (block at rest),
+    /// and the case columns of its row in `outcomes.csv`: the grid's values,
+    /// with the parameters of `[uncertainty]` drawn for this (record, level,
+    /// case). Fails only if drawn values make no valid block.
+    pub fn analysis(
+        &self,
+        study: &Study,
+        unit: &Unit,
+    ) -> crate::error::Result<(CaseKey, Analysis)> {
+        let grid = Draw {
+            width: self.width,
+            aspect: self.aspect,
+            restitution: self.restitution,
+            friction: self.friction,
+        };
+        let d = match &study.uncertainty {
+            Some(u) => u.draw(grid, unit.record, unit.level, self.number),
+            None => grid,
+        };
+        let block = Block::new(d.width, d.aspect, study.g)?;
+        let mut analysis = Analysis::new(block, d.restitution);
+        analysis.friction = d.friction;
+        let key = CaseKey {
+            aspect: d.aspect,
+            width: d.width,
+            restitution: d.restitution,
+            friction: d.friction,
+        };
+        Ok((key, analysis))
+    }
+
+    /// The case columns of this case: the grid's values, NaN for a drawn
+    /// parameter (the key every analysis of the case pools to, see
+    /// [`CaseKey::pooled`]).
     pub fn key(&self) -> CaseKey {
         CaseKey {
             aspect: self.aspect,
@@ -62,18 +100,15 @@ pub fn cases(study: &Study) -> Vec<Case> {
     let mut out = Vec::new();
     for (ia, &aspect) in study.aspects.iter().enumerate() {
         for (iw, &width) in study.widths.iter().enumerate() {
-            let block = Block::new(width, aspect, study.g).expect("validated by the spec");
             for (ie, &restitution) in study.restitutions.iter().enumerate() {
                 for (iff, &friction) in study.frictions.iter().enumerate() {
-                    let mut analysis = Analysis::new(block, restitution);
-                    analysis.friction = friction;
                     out.push(Case {
                         aspect,
                         width,
                         restitution,
                         friction,
                         index: [ia, iw, ie, iff],
-                        analysis,
+                        number: out.len(),
                     });
                 }
             }

@@ -18,8 +18,9 @@ use crate::error::Result;
 use crate::motion::G_STANDARD;
 use crate::outcomes_csv::{Column, OutcomesReader};
 use crate::solver::Friction;
-use crate::spec::{Intensity, Motions, Study, friction_label};
+use crate::spec::{Intensity, Motions, Study, Uncertainty, friction_label, param_text};
 use crate::stats::{Trend, cochran_armitage, fisher_exact, p_text};
+use crate::uncertainty::{Distribution, Param, Value};
 use std::fmt::Write;
 use std::path::Path;
 
@@ -121,6 +122,7 @@ impl Tally {
         }
 
         let cases = plan::cases(study);
+        let pooled = study.pooled();
         let total = plan::unit_count(study);
         let levels = study.intensity.levels();
         let mut tally = Tally {
@@ -140,7 +142,7 @@ impl Tally {
                 return Err(row.line_error("more rows than the study has analyses".into()));
             };
             let case = &cases[ci];
-            let key = row.case()?;
+            let key = row.case()?.pooled(pooled);
             if key != case.key() {
                 return Err(row.line_error(format!(
                     "case {key} where the study's order puts {}",
@@ -227,6 +229,9 @@ impl Tally {
             "{} analyses: {} overturned, {} uplifted, {} overturned or uplifted, {} failed. {motions}.\n",
             c.analyses, c.overturned, c.uplifted, c.overturned_or_uplifted, c.failed
         );
+        if let Some(u) = &study.uncertainty {
+            let _ = writeln!(s, "{}\n", uncertainty_text(u));
+        }
         let _ = writeln!(
             s,
             "Conventions. *Strict*: a run overturned when |θ| reached π/2. *Paper*: a run that \
@@ -265,7 +270,12 @@ impl Tally {
             let _ = writeln!(s, "## Friction: {}\n", friction_label(friction));
             for (wi, &width) in study.widths.iter().enumerate() {
                 for (ai, &aspect) in study.aspects.iter().enumerate() {
-                    let _ = writeln!(s, "### H/B = {aspect}, 2B = {width} m\n");
+                    let _ = writeln!(
+                        s,
+                        "### H/B = {}, 2B = {} m\n",
+                        param_text(aspect),
+                        param_text(width)
+                    );
                     for strict in [true, false] {
                         let _ = writeln!(
                             s,
@@ -306,7 +316,8 @@ impl Tally {
                                     (cell.overturned_or_uplifted, cell.paper.get())
                                 };
                                 let published = paper.then(|| paper::lookup(aspect, e, level));
-                                let mut line = format!("| {e} | {level} | {} |", cell.ok);
+                                let mut line =
+                                    format!("| {} | {level} | {} |", param_text(e), cell.ok);
                                 if any_failed {
                                     let _ = write!(line, " {} |", cell.failed);
                                 }
@@ -422,7 +433,8 @@ impl Tally {
                 let theirs = per_e.last().expect("pushed").2;
                 let _ = writeln!(
                     s,
-                    "| e = {e} | {k} / {n} |{}",
+                    "| e = {} | {k} / {n} |{}",
+                    param_text(e),
                     if compare {
                         format!(" {theirs} / {} |", 300 * study.aspects.len() / 3)
                     } else {
@@ -437,7 +449,8 @@ impl Tally {
                     (study.restitutions.len() * study.intensity.levels().len()) as u64 * RECORDS;
                 let _ = writeln!(
                     s,
-                    "| H/B = {aspect} | {k} / {n} |{}",
+                    "| H/B = {} | {k} / {n} |{}",
+                    param_text(aspect),
                     if compare {
                         format!(" {theirs} / {runs} |")
                     } else {
@@ -554,6 +567,59 @@ pub fn sig3(x: f64) -> String {
     let mag = x.abs().log10().floor() as i32;
     let decimals = (2 - mag).max(0) as usize;
     format!("{x:.decimals$}")
+}
+
+/// One sentence on what each analysis draws: "Drawn per analysis (seed 7):
+/// e ~ uniform(0, 0.9); …; the tables pool the draws (`drawn`)."
+fn uncertainty_text(u: &Uncertainty) -> String {
+    let parts: Vec<String> = Param::ALL
+        .iter()
+        .filter_map(|&p| u.get(p).map(|v| (p, v)))
+        .map(|(p, v)| {
+            let name = match p {
+                Param::Width => "2B (m)",
+                Param::Aspect => "H/B",
+                Param::Restitution => "e",
+                Param::MuS => "μs",
+                Param::MuKOverMuS => "μk/μs",
+            };
+            let bounds = |min: Option<f64>, max: Option<f64>| match (min, max) {
+                (None, None) => String::new(),
+                (lo, hi) => format!(
+                    " truncated to [{}, {}]",
+                    lo.map_or("−∞".into(), |x| x.to_string()),
+                    hi.map_or("∞".into(), |x| x.to_string())
+                ),
+            };
+            match v {
+                Value::Fixed(x) => format!("{name} = {x}"),
+                Value::Drawn(Distribution::Uniform { min, max }) => {
+                    format!("{name} ~ uniform({min}, {max})")
+                }
+                Value::Drawn(Distribution::Normal { mean, sd, min, max }) => {
+                    format!(
+                        "{name} ~ normal(mean {mean}, sd {sd}){}",
+                        bounds(*min, *max)
+                    )
+                }
+                Value::Drawn(Distribution::Lognormal {
+                    median,
+                    beta,
+                    min,
+                    max,
+                }) => format!(
+                    "{name} ~ lognormal(median {median}, β {beta}){}",
+                    bounds(*min, *max)
+                ),
+            }
+        })
+        .collect();
+    format!(
+        "Drawn per analysis (`[uncertainty]`, seed {}): {}. Each case pools its analyses over \
+         the draws (`drawn` in the tables); outcomes.csv holds each analysis's own values.",
+        u.seed,
+        parts.join("; ")
+    )
 }
 
 #[cfg(test)]

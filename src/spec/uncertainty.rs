@@ -1,0 +1,107 @@
+//! `[uncertainty]`: block parameters drawn per analysis, each replacing the
+//! grid list of the same name.
+
+use super::locate::Origin;
+use super::raw::{GridFile, UncertaintyFile};
+use super::study::Uncertainty;
+use crate::error::Result;
+use crate::uncertainty::{Param, Value};
+
+/// Validates `[uncertainty]` against the `[grid]` as written: a parameter
+/// is on the grid or drawn, never both; `mu_s` and `mu_k_over_mu_s` come
+/// together and replace `grid.friction`; width, aspect and restitution take
+/// distributions only (a fixed value is a one-value grid list). `seed` is
+/// the default seed of the draws.
+pub(super) fn uncertainty(
+    spec: &Origin,
+    table: Option<UncertaintyFile>,
+    grid: &GridFile,
+    seed: u64,
+) -> Result<Option<Uncertainty>> {
+    let Some(table) = table else {
+        return Ok(None);
+    };
+    let values = [
+        table.width,
+        table.aspect,
+        table.restitution,
+        table.mu_s,
+        table.mu_k_over_mu_s,
+    ];
+    if values.iter().all(Option::is_none) {
+        return Err(spec.bad(
+            "uncertainty",
+            &"[uncertainty]",
+            "at least one of width, aspect, restitution, mu_s (with mu_k_over_mu_s)",
+        ));
+    }
+    let on_grid = [
+        grid.width.is_some(),
+        grid.aspect.is_some(),
+        grid.restitution.is_some(),
+        grid.friction.is_some(),
+        grid.friction.is_some(),
+    ];
+    for ((param, value), on_grid) in Param::ALL.into_iter().zip(&values).zip(on_grid) {
+        let Some(value) = value else { continue };
+        let field = format!("uncertainty.{}", param.name());
+        let grid_name = match param {
+            Param::MuS | Param::MuKOverMuS => "friction",
+            p => p.name(),
+        };
+        if on_grid {
+            return Err(spec.bad(
+                &field,
+                &"(given)",
+                &format!(
+                    "to be left out when grid.{grid_name} is given (a parameter is on the \
+                     grid or drawn, not both)"
+                ),
+            ));
+        }
+        let (lo, hi, what) = param.range();
+        match value {
+            Value::Drawn(d) => d
+                .validate(&field, lo, hi, what)
+                .map_err(|e| spec.nested("", e))?,
+            Value::Fixed(x) => {
+                if matches!(param, Param::Width | Param::Aspect | Param::Restitution) {
+                    return Err(spec.bad(
+                        &field,
+                        x,
+                        &format!(
+                            "a distribution table such as {{ dist = \"uniform\", min = …, max = … }} \
+                             (a fixed value belongs on the grid: grid.{} = [{x}])",
+                            param.name()
+                        ),
+                    ));
+                }
+                if !(x.is_finite() && (lo..=hi).contains(x)) {
+                    return Err(spec.bad(&field, x, what));
+                }
+            }
+        }
+    }
+    match (&values[3], &values[4]) {
+        (Some(_), None) => {
+            return Err(spec.bad(
+                "uncertainty.mu_k_over_mu_s",
+                &"(missing)",
+                "a distribution or a number in [0, 1] beside uncertainty.mu_s (μk = μs·ratio)",
+            ));
+        }
+        (None, Some(_)) => {
+            return Err(spec.bad(
+                "uncertainty.mu_s",
+                &"(missing)",
+                "a distribution, or a number for a fixed μs, beside \
+                 uncertainty.mu_k_over_mu_s",
+            ));
+        }
+        _ => {}
+    }
+    Ok(Some(Uncertainty {
+        seed: table.seed.unwrap_or(seed),
+        values,
+    }))
+}
