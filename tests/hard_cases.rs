@@ -133,6 +133,34 @@ fn grazing_to_the_ulp_at_a_sample() {
     }
 }
 
+/// Found drawing μs, μk, e and 2B per analysis (studies/museum-object.toml):
+/// a record scaled to PGA 0.2 g = g·B/H under H/B = 5 meets the lift-off
+/// threshold within rounding at its peak, rest broke into rock, rock found
+/// θ̈ ≤ 0 and returned to rest at the same instant, and the two looped there
+/// until max_events (1,000,000). Rest re-entered at the instant it was left
+/// now waits for the forcing to rise.
+#[test]
+fn rest_left_and_reentered_at_one_instant_does_not_loop() {
+    let bl = Block::new(0.40433459394851784, 5.0, G).unwrap();
+    let rec = record(77, 17, 0.2);
+    let mut an = Analysis::new(bl, 0.2227940199461401);
+    an.friction = Friction::Coulomb {
+        mu_s: 0.45218417307054976,
+        mu_k: 0.4107700386673495,
+    };
+    let o = check(&an, &rec, "peak at the threshold");
+    // The peak is the threshold itself: nothing can happen but a graze.
+    assert!(!o.overturned && o.theta_max_over_theta_c < 1e-6, "{o:?}");
+    for integrator in [Integrator::Taylor, Integrator::Dopri5] {
+        let set = SolverSettings {
+            integrator,
+            max_events: 10_000,
+            ..SolverSettings::default()
+        };
+        simulate(&an, &rec, &set, None).unwrap_or_else(|e| panic!("{integrator:?}: {e}"));
+    }
+}
+
 /// Uplift at the instant of impact: a block spinning fast enough that the
 /// pivot releases right as it lands; and a flat landing on both corners.
 #[test]

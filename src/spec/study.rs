@@ -18,7 +18,8 @@ pub const SHENTON_JONES_TOML: &str = include_str!("../../studies/shenton-jones.t
 pub const SHENTON_JONES_ORIGIN: &str = "shenton-jones.toml (built-in)";
 
 /// A validated study: everything a run needs, every value in range.
-#[derive(Clone, Debug, PartialEq)]
+/// Studies compare NaN placeholders (drawn parameters) equal.
+#[derive(Clone, Debug)]
 pub struct Study {
     /// Study name (letters, digits, `.`, `_`, `-`).
     pub name: String,
@@ -48,6 +49,40 @@ pub struct Study {
     pub output: OutputFile,
     /// Fragility fit on completion, if the spec asks for one.
     pub fragility: Option<FragilityOptions>,
+}
+
+impl PartialEq for Study {
+    fn eq(&self, other: &Study) -> bool {
+        // Equal, or both NaN (the placeholder of a drawn parameter).
+        let same = |a: f64, b: f64| a == b || (a.is_nan() && b.is_nan());
+        let lists =
+            |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| same(*x, *y));
+        let friction = |a: &Friction, b: &Friction| match (a, b) {
+            (Friction::Infinite, Friction::Infinite) => true,
+            (Friction::Coulomb { mu_s, mu_k }, Friction::Coulomb { mu_s: s2, mu_k: k2 }) => {
+                same(*mu_s, *s2) && same(*mu_k, *k2)
+            }
+            _ => false,
+        };
+        self.name == other.name
+            && self.description == other.description
+            && self.g == other.g
+            && self.motions == other.motions
+            && self.intensity == other.intensity
+            && lists(&self.widths, &other.widths)
+            && lists(&self.aspects, &other.aspects)
+            && lists(&self.restitutions, &other.restitutions)
+            && self.frictions.len() == other.frictions.len()
+            && self
+                .frictions
+                .iter()
+                .zip(&other.frictions)
+                .all(|(a, b)| friction(a, b))
+            && self.uncertainty == other.uncertainty
+            && self.solver == other.solver
+            && self.output == other.output
+            && self.fragility == other.fragility
+    }
 }
 
 /// The validated `[uncertainty]` table: what each analysis draws.

@@ -271,6 +271,12 @@ struct Run<'a> {
     /// sliding thresholds, less a margin for rounding); 0 when rest is
     /// decided sample by sample (vertical ground motion, or a history).
     quiet: f64,
+    /// The time rest was last left.
+    left_rest: f64,
+    /// A time at which rest was left and re-entered: the mode it broke into
+    /// found no motion (a threshold met within rounding), so rest does not
+    /// break again at that instant (it would loop there).
+    stuck_at: f64,
 }
 
 impl<'a> Run<'a> {
@@ -318,6 +324,8 @@ impl<'a> Run<'a> {
             } else {
                 0.0
             },
+            left_rest: f64::NAN,
+            stuck_at: f64::NAN,
         }
     }
 
@@ -476,6 +484,11 @@ impl<'a> Run<'a> {
                     let to = state.mode();
                     if from != to {
                         self.out.transitions[from.index()][to.index()] += 1;
+                        if from == Mode::Rest {
+                            self.left_rest = t;
+                        } else if to == Mode::Rest && t == self.left_rest {
+                            self.stuck_at = t;
+                        }
                     }
                     self.note_slip(&state);
                     if self.set.audit_energy {

@@ -9,7 +9,10 @@ impl Run<'_> {
         let (sc, cc, g) = (self.bl.sin_c, self.bl.cos_c, self.bl.g);
         // f = cosθc·s·ẍg − sinθc·(g + ÿg) ∝ s·θ̈ of eq. (1) at θ = 0 (same
         // floating-point operations, so f > 0 ⇔ the block departs)
-        let found = first_exceedance(seg, t, t_end, |s, ax, ay| cc * (s * ax) - sc * (g + ay));
+        let stuck = *t == self.stuck_at;
+        let found = first_exceedance(seg, t, t_end, stuck, |s, ax, ay| {
+            cc * (s * ax) - sc * (g + ay)
+        });
         found.map(Event::StartRock)
     }
 
@@ -24,7 +27,8 @@ impl Run<'_> {
         mu_s: f64,
     ) -> Option<Event> {
         let g = self.bl.g;
-        let found = first_exceedance(seg, t, t_end, |s, ax, ay| s * ax - mu_s * (g + ay));
+        let stuck = *t == self.stuck_at;
+        let found = first_exceedance(seg, t, t_end, stuck, |s, ax, ay| s * ax - mu_s * (g + ay));
         found.map(|s| Event::StartSlide(-s))
     }
 
@@ -41,11 +45,15 @@ const MIN_EXCURSION: f64 = 1e-12;
 
 /// The first time in [t, t_end] at which f(s, ẍg, ÿg) > 0 for s = +1 or −1,
 /// where f is linear in the (linear) forcing, so the crossing is exact.
-/// Moves `t` to that time (or to t_end) and returns the side s.
+/// Moves `t` to that time (or to t_end) and returns the side s. `stuck`:
+/// rest was left and re-entered at `t` itself (the motion it broke into
+/// found nothing to do, f > 0 only within rounding), so f > 0 at `t` does
+/// not count and the segment is left to the next one.
 fn first_exceedance(
     seg: &Segment,
     t: &mut f64,
     t_end: f64,
+    stuck: bool,
     f: impl Fn(f64, f64, f64) -> f64,
 ) -> Option<f64> {
     if *t >= t_end {
@@ -66,7 +74,10 @@ fn first_exceedance(
         // sample), and taking it would start rock (or slide), return to rest
         // at the same instant, and loop there.
         let w = (t_end - *t) * (f0 / (f0 - f1));
-        let tc = if f0 > 0.0 && (f1 > 0.0 || 0.5 * f0 * w * w > MIN_EXCURSION) {
+        let tc = if stuck && f1 <= f0 {
+            // At the threshold within rounding and falling: no departure.
+            None
+        } else if f0 > 0.0 && (f1 > 0.0 || 0.5 * f0 * w * w > MIN_EXCURSION) {
             Some(*t)
         } else if f0 > 0.0 {
             None
@@ -74,6 +85,14 @@ fn first_exceedance(
             Some(*t + (t_end - *t) * (f0 / (f0 - f1)))
         } else {
             None
+        };
+        // Stuck: f is 0 at t within rounding, so departure comes strictly
+        // later, once f has risen (a billionth of the segment on at least;
+        // within ulps of the segment's end it is the next segment's
+        // business).
+        let tc = match tc {
+            Some(c) if stuck => Some(c.max(*t + 1e-9 * (t_end - *t))).filter(|&c| c > *t),
+            tc => tc,
         };
         if let Some(tc) = tc
             && best.is_none_or(|(tb, _)| tc < tb)
