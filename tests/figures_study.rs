@@ -244,23 +244,32 @@ fn svg(dir: &Path, name: &str) -> PathBuf {
     dir.join(format!("{name}.svg"))
 }
 
-/// A study fitted for a second limit state (`uplift`, every case) has its
-/// curves drawn too: as many solid and dashed series again (thin, without
-/// bands, so the bands stay one per overturning curve), named in the title,
-/// and the axis says P(exceeded).
+/// A study fitted for a second limit state (`uplift`, every case, listed
+/// before overturning as the milder one) has its curves drawn too, each with
+/// its own band: twice the solid and dashed series and twice the bands; the
+/// title names both in order of severity and the legend has a row for each;
+/// the axis says P(exceeded).
 #[test]
-fn other_limit_states_are_drawn_as_thin_curves() {
+fn every_limit_state_is_drawn_with_its_band() {
     let study = tempfile::tempdir().unwrap();
     write_study(study.path(), true, false);
     let path = study.path().join("fragility_curves.csv");
     let text = fs::read_to_string(&path).unwrap();
-    let mut more = text.clone();
-    for line in text.lines().skip(1) {
+    let mut lines = text.lines();
+    let mut more = format!("{}\n", lines.next().unwrap());
+    let body: Vec<&str> = lines.collect();
+    for line in &body {
         let mut f: Vec<String> = line.split(',').map(str::to_string).collect();
         f[7] = "uplift".into();
-        let p: f64 = f[10].parse().unwrap();
-        f[10] = p.sqrt().to_string();
+        for i in [10, 11, 12] {
+            let p: f64 = f[i].parse().unwrap();
+            f[i] = p.sqrt().to_string();
+        }
         more.push_str(&f.join(","));
+        more.push('\n');
+    }
+    for line in &body {
+        more.push_str(line);
         more.push('\n');
     }
     fs::write(&path, more).unwrap();
@@ -270,14 +279,17 @@ fn other_limit_states_are_drawn_as_thin_curves() {
     let f = marks(&svg(&out, "fragility"));
     assert_eq!(f.solid(IM_POINTS), 2 * series, "solid curves (μ = ∞)");
     assert_eq!(f.dashed(IM_POINTS), 2 * series, "dashed curves (Coulomb)");
-    assert_eq!(
-        f.polygons,
-        2 * series,
-        "bands of the overturning curves only"
-    );
+    assert_eq!(f.polygons, 2 * 2 * series, "a band for every curve");
     assert!(f.has_text("P(exceeded)"), "{:?}", f.texts);
     assert!(
-        f.texts.iter().any(|t| t.contains("thin: uplift")),
+        f.texts
+            .iter()
+            .any(|t| t.contains("uplift, overturning (light to dark)")),
+        "{:?}",
+        f.texts
+    );
+    assert!(
+        f.has_text("uplift") && f.has_text("overturning"),
         "{:?}",
         f.texts
     );

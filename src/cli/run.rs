@@ -80,6 +80,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         report.threads,
         out.display()
     );
+    // The fit and the figures skip failed analyses (and say how many), so
+    // they are made before the failures are reported in the exit status.
+    if opts.shard == Shard::WHOLE {
+        finish(&study, &out)?;
+    }
     if c.failed > 0 {
         bail!(
             "{} of {} analyses failed (status 'failed' and the reason in {}); all results are written",
@@ -87,9 +92,6 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             c.analyses,
             out.join(files::OUTCOMES).display()
         );
-    }
-    if opts.shard == Shard::WHOLE {
-        finish(&study, &out)?;
     }
     Ok(())
 }

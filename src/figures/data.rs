@@ -178,7 +178,8 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
 /// fitted probability and its 90 % band on an IM grid. Only curves fitted
 /// against PGA (`im` = `pga`) are kept, since the figure draws them over the
 /// PGA stripes; an empty band (no bootstrap) reads as the curve itself.
-/// Returns the points sorted by case, limit state (by name) and IM.
+/// Returns the points sorted by case, limit state (in the file's order:
+/// a case's limit states in order of severity) and IM.
 ///
 /// This is the one place that reads the fragility file's layout.
 pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
@@ -212,10 +213,18 @@ pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
             p_hi: band(hi)?,
         });
     }
+    // Limit states keep the file's order (a case's, in order of severity).
+    let mut order: Vec<String> = Vec::new();
+    for p in &points {
+        if !order.contains(&p.limit_state) {
+            order.push(p.limit_state.clone());
+        }
+    }
+    let rank = |ls: &str| order.iter().position(|o| o == ls);
     points.sort_by(|a, b| {
         a.case
             .total_cmp(&b.case)
-            .then_with(|| a.limit_state.cmp(&b.limit_state))
+            .then_with(|| rank(&a.limit_state).cmp(&rank(&b.limit_state)))
             .then(a.im.total_cmp(&b.im))
     });
     Ok(points)

@@ -7,9 +7,13 @@
 //!
 //! Without fitted curves (no `fragility_curves.csv`) the observed fractions
 //! are joined by straight lines and the title says so. A study fitted for
-//! several limit states has its overturning curves drawn as above and those
-//! of the other limit states as thin lines of the same colour and pattern,
-//! without bands, named in the title.
+//! several limit states draws every limit state of a case, each with its
+//! band, in the case's colour: the most severe in full colour, the milder
+//! ones lighter tints of it (a legend row names them, light to dark); the
+//! points stay the observed overturning fractions.
+//!
+//! A parameter drawn per analysis (`[uncertainty]`) reads `drawn` in the
+//! legend or heading: its case pools every draw.
 
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
@@ -36,11 +40,10 @@ pub struct FragilitySeries {
     pub restitution: usize,
     /// Index into [`FragilityFigure::frictions`] (sets the pattern).
     pub friction: usize,
-    /// Fitted overturning curve (im, p, p_lo, p_hi), IM ascending; empty
-    /// without a fit.
-    pub fit: Vec<(f64, f64, f64, f64)>,
-    /// Fitted curves (im, p) of the other limit states, by name.
-    pub others: Vec<Vec<(f64, f64)>>,
+    /// Fitted curves (im, p, p_lo, p_hi), IM ascending, one per limit state
+    /// of [`FragilityFigure::limit_states`] in its order (empty where that
+    /// limit state has no fit).
+    pub fits: Vec<Vec<(f64, f64, f64, f64)>>,
     /// Observed stripes (pga, fraction overturned, analyses).
     pub observed: Vec<(f64, f64, usize)>,
 }
@@ -69,8 +72,9 @@ pub struct FragilityFigure {
     pub panels: Vec<FragilityPanel>,
     /// Largest PGA or IM shown (g).
     pub im_max: f64,
-    /// Names of the limit states other than overturning with fitted curves.
-    pub other_limit_states: Vec<String>,
+    /// The limit states with fitted curves, in order of severity (as
+    /// `fragility_curves.csv` lists them); `["overturning"]` without fits.
+    pub limit_states: Vec<String>,
 }
 
 impl FragilityFigure {
@@ -87,13 +91,17 @@ impl FragilityFigure {
         let frictions = distinct_friction(cases.iter().map(|c| c.friction));
         let blocks = distinct_blocks(&cases);
         let several_widths = distinct(cases.iter().map(|c| c.width)).len() > 1;
-        let mut other_limit_states: Vec<String> = curves
-            .iter()
-            .map(|c| c.limit_state.clone())
-            .filter(|ls| ls != "overturning")
-            .collect();
-        other_limit_states.sort();
-        other_limit_states.dedup();
+        // In order of first appearance: the file lists a case's limit
+        // states in order of severity.
+        let mut limit_states: Vec<String> = Vec::new();
+        for c in curves {
+            if !limit_states.contains(&c.limit_state) {
+                limit_states.push(c.limit_state.clone());
+            }
+        }
+        if limit_states.is_empty() {
+            limit_states.push("overturning".to_string());
+        }
         let mut im_max = 0.0_f64;
         let mut panels = Vec::new();
         for &(aspect, width) in &blocks {
@@ -106,21 +114,15 @@ impl FragilityFigure {
                         restitution: e,
                         friction: *f,
                     };
-                    let fit: Vec<(f64, f64, f64, f64)> = curves
-                        .iter()
-                        .filter(|c| c.case == case && c.limit_state == "overturning")
-                        .map(|c| (c.im, c.p, c.p_lo, c.p_hi))
-                        .collect();
-                    let others: Vec<Vec<(f64, f64)>> = other_limit_states
+                    let fits: Vec<Vec<(f64, f64, f64, f64)>> = limit_states
                         .iter()
                         .map(|ls| {
                             curves
                                 .iter()
                                 .filter(|c| c.case == case && &c.limit_state == ls)
-                                .map(|c| (c.im, c.p))
-                                .collect::<Vec<_>>()
+                                .map(|c| (c.im, c.p, c.p_lo, c.p_hi))
+                                .collect()
                         })
-                        .filter(|c| !c.is_empty())
                         .collect();
                     let mine: Vec<_> = rows.iter().filter(|r| r.case == case).collect();
                     let observed: Vec<(f64, f64, usize)> = distinct(mine.iter().map(|r| r.pga))
@@ -131,35 +133,37 @@ impl FragilityFigure {
                             (pga, k as f64 / at.len() as f64, at.len())
                         })
                         .collect();
-                    if fit.is_empty() && observed.is_empty() && others.is_empty() {
+                    if fits.iter().all(Vec::is_empty) && observed.is_empty() {
                         continue;
                     }
-                    im_max = fit
+                    im_max = fits
                         .iter()
+                        .flatten()
                         .map(|p| p.0)
                         .chain(observed.iter().map(|o| o.0))
-                        .chain(others.iter().flatten().map(|p| p.0))
                         .fold(im_max, f64::max);
                     series.push(FragilitySeries {
                         restitution: ie,
                         friction: jf,
-                        fit,
-                        others,
+                        fits,
                         observed,
                     });
                 }
             }
-            let mut label = format!("H/B = {}", tick_label(aspect));
-            if several_widths {
-                label.push_str(&format!(", 2B = {} m", tick_label(width)));
+            let mut label = format!("H/B = {}", param_label(aspect));
+            if several_widths || width.is_nan() {
+                label.push_str(&format!(", 2B = {}", param_label(width)));
+                if !width.is_nan() {
+                    label.push_str(" m");
+                }
             }
             panels.push(FragilityPanel { label, series });
         }
         let fitted = data.curves.is_some();
-        let title = if fitted && !other_limit_states.is_empty() {
+        let title = if fitted && limit_states.len() > 1 {
             format!(
-                "Fragility: overturning with 90 % band, thin: {}; observed overturning (points)",
-                other_limit_states.join(", ")
+                "Fragility: {} (light to dark) with 90 % bands; observed overturning (points)",
+                limit_states.join(", ")
             )
         } else if fitted {
             "Fragility: fitted curves with 90 % band (lines), observed stripe fractions (points)"
@@ -175,7 +179,7 @@ impl FragilityFigure {
             fitted,
             panels,
             im_max,
-            other_limit_states,
+            limit_states,
         }
     }
 
@@ -188,10 +192,19 @@ impl FragilityFigure {
             .map(|(i, e)| {
                 Entry::new(
                     Sample::Line(restitution_colour(i), Dash::Solid),
-                    format!("e = {}", tick_label(*e)),
+                    format!("e = {}", param_label(*e)),
                 )
             })
             .collect();
+        if self.fitted && self.limit_states.len() > 1 {
+            let n = self.limit_states.len();
+            for (k, ls) in self.limit_states.iter().enumerate() {
+                entries.push(Entry::new(
+                    Sample::Line(layout::tint(BLACK, severity_tint(k, n)), Dash::Solid),
+                    ls.clone(),
+                ));
+            }
+        }
         for (j, f) in self.frictions.iter().enumerate() {
             entries.push(Entry::new(
                 Sample::LinePoint(BLACK, Dash::nth(j), Marker::Circle, j == 0),
@@ -205,6 +218,26 @@ impl FragilityFigure {
             ));
         }
         entries
+    }
+}
+
+/// A case parameter for a label: its value, or `drawn` when it is drawn per
+/// analysis (NaN in the pooled case).
+fn param_label(x: f64) -> String {
+    if x.is_nan() {
+        "drawn".to_string()
+    } else {
+        tick_label(x)
+    }
+}
+
+/// How much lighter than its case's colour limit state `k` of `n` (in order
+/// of severity) is drawn: the most severe not at all, the mildest 0.6.
+fn severity_tint(k: usize, n: usize) -> f64 {
+    if n < 2 {
+        0.0
+    } else {
+        0.6 * (n - 1 - k) as f64 / (n - 1) as f64
     }
 }
 
@@ -236,10 +269,10 @@ impl Figure for FragilityFigure {
         let body = layout::side_label(
             &frame.body,
             style,
-            if self.other_limit_states.is_empty() {
-                "P(overturning)"
-            } else {
+            if self.limit_states.len() > 1 {
                 "P(exceeded)"
+            } else {
+                "P(overturning)"
             },
             frame.top,
             frame.x_area,
@@ -254,23 +287,27 @@ impl Figure for FragilityFigure {
             let mut mesh = layout::mesh(&mut chart, style);
             mesh.x_labels(6).y_labels(6).x_desc("PGA (g)").draw()?;
 
+            let n_ls = self.limit_states.len();
             for s in &panel.series {
-                if s.fit.is_empty() {
-                    continue;
+                for (k, fit) in s.fits.iter().enumerate() {
+                    if fit.is_empty() {
+                        continue;
+                    }
+                    let colour =
+                        layout::tint(restitution_colour(s.restitution), severity_tint(k, n_ls));
+                    let mut outline: Vec<(f64, f64)> = fit.iter().map(|p| (p.0, p.3)).collect();
+                    outline.extend(fit.iter().rev().map(|p| (p.0, p.2)));
+                    chart.draw_series(std::iter::once(Polygon::new(
+                        outline,
+                        colour.mix(BAND_ALPHA).filled(),
+                    )))?;
                 }
-                let colour = restitution_colour(s.restitution);
-                let mut outline: Vec<(f64, f64)> = s.fit.iter().map(|p| (p.0, p.3)).collect();
-                outline.extend(s.fit.iter().rev().map(|p| (p.0, p.2)));
-                chart.draw_series(std::iter::once(Polygon::new(
-                    outline,
-                    colour.mix(BAND_ALPHA).filled(),
-                )))?;
             }
             if self.fitted
                 && panel
                     .series
                     .iter()
-                    .all(|s| s.fit.is_empty() && s.others.is_empty())
+                    .all(|s| s.fits.iter().all(Vec::is_empty))
             {
                 // a block none of whose cases could be fitted (all or none
                 // overturned, or stripes separated): say so in the panel
@@ -291,21 +328,21 @@ impl Figure for FragilityFigure {
             let mut order: Vec<&FragilitySeries> = panel.series.iter().collect();
             order.sort_by_key(|s| (s.friction, s.restitution));
             for s in &order {
-                let colour = restitution_colour(s.restitution);
-                let line = colour.stroke_width(style.ipx(super::style::LINE_PT));
-                let points: Vec<(f64, f64)> = if self.fitted {
-                    s.fit.iter().map(|p| (p.0, p.1)).collect()
+                let line_pt = style.ipx(super::style::LINE_PT);
+                if self.fitted {
+                    for (k, fit) in s.fits.iter().enumerate() {
+                        let colour =
+                            layout::tint(restitution_colour(s.restitution), severity_tint(k, n_ls));
+                        let points: Vec<(f64, f64)> = fit.iter().map(|p| (p.0, p.1)).collect();
+                        if !points.is_empty() {
+                            let line = colour.stroke_width(line_pt);
+                            curve!(chart, points, line, Dash::nth(s.friction), style);
+                        }
+                    }
                 } else {
-                    s.observed.iter().map(|o| (o.0, o.1)).collect()
-                };
-                curve!(chart, points, line, Dash::nth(s.friction), style);
-            }
-            // the other limit states, thin, after every overturning curve
-            for s in &order {
-                let colour = restitution_colour(s.restitution);
-                let thin = colour.stroke_width(style.ipx(0.5 * super::style::LINE_PT));
-                for other in &s.others {
-                    curve!(chart, other.clone(), thin, Dash::nth(s.friction), style);
+                    let line = restitution_colour(s.restitution).stroke_width(line_pt);
+                    let points: Vec<(f64, f64)> = s.observed.iter().map(|o| (o.0, o.1)).collect();
+                    curve!(chart, points, line, Dash::nth(s.friction), style);
                 }
             }
             // hollow (finite friction) markers first: a filled one on top
