@@ -98,6 +98,7 @@ pub use nrml::{
 pub use options::{
     BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_LIMIT_STATES,
 };
+pub(crate) use output::key_fields;
 pub use output::{
     BOOTSTRAP_HEADER, CURVES_HEADER, FRAGILITY_HEADER, OutputPaths, write_bootstrap_csv,
     write_curves_csv, write_fragility_csv, write_outputs,
