@@ -4,7 +4,8 @@
 //! it), each limit state's fragility curve (right, 0–1, solid, one colour per
 //! limit state) and the integrand P(LS | im)·|dλ/d ln im| (the rate's
 //! deaggregation over intensity, scaled to peak at 1, shaded in the same
-//! colour, its peak marked by a tick at the top). A case without a fit has
+//! colour; the tick at the top marks its peak located with the hazard's
+//! slope smoothed between levels, see [`crate::risk`]). A case without a fit has
 //! only its hazard curve and says so.
 
 use plotters::coord::Shift;

@@ -22,6 +22,9 @@ const LOWER_CUT_SIGMAS: f64 = 12.0;
 /// cut: what is left is at most λ_max·e^(−40) ≈ 4·10⁻¹⁸ λ_max.
 const UPPER_CUT_EFOLDS: f64 = 40.0;
 
+/// Grid points of the search for the integrand's peak.
+const PEAK_GRID: usize = 20_000;
+
 /// What the risk integral of one fragility curve over one hazard curve gives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RiskIntegral {
@@ -34,7 +37,8 @@ pub struct RiskIntegral {
     /// segment's power law extended up), 1/yr.
     pub above: f64,
     /// The intensity at which the integrand P(LS | im)·(−dλ/d ln im) (the
-    /// rate's density over ln im, its deaggregation) peaks.
+    /// rate's density over ln im, its deaggregation) peaks, with the
+    /// hazard's log-slope smoothed between the levels (see [`crate::risk`]).
     pub peak_im: f64,
     /// The quadrature's error estimate (1/yr).
     pub error: f64,
@@ -73,15 +77,19 @@ enum Part {
 
 /// A lognormal fragility P(LS | im) = Φ((ln im − ln θ)/β) over a hazard
 /// curve: the integrand and its pieces.
-struct Integrand {
+struct Integrand<'a> {
     ln_median: f64,
     beta: f64,
     pieces: Vec<(Part, Piece)>,
     normal: Normal,
+    /// Midpoints (in u) of the hazard's segments and their log-slopes.
+    midpoints: Vec<(f64, f64)>,
+    /// The log–log interpolated hazard.
+    hazard: &'a HazardCurve,
 }
 
-impl Integrand {
-    fn new(hazard: &HazardCurve, median: f64, beta: f64) -> Integrand {
+impl<'a> Integrand<'a> {
+    fn new(hazard: &'a HazardCurve, median: f64, beta: f64) -> Integrand<'a> {
         let u: Vec<f64> = hazard.iml.iter().map(|x| x.ln()).collect();
         let l: Vec<f64> = hazard.rate.iter().map(|r| r.ln()).collect();
         let n = u.len();
@@ -126,7 +134,32 @@ impl Integrand {
             beta,
             pieces,
             normal: Normal::standard(),
+            midpoints: (0..n - 1)
+                .map(|i| ((u[i] + u[i + 1]) / 2.0, segment(i).k))
+                .collect(),
+            hazard,
         }
+    }
+
+    /// P(LS | e^u)·k̃(u)·λ(u), with the log-slope k̃ linear between the
+    /// segments' midpoints: the integrand with the jumps at the levels
+    /// smoothed out, for locating its peak.
+    fn smoothed(&self, u: f64) -> f64 {
+        let m = &self.midpoints;
+        let j = m.partition_point(|p| p.0 <= u);
+        let k = if j == 0 {
+            m[0].1
+        } else if j == m.len() {
+            m[m.len() - 1].1
+        } else {
+            let ((u0, k0), (u1, k1)) = (m[j - 1], m[j]);
+            k0 + (k1 - k0) * (u - u0) / (u1 - u0)
+        };
+        let p = self.normal.cdf((u - self.ln_median) / self.beta);
+        if p == 0.0 {
+            return 0.0;
+        }
+        p * k * self.hazard.rate_at(u.exp())
     }
 
     /// P(LS | e^u)·(−dλ/du) on `piece`.
@@ -290,37 +323,44 @@ fn quadrature(f: &Integrand) -> (f64, f64, f64, f64) {
     }
 }
 
-/// The u = ln im at which the integrand peaks. On each piece it is Φ(z) (log-
-/// concave) times an exponential, so log-concave and unimodal: golden-section
-/// search finds each piece's maximum, the largest of which wins (the
-/// integrand jumps at the curve's levels, where the slope changes).
+/// The u = ln im at which the integrand peaks, with the hazard's log-slope
+/// k taken as varying linearly between the segments' midpoints (constant
+/// beyond the first and last): the log–log interpolant's slope jumps at
+/// the levels, and so does the integrand, which would pin its maximum to
+/// whichever level the hazard steepens at. A grid of [`PEAK_GRID`] points
+/// over the integration range finds the highest cell; golden-section search
+/// over its two neighbours refines it.
 fn peak(f: &Integrand) -> f64 {
     const INV_PHI: f64 = 0.618_033_988_749_894_8;
-    let mut best = (f64::NEG_INFINITY, f64::NAN);
-    for (_, p) in &f.pieces {
-        let g = |u: f64| f.value(p, u);
-        let (mut a, mut b) = (p.a, p.b);
-        let (mut c, mut d) = (b - INV_PHI * (b - a), a + INV_PHI * (b - a));
-        let (mut gc, mut gd) = (g(c), g(d));
-        while b - a > 1e-10 * (1.0 + a.abs()) {
-            if gc >= gd {
-                b = d;
-                (d, gd) = (c, gc);
-                c = b - INV_PHI * (b - a);
-                gc = g(c);
-            } else {
-                a = c;
-                (c, gc) = (d, gd);
-                d = a + INV_PHI * (b - a);
-                gd = g(d);
-            }
-        }
-        for u in [p.a, (a + b) / 2.0, p.b] {
-            let v = g(u);
-            if v > best.0 {
-                best = (v, u);
-            }
+    let (Some(first), Some(last)) = (f.pieces.first(), f.pieces.last()) else {
+        return f64::NAN;
+    };
+    let (lo, hi) = (first.1.a, last.1.b);
+    let g = |u: f64| f.smoothed(u);
+    let h = (hi - lo) / PEAK_GRID as f64;
+    let best = (0..=PEAK_GRID)
+        .map(|i| lo + h * i as f64)
+        .map(|u| (g(u), u))
+        .fold(
+            (f64::NEG_INFINITY, lo),
+            |a, b| if b.0 > a.0 { b } else { a },
+        );
+    let (mut a, mut b) = ((best.1 - h).max(lo), (best.1 + h).min(hi));
+    let (mut c, mut d) = (b - INV_PHI * (b - a), a + INV_PHI * (b - a));
+    let (mut gc, mut gd) = (g(c), g(d));
+    while b - a > 1e-12 * (1.0 + a.abs()) {
+        if gc >= gd {
+            b = d;
+            (d, gd) = (c, gc);
+            c = b - INV_PHI * (b - a);
+            gc = g(c);
+        } else {
+            a = c;
+            (c, gc) = (d, gd);
+            d = a + INV_PHI * (b - a);
+            gd = g(d);
         }
     }
-    best.1
+    let u = (a + b) / 2.0;
+    if g(u) >= best.0 { u } else { best.1 }
 }

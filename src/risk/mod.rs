@@ -30,6 +30,13 @@
 //! the hazard between its levels is (a curve bending in log–log space between
 //! widely spaced levels).
 //!
+//! The IM that drives the rate (`peak_im`) is where the integrand peaks.
+//! Because the interpolant's slope jumps at the levels, so does the
+//! integrand, and its maximum would sit on whichever level the hazard
+//! steepens at; the peak is therefore located on the integrand with the
+//! log-slope varying linearly between the segments' midpoints (the same
+//! hazard values, a continuous slope).
+//!
 //! ## The ends
 //!
 //! A hazard curve covers a finite range of levels. Below its lowest level
