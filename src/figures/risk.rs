@@ -6,7 +6,7 @@
 //! deaggregation over intensity, scaled to peak at 1, shaded in the same
 //! colour; the tick at the top marks its peak located with the hazard's
 //! slope smoothed between levels, see [`crate::risk`]). A case without a fit has
-//! only its hazard curve and says so.
+//! only its hazard curve and says "no fit".
 
 use plotters::coord::Shift;
 use plotters::prelude::{
@@ -158,7 +158,7 @@ impl RiskFigure {
         };
         RiskFigure {
             title: format!(
-                "Annual rate of exceedance: hazard ({}), fragility, deaggregation",
+                "Annual rate: hazard ({}), fragility, deaggregation",
                 site_label(hazard)
             ),
             im_label,
@@ -302,8 +302,8 @@ impl Figure for RiskFigure {
             }
             if panel.series.is_empty() {
                 chart.draw_secondary_series(std::iter::once(Text::new(
-                    "no fit (fragility.csv says why)",
-                    (xl * 1.1, 0.12),
+                    "no fit",
+                    (xl * 1.2, 0.12),
                     style.tick_font(),
                 )))?;
             }
