@@ -6,7 +6,7 @@
 //! Data flows one way:
 //!
 //! ```text
-//! spec ─▶ motion ─▶ solver ─▶ outcome ─▶ study ─▶ fragility ─▶ figures
+//! spec ─▶ motion ─▶ solver ─▶ outcome ─▶ study ─▶ fragility ─▶ risk ─▶ figures
 //! ```
 //!
 //! and imports go one way too: each module uses only modules declared above
@@ -30,6 +30,8 @@
 //! - [`study`]: running a study (parallel, resumable, shardable) into
 //!   `outcomes.csv`, `summary.md` and `manifest.json`;
 //! - [`fragility`]: lognormal overturning fragility curves (probit MLE, bootstrap);
+//! - [`risk`]: the annual rate of each limit state at a site, the fragility
+//!   integrated over a hazard curve (OpenQuake's or a plain table);
 //! - [`figures`]: publication figures drawn with an embedded font;
 //! - [`bench`](mod@bench): the speed-against-error (work–precision) report.
 //!
@@ -74,6 +76,7 @@ pub mod outcomes_csv;
 pub mod fragility;
 pub mod spec;
 pub mod study;
+pub mod risk;
 pub mod reproduce;
 pub mod bench;
 pub mod figures;

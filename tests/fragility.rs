@@ -9,9 +9,10 @@ use std::path::Path;
 use rayon::prelude::*;
 use rockfrag::Error;
 use rockfrag::fragility::{
-    Analysis, BootstrapUnit, CURVES_HEADER, CaseData, CaseKey, FRAGILITY_HEADER, FragilityOptions,
-    IntensityMeasure, Observation, Unfit, bootstrap, fit_case, fit_cases, fit_lognormal,
-    lognormal_to_moments, moments_to_lognormal, nrml_string, read_outcomes, write_outputs,
+    Analysis, BOOTSTRAP_HEADER, BootstrapUnit, CURVES_HEADER, CaseData, CaseKey, FRAGILITY_HEADER,
+    FragilityOptions, IntensityMeasure, Observation, Unfit, bootstrap, fit_case, fit_cases,
+    fit_lognormal, lognormal_to_moments, moments_to_lognormal, nrml_string, read_outcomes,
+    write_outputs,
 };
 use rockfrag::solver::Friction;
 
@@ -675,6 +676,34 @@ fn csv_outputs_have_the_documented_headers() {
     }
     assert_eq!(rows[0][3], 0.0);
     assert_eq!(rows[0][0], 0.0);
+
+    // Every replicate of the fitted case, in order; none of the unfitted one.
+    // The replicates are what the intervals summarise: their θ percentiles
+    // are `median_lo` and `median_hi` exactly (same type-7 percentile).
+    let boot = std::fs::read_to_string(&paths.bootstrap).unwrap();
+    let mut lines = boot.lines();
+    assert_eq!(lines.next().unwrap(), BOOTSTRAP_HEADER);
+    let reps: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(reps.len(), 100);
+    let mut medians = Vec::new();
+    for (r, f) in reps.iter().enumerate() {
+        assert_eq!((f[0], f[7], f[8]), ("0", "overturning", "pga"));
+        assert_eq!(f[9], r.to_string());
+        if f[12] == "ok" {
+            medians.push(f[10].parse::<f64>().unwrap());
+            assert!(f[11].parse::<f64>().unwrap() > 0.0);
+        } else {
+            assert_eq!((f[10], f[11]), ("", ""));
+        }
+    }
+    medians.sort_by(f64::total_cmp);
+    let text = std::fs::read_to_string(&paths.fragility).unwrap();
+    let row: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    let col = |name: &str| FRAGILITY_HEADER.split(',').position(|c| c == name).unwrap();
+    let lo: f64 = row[col("median_lo")].parse().unwrap();
+    let hi: f64 = row[col("median_hi")].parse().unwrap();
+    assert_eq!(lo, rockfrag::fragility::percentile(&medians, 0.05));
+    assert_eq!(hi, rockfrag::fragility::percentile(&medians, 0.95));
 }
 
 // ---------------------------------------------------------------- CLI

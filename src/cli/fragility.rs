@@ -53,7 +53,8 @@ pub struct FragilityArgs {
     /// or analyses within each stripe (only for independent analyses).
     #[arg(long, value_enum, default_value_t = ResampleArg::Records)]
     pub resample: ResampleArg,
-    /// Output directory for fragility.csv, fragility_curves.csv and
+    /// Output directory for fragility.csv, fragility_curves.csv,
+    /// fragility_bootstrap.csv and
     /// fragility.xml [default: DIR].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -194,9 +195,10 @@ pub fn fit_and_write(
         ));
     }
     text.push_str(&format!(
-        "wrote {}, {}, {}\n",
+        "wrote {}, {}, {}, {}\n",
         paths.fragility.display(),
         paths.curves.display(),
+        paths.bootstrap.display(),
         paths.nrml.display()
     ));
     Ok(text)

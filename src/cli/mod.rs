@@ -8,6 +8,7 @@ mod merge;
 mod figures;
 mod motion;
 mod paper;
+mod risk;
 mod run;
 mod simulate;
 
@@ -37,6 +38,9 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Fit lognormal overturning fragility curves to a study's outcomes.
     Fragility(fragility::FragilityArgs),
+    /// Annual rate of each limit state at a site: the fitted fragility
+    /// integrated over a hazard curve (OpenQuake CSV or iml,annual_rate).
+    Risk(risk::RiskArgs),
     /// Speed against error: the work–precision report (table and figure).
     Bench(bench::BenchArgs),
     /// Draw the publication figures of a study folder (SVG or PNG).
@@ -54,6 +58,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Run(args) => run::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Fragility(args) => fragility::run(args),
+        Command::Risk(args) => risk::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Figures(args) => figures::run(args),
         Command::Paper(args) => paper::run(args),

@@ -47,6 +47,11 @@ pub struct BootstrapSummary {
     pub curve_lo: Vec<f64>,
     /// Pointwise upper percentile of the replicate curves on the case's grid.
     pub curve_hi: Vec<f64>,
+    /// Each replicate's fit, in replicate order: (θ, β), or why it could not
+    /// be fitted. Written to `fragility_bootstrap.csv` so that quantities
+    /// derived from the curve (the annual rate of a risk integral) can carry
+    /// the same uncertainty.
+    pub replicate_fits: Vec<std::result::Result<(f64, f64), Unfit>>,
 }
 
 impl BootstrapSummary {
@@ -122,6 +127,10 @@ fn summarise(
 ) -> BootstrapSummary {
     let mut unfit = BTreeMap::new();
     let mut ok = Vec::with_capacity(fits.len());
+    let replicate_fits = fits
+        .iter()
+        .map(|f| f.as_ref().map(|x| (x.median(), x.beta())).map_err(|e| *e))
+        .collect();
     for f in fits {
         match f {
             Ok(fit) => ok.push(fit),
@@ -162,6 +171,7 @@ fn summarise(
         beta: interval(betas),
         curve_lo,
         curve_hi,
+        replicate_fits,
     }
 }
 

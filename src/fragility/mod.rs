@@ -5,7 +5,8 @@
 //! ```text
 //! outcomes.csv ─▶ data: cases, stripes, records ─▶ fit: probit MLE (θ, β, SEs)
 //!   ─▶ bootstrap: resample records, refit ─▶ output: fragility.csv,
-//!      fragility_curves.csv ─▶ nrml: fragility.xml (OpenQuake NRML 0.5)
+//!      fragility_curves.csv, fragility_bootstrap.csv (each replicate's θ, β)
+//!   ─▶ nrml: fragility.xml (OpenQuake NRML 0.5)
 //! ```
 //!
 //! ## Model
@@ -97,7 +98,8 @@ pub use nrml::{
 pub use options::{
     BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_LIMIT_STATES,
 };
+pub(crate) use output::key_fields;
 pub use output::{
-    CURVES_HEADER, FRAGILITY_HEADER, OutputPaths, write_curves_csv, write_fragility_csv,
-    write_outputs,
+    BOOTSTRAP_HEADER, CURVES_HEADER, FRAGILITY_HEADER, OutputPaths, write_bootstrap_csv,
+    write_curves_csv, write_fragility_csv, write_outputs,
 };

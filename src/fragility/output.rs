@@ -39,6 +39,15 @@ boot_fitted,boot_unfit,boot_unfit_reasons,boot_sd_median,boot_sd_beta,beta_model
 pub const CURVES_HEADER: &str =
     "case,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,im_value,p,p_lo,p_hi";
 
+/// Header of `fragility_bootstrap.csv`, one row per bootstrap replicate of
+/// each fitted case and limit state: `case` is the 0-based row in
+/// `fragility.csv`; `replicate` the 0-based replicate (seeded from the fit's
+/// seed and this number alone); `median` and `beta` the replicate's fit (unit
+/// of `im`), empty when it could not be fitted, `status` then naming why.
+/// Header only when the fit ran without a bootstrap.
+pub const BOOTSTRAP_HEADER: &str =
+    "case,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,replicate,median,beta,status";
+
 /// The files [`write_outputs`] wrote.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OutputPaths {
@@ -48,19 +57,23 @@ pub struct OutputPaths {
     pub curves: PathBuf,
     /// The OpenQuake fragility model.
     pub nrml: PathBuf,
+    /// Every bootstrap replicate's (θ, β).
+    pub bootstrap: PathBuf,
 }
 
-/// Writes `fragility.csv`, `fragility_curves.csv` and `fragility.xml` into
-/// `dir`. The NRML file holds every limit state, in order (see
-/// [`nrml::nrml_string`]).
+/// Writes `fragility.csv`, `fragility_curves.csv`, `fragility_bootstrap.csv`
+/// and `fragility.xml` into `dir`. The NRML file holds every limit state, in
+/// order (see [`nrml::nrml_string`]).
 pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
     let paths = OutputPaths {
         fragility: dir.join("fragility.csv"),
         curves: dir.join("fragility_curves.csv"),
         nrml: dir.join("fragility.xml"),
+        bootstrap: dir.join("fragility_bootstrap.csv"),
     };
     write_fragility_csv(&paths.fragility, fits)?;
     write_curves_csv(&paths.curves, fits)?;
+    write_bootstrap_csv(&paths.bootstrap, fits)?;
     nrml::write_nrml(&paths.nrml, fits)?;
     Ok(paths)
 }
@@ -146,9 +159,32 @@ pub fn write_curves_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
     .map_err(Error::io(path))
 }
 
+/// Writes `fragility_bootstrap.csv` (header [`BOOTSTRAP_HEADER`]).
+pub fn write_bootstrap_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
+    write_atomic(path, |w| {
+        writeln!(w, "{BOOTSTRAP_HEADER}")?;
+        for (case, f) in fits.iter().enumerate() {
+            let Some(boot) = f.bootstrap.as_ref().filter(|_| f.fit.is_ok()) else {
+                continue;
+            };
+            let key = key_fields(&f.key);
+            let (ls, im) = (&f.limit_state, f.im.name());
+            for (r, fit) in boot.replicate_fits.iter().enumerate() {
+                let (median, beta, status) = match fit {
+                    Ok((m, b)) => (number(*m), number(*b), "ok"),
+                    Err(reason) => (String::new(), String::new(), reason.status()),
+                };
+                writeln!(w, "{case},{key},{ls},{im},{r},{median},{beta},{status}")?;
+            }
+        }
+        Ok(())
+    })
+    .map_err(Error::io(path))
+}
+
 /// The six case columns, comma-separated (absent μ, or a parameter drawn
 /// per analysis and pooled, as an empty field).
-fn key_fields(k: &CaseKey) -> String {
+pub(crate) fn key_fields(k: &CaseKey) -> String {
     format!(
         "{},{},{},{},{},{}",
         opt(Some(k.aspect)),

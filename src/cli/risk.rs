@@ -1,0 +1,184 @@
+//! `rockfrag risk`: the annual rate of each limit state at a site, the
+//! study's fitted fragility integrated over the site's hazard curve.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::Context;
+use rockfrag::figures::{RiskFigure, save};
+use rockfrag::risk::{
+    HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, assess, describe_hazard,
+    read_fragility, read_hazard, sci, sig, summary_section, update_summary, write_risk_csv,
+};
+
+/// Flags of `rockfrag risk`.
+#[derive(Debug, clap::Args)]
+pub struct RiskArgs {
+    /// Study directory holding `fragility.csv` (and `fragility_bootstrap.csv`
+    /// for the 90 % band).
+    #[arg(value_name = "DIR")]
+    pub dir: PathBuf,
+    /// Hazard curve for the fit's IM: OpenQuake's hazard-curve CSV
+    /// (`hazard_curve-mean-PGA_*.csv`) or a plain CSV `iml,annual_rate`
+    /// (IML in the fit's unit).
+    #[arg(long, value_name = "FILE")]
+    pub hazard: PathBuf,
+    /// Exposure time for the probability of exceedance 1 − exp(−λN), years.
+    #[arg(long, value_name = "N", default_value_t = RiskOptions::default().years)]
+    pub years: f64,
+    /// Site of an OpenQuake file: its 0-based data row [default: 0].
+    #[arg(long, value_name = "K")]
+    pub site: Option<usize>,
+    /// Where to write risk.csv [default: DIR/risk.csv]; the figure goes to
+    /// figures/risk.svg beside it; summary.md is updated only without --out.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Runs `rockfrag risk`.
+pub fn run(args: RiskArgs) -> anyhow::Result<()> {
+    let options = RiskOptions {
+        years: args.years,
+        ..RiskOptions::default()
+    };
+    options.validate()?;
+    let fragility = read_fragility(&args.dir)?;
+    let hazard = read_hazard(&args.hazard, args.site)?.in_unit_of(fragility.im())?;
+    let rows = assess(&fragility, &hazard, &options)?;
+
+    let csv = args
+        .out
+        .clone()
+        .unwrap_or_else(|| args.dir.join("risk.csv"));
+    write_risk_csv(&csv, &rows, &options)?;
+    let figure = csv
+        .parent()
+        .map_or_else(|| PathBuf::from("figures"), |p| p.join("figures"))
+        .join("risk.svg");
+    if let Some(parent) = figure.parent() {
+        std::fs::create_dir_all(parent).with_context(|| parent.display().to_string())?;
+    }
+    save(&RiskFigure::new(&rows, &hazard), &figure)?;
+    let summary = args.dir.join("summary.md");
+    let summary = (args.out.is_none() && summary.exists()).then_some(summary);
+    if let Some(path) = &summary {
+        update_summary(path, &summary_section(&rows, &hazard, &options))?;
+    }
+
+    let mut text = format!("hazard: {}\n", describe_hazard(&hazard).replace('`', ""));
+    if hazard.source == HazardSource::Plain {
+        text.push_str(&format!(
+            "note: plain hazard file: its levels are taken in the fit's unit ({} {})\n",
+            fragility.im(),
+            fragility.im_unit()
+        ));
+    }
+    if hazard.dropped_low + hazard.dropped_high > 0 {
+        text.push_str(&format!(
+            "note: left out {} level(s) at the low end with poe = 1 or too close to 1 for \
+             its digits to fix the rate to 0.1 %, and {} with rate 0 at the high end\n",
+            hazard.dropped_low, hazard.dropped_high
+        ));
+    }
+    if fragility.bootstrap.is_none() {
+        text.push_str(
+            "note: no fragility_bootstrap.csv: no band on the rates (rerun rockfrag \
+             fragility DIR with --bootstrap N)\n",
+        );
+    }
+    text.push_str(&table(&rows, &options));
+    text.push_str(&format!(
+        "wrote {}, {}{}\n",
+        csv.display(),
+        figure.display(),
+        summary.map_or(String::new(), |p| format!(", {} (## Risk)", p.display()))
+    ));
+    for r in &rows {
+        if let Some(w) = r.tail_warning(options.tail_warning) {
+            eprintln!("warning: {w}");
+        }
+        if let Some(i) = r
+            .integral
+            .filter(|i| i.error > 1e3 * RELATIVE_TOLERANCE * i.rate)
+        {
+            eprintln!(
+                "warning: {} {}: quadrature error estimate {} of the rate",
+                r.curve.key,
+                r.curve.limit_state,
+                sci(i.error / i.rate)
+            );
+        }
+    }
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other.context("writing to standard output"),
+    }
+}
+
+fn table(rows: &[RiskRow], options: &RiskOptions) -> String {
+    let years = sig(options.years);
+    let pct = (options.confidence * 100.0).round();
+    let header: Vec<String> = [
+        "case".to_string(),
+        "limit state".to_string(),
+        format!("annual rate [{pct}%]"),
+        "return period (yr)".to_string(),
+        format!("P in {years} yr"),
+        "peak IM".to_string(),
+        "below/above".to_string(),
+    ]
+    .to_vec();
+    let mut cells = vec![header];
+    for r in rows {
+        let c = &r.curve;
+        let row = match r.integral {
+            None => vec![
+                c.key.to_string(),
+                c.limit_state.clone(),
+                format!("not fitted ({})", c.status),
+                String::new(),
+                String::new(),
+                String::new(),
+                String::new(),
+            ],
+            Some(i) => {
+                let band = r.band.map_or(String::new(), |b| {
+                    format!(" [{}, {}]", sci(b.lo), sci(b.hi))
+                });
+                let (below, above) = r.shares().unwrap_or_default();
+                vec![
+                    c.key.to_string(),
+                    c.limit_state.clone(),
+                    format!("{}{band}", sci(i.rate)),
+                    sig(1.0 / i.rate),
+                    sig(r.poe(options.years).unwrap_or(f64::NAN)),
+                    sig(i.peak_im),
+                    format!("{:.2}%/{:.2}%", 100.0 * below, 100.0 * above),
+                ]
+            }
+        };
+        cells.push(row);
+    }
+    let columns = cells[0].len();
+    let widths: Vec<usize> = (0..columns)
+        .map(|c| {
+            cells
+                .iter()
+                .map(|r| r[c].chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let mut text = String::new();
+    for r in &cells {
+        for (c, cell) in r.iter().enumerate() {
+            text.push_str(cell);
+            if c + 1 < columns {
+                text.push_str(&" ".repeat(widths[c] - cell.chars().count() + 2));
+            }
+        }
+        text.push('\n');
+    }
+    text
+}

@@ -1,0 +1,226 @@
+//! `risk.csv` and the `## Risk` section of `summary.md`, both written
+//! atomically.
+
+use std::path::Path;
+
+use super::assess::{RiskOptions, RiskRow};
+use super::hazard::{HazardCurve, HazardSource};
+use crate::error::{Error, Result};
+use crate::fragility::key_fields;
+use crate::io_util::{number, write_atomic};
+
+/// Header of `risk.csv`, one row per row of `fragility.csv` (same case
+/// columns and `limit_state`, same order). `median`, `beta` are the fit's
+/// (unit of `im`, `im_unit`); `annual_rate` is λ_LS (1/yr) and
+/// `annual_rate_lo`, `annual_rate_hi` its bootstrap percentile band (empty
+/// without `fragility_bootstrap.csv`); `return_period` = 1/λ_LS (years);
+/// `poe` = 1 − exp(−λ_LS·`years`); `peak_im` the intensity (unit of `im`)
+/// where the rate's density over ln im peaks; `share_below`, `share_above`
+/// the fractions of λ_LS from beyond the hazard curve's lowest and highest
+/// levels; `boot_fitted` the replicates behind the band; `status` the fit's
+/// (`ok`, or why there is no curve and the numbers are empty).
+pub const RISK_HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
+im_unit,median,beta,annual_rate,annual_rate_lo,annual_rate_hi,return_period,years,poe,peak_im,\
+share_below,share_above,boot_fitted,status";
+
+/// Writes `risk.csv` (header [`RISK_HEADER`]).
+pub fn write_risk_csv(path: &Path, rows: &[RiskRow], options: &RiskOptions) -> Result<()> {
+    let opt = |x: Option<f64>| x.filter(|v| v.is_finite()).map_or(String::new(), number);
+    write_atomic(path, |w| {
+        writeln!(w, "{RISK_HEADER}")?;
+        for r in rows {
+            let c = &r.curve;
+            let shares = r.shares();
+            let fields = [
+                key_fields(&c.key),
+                c.limit_state.clone(),
+                c.im.clone(),
+                c.im_unit.clone(),
+                opt(c.fit.map(|f| f.0)),
+                opt(c.fit.map(|f| f.1)),
+                opt(r.rate()),
+                opt(r.band.map(|b| b.lo)),
+                opt(r.band.map(|b| b.hi)),
+                opt(r.return_period()),
+                number(options.years),
+                opt(r.poe(options.years)),
+                opt(r.integral.map(|i| i.peak_im)),
+                opt(shares.map(|s| s.0)),
+                opt(shares.map(|s| s.1)),
+                if r.integral.is_some() {
+                    c.replicates.len().to_string()
+                } else {
+                    String::new()
+                },
+                c.status.clone(),
+            ];
+            writeln!(w, "{}", fields.join(","))?;
+        }
+        Ok(())
+    })
+    .map_err(Error::io(path))
+}
+
+/// One line naming the hazard curve: file, format, IMT, investigation time,
+/// site.
+pub fn describe_hazard(h: &HazardCurve) -> String {
+    let name = h.path.file_name().map_or_else(
+        || h.path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let levels = format!(
+        "{} levels, {} to {}",
+        h.iml.len(),
+        sig(h.iml[0]),
+        sig(h.iml[h.iml.len() - 1])
+    );
+    match &h.source {
+        HazardSource::OpenQuake {
+            imt,
+            investigation_time,
+            site,
+            lon,
+            lat,
+        } => format!(
+            "`{name}` (OpenQuake, imt='{imt}', investigation_time={investigation_time} yr, \
+             site {site} at lon {lon}, lat {lat}; {levels})"
+        ),
+        HazardSource::Plain => format!("`{name}` (iml,annual_rate; {levels})"),
+    }
+}
+
+/// The `## Risk` section of `summary.md`: the hazard used and a table of the
+/// rates, return periods and probabilities over `options.years`.
+pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOptions) -> String {
+    let unit = rows.first().map_or("", |r| r.curve.im_unit.as_str());
+    let unit = if unit.is_empty() || unit == "1" {
+        String::new()
+    } else {
+        format!(" ({unit})")
+    };
+    let pct = (options.confidence * 100.0).round();
+    let years = number(options.years);
+    let mut s = format!(
+        "## Risk\n\nAnnual rate of each limit state over the hazard curve {}, from \
+         `rockfrag risk` (`risk.csv`, `figures/risk.svg`): λ = ∫ P(LS | im) |dλ/dim| dim, the \
+         hazard interpolated log–log. [{pct} %]: bootstrap band of the fit carried through. \
+         Peak IM: the intensity that contributes most (the rate's density over ln IM).\n\n\
+         | case | limit state | annual rate [{pct} %] | return period (yr) | P in {years} yr | \
+         peak IM{unit} |\n|---|---|---|---|---|---|\n",
+        describe_hazard(hazard)
+    );
+    let mut worst: (f64, f64) = (0.0, 0.0);
+    for r in rows {
+        let c = &r.curve;
+        let Some(rate) = r.rate() else {
+            s.push_str(&format!(
+                "| {} | {} | not fitted ({}) | | | |\n",
+                c.key, c.limit_state, c.status
+            ));
+            continue;
+        };
+        let band = r.band.map_or(String::new(), |b| {
+            format!(" [{}, {}]", sci(b.lo), sci(b.hi))
+        });
+        let (below, above) = r.shares().unwrap_or_default();
+        worst = (worst.0.max(below), worst.1.max(above));
+        s.push_str(&format!(
+            "| {} | {} | {}{band} | {} | {} | {} |\n",
+            c.key,
+            c.limit_state,
+            sci(rate),
+            sig(1.0 / rate),
+            sig(r.poe(options.years).unwrap_or(f64::NAN)),
+            sig(r.integral.map_or(f64::NAN, |i| i.peak_im)),
+        ));
+    }
+    s.push_str(&format!(
+        "\nLargest shares of a rate from beyond the hazard curve's ends (power-law \
+         extrapolation): {:.2} % below its lowest level, {:.2} % above its highest.\n",
+        100.0 * worst.0,
+        100.0 * worst.1
+    ));
+    s
+}
+
+/// Replaces the `## Risk` section of the markdown file at `path` (up to the
+/// next `## ` heading) with `section`, or appends it; atomically.
+///
+/// Errors: [`Error::Io`].
+pub fn update_summary(path: &Path, section: &str) -> Result<()> {
+    let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
+    let lines: Vec<&str> = text.lines().collect();
+    let start = lines.iter().position(|l| l.trim_end() == "## Risk");
+    let mut out: Vec<String> = Vec::new();
+    match start {
+        Some(i) => {
+            let end = lines[i + 1..]
+                .iter()
+                .position(|l| l.starts_with("## "))
+                .map_or(lines.len(), |j| i + 1 + j);
+            out.extend(lines[..i].iter().map(|l| l.to_string()));
+            out.extend(section.trim_end().lines().map(str::to_string));
+            if end < lines.len() {
+                out.push(String::new());
+                out.extend(lines[end..].iter().map(|l| l.to_string()));
+            }
+        }
+        None => {
+            out.extend(lines.iter().map(|l| l.to_string()));
+            while out.last().is_some_and(|l| l.trim().is_empty()) {
+                out.pop();
+            }
+            out.push(String::new());
+            out.extend(section.trim_end().lines().map(str::to_string));
+        }
+    }
+    write_atomic(path, |w| {
+        for l in &out {
+            writeln!(w, "{l}")?;
+        }
+        Ok(())
+    })
+    .map_err(Error::io(path))
+}
+
+/// Three significant digits, without exponent for ordinary magnitudes.
+pub fn sig(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return x.to_string();
+    }
+    if !(1e-3..1e6).contains(&x.abs()) {
+        return sci(x);
+    }
+    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    format!("{x:.digits$}")
+}
+
+/// Three significant digits in scientific notation, e.g. `1.23e-4`.
+pub fn sci(x: f64) -> String {
+    format!("{x:.2e}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A second update replaces the first section instead of adding another,
+    /// and the sections after it survive.
+    #[test]
+    fn update_summary_replaces_its_section() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.md");
+        std::fs::write(&path, "# Study\n\ntext\n\n## Tables\n\nrow\n").unwrap();
+        update_summary(&path, "## Risk\n\nfirst\n").unwrap();
+        update_summary(&path, "## Risk\n\nsecond\n").unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            "# Study\n\ntext\n\n## Tables\n\nrow\n\n## Risk\n\nsecond\n"
+        );
+        std::fs::write(&path, "# S\n\n## Risk\n\nold\n\n## After\n\nkept\n").unwrap();
+        update_summary(&path, "## Risk\n\nnew\n").unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text, "# S\n\n## Risk\n\nnew\n\n## After\n\nkept\n");
+    }
+}
