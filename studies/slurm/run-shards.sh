@@ -41,8 +41,12 @@ if [ -z "${N:-}" ]; then
     MIN=${SLURM_ARRAY_TASK_MIN:-0}
     MAX=${SLURM_ARRAY_TASK_MAX:-$((COUNT - 1))}
     if [ "$COUNT" -eq 1 ] || [ "$MIN" -ne 0 ] || [ "$MAX" -ne $((COUNT - 1)) ]; then
-        echo "run-shards.sh: the array (tasks $MIN..$MAX, $COUNT in all) is not 0..N-1, so it does not say N." >&2
-        echo "To rerun task(s) of an N-task array, give N, e.g. for task $ID of 16:" >&2
+        if [ "$COUNT" -eq 1 ]; then
+            echo "run-shards.sh: a one-element array (task $ID) does not say N, the number of shards." >&2
+        else
+            echo "run-shards.sh: the array (tasks $MIN..$MAX, $COUNT in all) is not 0..N-1, so it does not say N." >&2
+        fi
+        echo "To rerun task(s) of an N-task array, give N (the first array's size), e.g. for task $ID of 16:" >&2
         echo "  N=16 sbatch --array=$ID $SCRIPT $STUDY" >&2
         echo "(to run the whole study as one task: N=1 sbatch --array=0 $SCRIPT $STUDY)" >&2
         exit 2
