@@ -217,3 +217,100 @@ fn no_band_heading_without_a_bootstrap() {
     let o = rockfrag(&["fragility", out.to_str().unwrap(), "--bootstrap", "20"]);
     assert!(stdout(&o).contains("median (g) [90%]"), "{}", stdout(&o));
 }
+
+/// μk > μs is a usage error found with the arguments (status 2, naming both
+/// flags), not a solver error naming the record (`solving record synthetic
+/// seed=1 index=0: invalid mu_k`, status 1, as before).
+#[test]
+fn mu_k_above_mu_s_is_a_usage_error() {
+    let o = rockfrag(&[
+        "simulate", "--seed", "1", "--pga", "0.5", "--mu-s", "0.3", "--mu-k", "0.5",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("--mu-k 0.5") && err.contains("--mu-s 0.3") && !err.contains("record"),
+        "{err}"
+    );
+}
+
+/// `motion --dt 0.003` names the combination that fails (--dt against the
+/// fixed df = 0.05 Hz) and steps that work, instead of blaming `df`, which
+/// the user never gave. 0.0025 and 0.004 are the round steps either side
+/// (20/0.0025 = 8000, 20/0.004 = 5000).
+#[test]
+fn motion_dt_error_names_dt_and_what_works() {
+    let o = rockfrag(&["motion", "--seed", "1", "--pga", "0.5", "--dt", "0.003"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("--dt 0.003") && err.contains("--dt 0.0025 or --dt 0.004"),
+        "{err}"
+    );
+    assert!(!err.contains("invalid df"), "{err}");
+}
+
+/// A spec named `stüdy 2.toml` with no `name` runs as study `study` (accents
+/// dropped from the file name's first word); before, it was refused as
+/// `invalid name = "stüdy"` at line 0.
+#[test]
+fn non_ascii_spec_file_name_gives_a_valid_study_name() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(SMALL)
+        .unwrap()
+        .replace("name = \"small\"\n", "");
+    let spec = tmp.path().join("stüdy 2.toml");
+    std::fs::write(&spec, text).unwrap();
+    let out = tmp.path().join("out");
+    let o = rockfrag(&[
+        "run",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let manifest = std::fs::read_to_string(out.join("manifest.json")).unwrap();
+    assert!(manifest.contains("\"study\": \"study\""), "{manifest}");
+}
+
+/// Writing to a reader that has gone (`rockfrag simulate … | head -1`)
+/// ends quietly with status 141, as a tool killed by SIGPIPE, not with a
+/// panic (status 101, "failed printing to stdout: Broken pipe"). The pipe's
+/// read end is closed before the child has solved and printed anything.
+#[test]
+fn broken_pipe_exits_quietly() {
+    let mut child = bin()
+        .args(["simulate", "--seed", "1", "--pga", "0.5"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(141), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// `fragility` on one shard's folder refuses (it would fit a part of the
+/// data without a word), naming the shard; `--partial` fits it anyway.
+#[test]
+fn fragility_on_a_shard_folder_needs_partial() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("shard-1");
+    let d = dir.to_str().unwrap();
+    assert!(
+        rockfrag(&["run", SMALL, "--shard", "1/2", "--out", d])
+            .status
+            .success()
+    );
+    let o = rockfrag(&["fragility", d, "--bootstrap", "0"]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(
+        err.contains("shard 1/2") && err.contains("--partial"),
+        "{err}"
+    );
+    let o = rockfrag(&["fragility", d, "--bootstrap", "0", "--partial"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

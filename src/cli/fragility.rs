@@ -57,6 +57,10 @@ pub struct FragilityArgs {
     /// Print every case's bootstrap note (default: one summary line).
     #[arg(long, short)]
     pub verbose: bool,
+    /// Fit a folder holding one shard of a study (only its part of the
+    /// records and levels); without it that is refused.
+    #[arg(long)]
+    pub partial: bool,
 }
 
 impl FragilityArgs {
@@ -80,6 +84,19 @@ impl FragilityArgs {
 
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
+    let manifest = args.dir.join(rockfrag::study::files::MANIFEST);
+    if manifest.exists() && !args.partial {
+        let m = rockfrag::study::Manifest::read(&manifest)?;
+        if m.shard != rockfrag::study::Shard::WHOLE {
+            anyhow::bail!(
+                "{}: holds shard {} of study '{}', a part of its analyses: merge the shards \
+                 (rockfrag merge) and fit the merged folder, or pass --partial to fit this part",
+                args.dir.display(),
+                m.shard,
+                m.study
+            );
+        }
+    }
     let options = args.options();
     let out = args.out.as_ref().unwrap_or(&args.dir);
     let report = fit_and_write(&args.dir, out, &options)?;
