@@ -65,7 +65,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
 pub fn check(cli: &Cli) -> Result<(), clap::Error> {
     match &cli.command {
         Command::Simulate(args) => args.check(),
-        Command::Motion(args) => args.check(),
         _ => Ok(()),
     }
 }

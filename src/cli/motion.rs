@@ -62,10 +62,10 @@ impl MotionArgs {
 }
 
 impl MotionArgs {
-    /// `--dt` must fit the generator's fixed frequency step: checked with the
-    /// arguments, saying which combination fails and which steps work (the
-    /// library's message named df, a setting this command does not offer).
-    pub fn check(&self) -> Result<(), clap::Error> {
+    /// `--dt` must fit the generator's fixed frequency step: says which
+    /// combination fails and which steps work (the library's message named
+    /// df, a setting this command does not offer).
+    fn check_dt(&self) -> anyhow::Result<()> {
         let Some(dt) = self.dt else { return Ok(()) };
         let settings = self.settings();
         if settings.period_len().is_ok() {
@@ -101,20 +101,18 @@ impl MotionArgs {
             .filter(|d| d.is_finite())
             .map(|d| format!("--dt {d}"))
             .collect();
-        Err(clap::Error::raw(
-            clap::error::ErrorKind::ValueValidation,
-            format!(
-                "--dt {dt} does not fit the generator's frequency step df = {df} Hz (fixed): \
-                 1/(df·dt) = {n:.6} must be a whole number ≥ 2, i.e. dt = {} s / n; {} would work\n",
-                1.0 / df,
-                near.join(" or ")
-            ),
-        ))
+        anyhow::bail!(
+            "--dt {dt} does not fit the generator's frequency step df = {df} Hz (fixed): \
+             1/(df·dt) = {n:.6} must be a whole number ≥ 2, i.e. dt = {} s / n; {} would work",
+            1.0 / df,
+            near.join(" or ")
+        )
     }
 }
 
 /// Runs `rockfrag motion`.
 pub fn run(args: MotionArgs) -> anyhow::Result<()> {
+    args.check_dt()?;
     let settings = args.settings();
     let overridden = args.dt.is_some() || args.duration.is_some() || args.highpass.is_some();
     let mut synth = Synthesizer::new(&settings).with_context(|| {
