@@ -684,3 +684,108 @@ fn cli_rejects_bad_values_in_one_line_naming_the_flag() {
     assert!(err.contains("dt"), "{err}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
+
+/// A CSV whose times are rounded as written by `%.6f` (or 6 significant
+/// digits) at Δt = 1/300 s must be read: each time is within the rounding of
+/// its digits (5e-7 s) of t_0 + k·Δt with Δt = (t_last − t_0)/(n − 1). The
+/// old reader compared each step with the first at 1e-6 relative and refused
+/// the file at its third row. Δt comes from the endpoints, each off by at most
+/// 5e-7 s over 10 s, so it is 1/300 to 1e-7 relative (checked at 1e-6).
+/// Real gaps (a missing row) and jitter (one time 2e-5 s off, 40 times its
+/// rounding) are still refused, naming the line.
+#[test]
+fn rounded_time_columns_are_read_and_gaps_refused() {
+    let dt = 1.0 / 300.0;
+    let n = 3001;
+    let rows = |fmt: &dyn Fn(f64) -> String, skip: Option<usize>, jitter: Option<usize>| {
+        let mut s = String::from("t,acc\n");
+        for k in 0..n {
+            if Some(k) == skip {
+                continue;
+            }
+            let t = k as f64 * dt + if Some(k) == jitter { 2e-5 } else { 0.0 };
+            s.push_str(&format!("{},{}\n", fmt(t), (k as f64 * 0.1).sin()));
+        }
+        s
+    };
+    let fixed6 = |t: f64| format!("{t:.6}");
+    let sig6 = |t: f64| format!("{:.5e}", t);
+    for (label, fmt) in [
+        ("%.6f", &fixed6 as &dyn Fn(f64) -> String),
+        ("6 sig", &sig6),
+    ] {
+        let dir = tmp();
+        let path = dir.path().join("rounded.csv");
+        std::fs::write(&path, rows(fmt, None, None)).unwrap();
+        let r = read_csv(&path).unwrap_or_else(|e| panic!("{label}: {e}"));
+        assert_eq!(r.len(), n, "{label}");
+        assert!(((r.dt - dt) / dt).abs() < 1e-6, "{label}: dt = {}", r.dt);
+    }
+    // A missing row (sample 1500, line 1502) and a jittered time (sample 700,
+    // line 702).
+    let gap = error_of("gap.csv", &rows(&fixed6, Some(1500), None), |p: &Path| {
+        read_csv(p)
+    });
+    assert!(
+        gap.contains("gap.csv:") && gap.contains("non-uniform"),
+        "{gap}"
+    );
+    let jit = error_of("jitter.csv", &rows(&fixed6, None, Some(700)), |p: &Path| {
+        read_csv(p)
+    });
+    assert!(
+        jit.contains("jitter.csv:702:") && jit.contains("non-uniform"),
+        "{jit}"
+    );
+}
+
+/// The units and the kind of series of a PEER `.AT2` file come from its
+/// header (the NGA-West2 `… TIME SERIES IN UNITS OF …` and the older `… TIME
+/// HISTORY IN UNITS OF G. FILTER POINTS …` layouts). The same numbers in
+/// g, cm/s² and m/s² must give accelerations in the ratio g : 0.01 : 1 (to
+/// 1e-15 relative: one multiplication and one division each); the old reader
+/// took every file as g, 981 times too strong for a file in cm/s². A velocity
+/// or displacement series is refused at its header line (line 3).
+#[test]
+fn at2_header_units_and_kinds() {
+    let body = "NPTS= 4, DT= .0100 SEC\n 1.0 -2.5 0.5 0.0\n";
+    let file = |third: &str| {
+        format!(
+            "PEER NGA STRONG MOTION DATABASE RECORD\nNorthridge-01, 1/17/1994, X, 090\n{third}\n{body}"
+        )
+    };
+    let read = |third: &str| {
+        let dir = tmp();
+        let path = dir.path().join("r.AT2");
+        std::fs::write(&path, file(third)).unwrap();
+        read_at2(&path, G_STANDARD).map(|r| r.acc)
+    };
+    let g = read("ACCELERATION TIME SERIES IN UNITS OF G").unwrap();
+    assert_eq!(g[1], -2.5 * G_STANDARD);
+    let old = read("ACCELERATION TIME HISTORY IN UNITS OF G. FILTER POINTS: HP=0.1 Hz LP=40.0 Hz")
+        .unwrap();
+    assert_eq!(old, g);
+    for (header, per_unit) in [
+        ("ACCELERATION TIME SERIES IN UNITS OF CM/SEC/SEC", 0.01),
+        ("ACCELERATION TIME SERIES IN UNITS OF CM/S/S", 0.01),
+        ("acceleration time series in units of cm/s^2", 0.01),
+        ("ACCELERATION TIME SERIES IN UNITS OF M/S/S", 1.0),
+        ("ACCELERATION TIME SERIES IN UNITS OF m/s²", 1.0),
+    ] {
+        let acc = read(header).unwrap_or_else(|e| panic!("{header}: {e}"));
+        for (a, v) in acc.iter().zip([1.0, -2.5, 0.5, 0.0]) {
+            assert!(
+                (a - v * per_unit).abs() <= 1e-15 * (v * per_unit).abs(),
+                "{header}: {acc:?}"
+            );
+        }
+    }
+    for (header, word) in [
+        ("VELOCITY TIME SERIES IN UNITS OF CM/S", "velocity"),
+        ("DISPLACEMENT TIME SERIES IN UNITS OF CM", "displacement"),
+        ("ACCELERATION TIME SERIES IN UNITS OF FT/S/S", "FT/S/S"),
+    ] {
+        let e = read(header).unwrap_err().to_string();
+        assert!(e.contains("r.AT2:3:") && e.contains(word), "{header}: {e}");
+    }
+}

@@ -104,8 +104,13 @@ fn merge_refuses_missing_or_foreign_shards() {
     };
     let one = shard(&study, 1, "a1");
     let err = study::merge(std::slice::from_ref(&one), &tmp.path().join("m")).unwrap_err();
+    // The message names the shard that is missing (it used to say only
+    // "1 shard folders given for 2 shards") and where the given one is.
     assert!(
-        err.to_string().contains("shard folders given for 2 shards"),
+        err.to_string().contains("shard 2/2 missing")
+            && err
+                .to_string()
+                .contains(&format!("1/2 in {}", one.display())),
         "{err}"
     );
     let mut other = study.clone();

@@ -72,6 +72,13 @@ pub struct FragilityArgs {
     /// always pooled.
     #[arg(long, value_name = "PARAMS", value_delimiter = ',', value_enum)]
     pub pool: Vec<PoolArg>,
+    /// Print every case's bootstrap note (default: one summary line).
+    #[arg(long, short)]
+    pub verbose: bool,
+    /// Fit a folder holding one shard of a study (only its part of the
+    /// records and levels); without it that is refused.
+    #[arg(long)]
+    pub partial: bool,
 }
 
 /// A case parameter that `--pool` pools over.
@@ -159,9 +166,25 @@ impl FragilityArgs {
 
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
+    let manifest = args.dir.join(rockfrag::study::files::MANIFEST);
+    if manifest.exists() && !args.partial {
+        let m = rockfrag::study::Manifest::read(&manifest)?;
+        if m.shard != rockfrag::study::Shard::WHOLE {
+            anyhow::bail!(
+                "{}: holds shard {} of study '{}', a part of its analyses: merge the shards \
+                 (rockfrag merge) and fit the merged folder, or pass --partial to fit this part",
+                args.dir.display(),
+                m.shard,
+                m.study
+            );
+        }
+    }
     let options = args.options()?;
     let out = args.out.as_ref().unwrap_or(&args.dir);
-    let text = fit_and_write(&args.dir, out, &options)?;
+    let report = fit_and_write(&args.dir, out, &options)?;
+    let mut text = report.table.clone();
+    text.push_str(&report.notes(args.verbose));
+    text.push_str(&report.wrote);
     let mut stdout = std::io::stdout().lock();
     match stdout.write_all(text.as_bytes()) {
         // A closed pipe (`rockfrag fragility … | head`) is not an error.
@@ -170,14 +193,63 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     }
 }
 
+/// What a fit wrote and has to say.
+pub struct FitReport {
+    /// The table of cases (header and one row per case and limit state).
+    pub table: String,
+    /// One note per case whose bootstrap had replicates it could not fit.
+    pub case_notes: Vec<String>,
+    /// Those notes in one line, or empty.
+    pub bootstrap_line: String,
+    /// A note on failed analyses skipped, or empty.
+    pub failed_note: String,
+    /// `wrote …` (one line).
+    pub wrote: String,
+    /// Curves fitted, and curves asked for.
+    pub fitted: usize,
+    /// Curves asked for (cases × limit states).
+    pub curves: usize,
+    /// The fragility.csv written.
+    pub fragility_csv: PathBuf,
+}
+
+impl FitReport {
+    /// The notes: every case's (`verbose`) or their summary line, then the
+    /// note on failed analyses.
+    pub fn notes(&self, verbose: bool) -> String {
+        let mut text = if verbose {
+            self.case_notes.concat()
+        } else {
+            self.bootstrap_line.clone()
+        };
+        text.push_str(&self.failed_note);
+        text
+    }
+
+    /// One line: curves fitted and where they went.
+    pub fn summary(&self) -> String {
+        let see = if self.fitted < self.curves {
+            " (its status column says why a curve was not fitted)"
+        } else {
+            ""
+        };
+        format!(
+            "fragility: {} of {} curves fitted; wrote {}{see}, fragility_curves.csv, fragility.xml\n",
+            self.fitted,
+            self.curves,
+            self.fragility_csv.display()
+        )
+    }
+}
+
 /// Fits the curves of `dir/outcomes.csv`, writes the fragility files into
-/// `out` and returns the table printed to the user (also used by `run` and
-/// `merge` when the spec has a `[fragility]` table).
+/// `out` and returns what to tell the user (also used by `run` and `merge`
+/// when the spec has a `[fragility]` table).
 pub fn fit_and_write(
     dir: &std::path::Path,
     out: &std::path::Path,
     options: &FragilityOptions,
-) -> anyhow::Result<String> {
+) -> anyhow::Result<FitReport> {
     let input = dir.join("outcomes.csv");
     let outcomes = read_outcomes_for(&input, options)?;
     if outcomes.cases.is_empty() {
@@ -186,26 +258,90 @@ pub fn fit_and_write(
     let fits = fit_cases(&outcomes, options)?;
     let paths = write_outputs(out, &fits)?;
 
-    let mut text = table(&fits, options);
     let failed: usize =
         fits.iter().map(|f| f.n_failed).sum::<usize>() + outcomes.failed_unattributed;
-    if failed > 0 {
-        text.push_str(&format!(
-            "note: {failed} failed analyses skipped (error or status not ok in outcomes.csv)\n"
-        ));
+    let failed_note = if failed > 0 {
+        format!("note: {failed} failed analyses skipped (error or status not ok in outcomes.csv)\n")
+    } else {
+        String::new()
+    };
+    Ok(FitReport {
+        table: table(&fits, options),
+        case_notes: case_notes(&fits),
+        bootstrap_line: bootstrap_line(&fits, &paths.fragility),
+        failed_note,
+        wrote: format!(
+            "wrote {}, {}, {}, {}\n",
+            paths.fragility.display(),
+            paths.curves.display(),
+            paths.bootstrap.display(),
+            paths.nrml.display()
+        ),
+        fitted: fits.iter().filter(|f| f.fit.is_ok()).count(),
+        curves: fits.len(),
+        fragility_csv: paths.fragility.clone(),
+    })
+}
+
+/// One note per curve whose bootstrap had replicates that could not be
+/// fitted.
+fn case_notes(fits: &[CaseFit]) -> Vec<String> {
+    fits.iter()
+        .filter_map(|f| {
+            let b = f.bootstrap.as_ref().filter(|b| b.unfit_total() > 0)?;
+            let reasons: Vec<String> = b.unfit.iter().map(|(k, n)| format!("{k} {n}")).collect();
+            Some(format!(
+                "note: {} {}: {} of {} bootstrap replicates could not be fitted ({}); \
+                 the intervals come from the other {}\n",
+                f.key,
+                f.limit_state,
+                b.unfit_total(),
+                b.replicates,
+                reasons.join(", "),
+                b.fitted
+            ))
+        })
+        .collect()
+}
+
+/// The bootstrap notes in one line, by reason: `bootstrap: 16 cases had
+/// separated replicates (max 12 of 1000); see fragility.csv`; empty if none.
+fn bootstrap_line(fits: &[CaseFit], csv: &std::path::Path) -> String {
+    // reason -> (curves with it, most replicates of one curve, its replicates)
+    let mut by_reason: std::collections::BTreeMap<&str, (usize, usize, usize)> =
+        std::collections::BTreeMap::new();
+    for b in fits.iter().filter_map(|f| f.bootstrap.as_ref()) {
+        for (reason, &n) in &b.unfit {
+            let e = by_reason.entry(reason).or_insert((0, 0, b.replicates));
+            e.0 += 1;
+            if n > e.1 {
+                (e.1, e.2) = (n, b.replicates);
+            }
+        }
     }
-    text.push_str(&format!(
-        "wrote {}, {}, {}, {}\n",
-        paths.fragility.display(),
-        paths.curves.display(),
-        paths.bootstrap.display(),
-        paths.nrml.display()
-    ));
-    Ok(text)
+    if by_reason.is_empty() {
+        return String::new();
+    }
+    let parts: Vec<String> = by_reason
+        .iter()
+        .map(|(reason, (curves, max, of))| {
+            let what = if *curves == 1 { "curve" } else { "curves" };
+            format!("{curves} {what} had {reason} replicates (max {max} of {of})")
+        })
+        .collect();
+    format!(
+        "bootstrap: {}; the intervals come from the others (boot_unfit in {}; --verbose lists them)\n",
+        parts.join(", "),
+        csv.display()
+    )
 }
 
 fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
-    let pct = (options.confidence * 100.0).round();
+    // The band's heading only when there is a band (a bootstrap).
+    let pct = match options.bootstrap {
+        0 => String::new(),
+        _ => format!(" [{}%]", (options.confidence * 100.0).round()),
+    };
     let unit = match options.im.unit() {
         "1" => String::new(),
         u => format!(" ({u})"),
@@ -217,8 +353,8 @@ fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
         "exceeded",
         "stripes",
         "records",
-        &format!("median{unit} [{pct}%]"),
-        &format!("beta [{pct}%]"),
+        &format!("median{unit}{pct}"),
+        &format!("beta{pct}"),
         "status",
     ]
     .iter()
@@ -269,21 +405,6 @@ fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
             }
         }
         text.push('\n');
-    }
-    for f in fits {
-        if let Some(b) = f.bootstrap.as_ref().filter(|b| b.unfit_total() > 0) {
-            let reasons: Vec<String> = b.unfit.iter().map(|(k, n)| format!("{k} {n}")).collect();
-            text.push_str(&format!(
-                "note: {} {}: {} of {} bootstrap replicates could not be fitted ({}); \
-                 the intervals come from the other {}\n",
-                f.key,
-                f.limit_state,
-                b.unfit_total(),
-                b.replicates,
-                reasons.join(", "),
-                b.fitted
-            ));
-        }
     }
     text
 }

@@ -13,6 +13,9 @@ pub struct MergeArgs {
     /// Folder of the merged study.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
+    /// Print the fragility table and every note (default: one line per step).
+    #[arg(long, short)]
+    pub verbose: bool,
 }
 
 /// Runs `rockfrag merge`.
@@ -36,5 +39,5 @@ pub fn run(args: MergeArgs) -> anyhow::Result<()> {
     }
     let spec = args.out.join(study::files::MANIFEST);
     let whole = Study::from_toml_unchecked(&m.spec_toml, &spec)?;
-    super::run::finish(&whole, &args.out)
+    super::run::finish(&whole, &args.out, args.verbose)
 }

@@ -65,6 +65,15 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// Checks between flags that clap's parsers, which see one flag at a time,
+/// cannot make; an error here is a usage error like theirs (status 2).
+pub fn check(cli: &Cli) -> Result<(), clap::Error> {
+    match &cli.command {
+        Command::Simulate(args) => args.check(),
+        _ => Ok(()),
+    }
+}
+
 /// Prints a clap error as one clear line (argument and accepted values) and
 /// exits with status 2; help and version requests print normally and exit 0.
 pub fn exit_on_parse_error(err: clap::Error) -> ! {

@@ -27,6 +27,13 @@ pub struct RunArgs {
     /// Stop as if killed after this many work units (for testing resumption).
     #[arg(long, value_name = "UNITS", hide = true)]
     pub stop_after_units: Option<usize>,
+    /// Replace a finished run of another spec or shard in the output folder
+    /// (without it, that is refused).
+    #[arg(long)]
+    pub force: bool,
+    /// Print the fragility table and every note (default: one line per step).
+    #[arg(long, short)]
+    pub verbose: bool,
 }
 
 /// Runs `rockfrag run`.
@@ -47,7 +54,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         spec_file,
         chunk_analyses: 0,
         stop_after_units: args.stop_after_units,
+        force: args.force,
     };
+    // Held over the run and what follows it (fragility files, figures): a
+    // second run into this folder is refused until all is written.
+    std::fs::create_dir_all(&out).map_err(rockfrag::Error::io(&out))?;
+    let _lock = study::RunLock::acquire(&out)?;
     let report = study::run(&study, &opts)?;
     let rate = report.analyses_run as f64 / report.wall_seconds.max(1e-9);
     if report.resumed_at_unit > 0 {
@@ -83,7 +95,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     // The fit and the figures skip failed analyses (and say how many), so
     // they are made before the failures are reported in the exit status.
     if opts.shard == Shard::WHOLE {
-        finish(&study, &out)?;
+        finish(&study, &out, args.verbose)?;
     }
     if c.failed > 0 {
         bail!(
@@ -98,10 +110,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
 
 /// What a complete study folder gets when its spec asks: the fragility fit
 /// (`[fragility]`) and the figures (`output.figures`, into `DIR/figures/`).
-pub fn finish(study: &Study, dir: &Path) -> anyhow::Result<()> {
+/// Says one line for each, and a line of bootstrap notes if any, on
+/// standard error; `verbose` prints the fragility table and every note on
+/// standard output.
+pub fn finish(study: &Study, dir: &Path, verbose: bool) -> anyhow::Result<()> {
     if let Some(options) = &study.fragility {
-        let text = super::fragility::fit_and_write(dir, dir, options)?;
-        print!("{text}");
+        let report = super::fragility::fit_and_write(dir, dir, options)?;
+        if verbose {
+            print!("{}{}{}", report.table, report.notes(true), report.wrote);
+        } else {
+            eprint!("{}{}", report.summary(), report.notes(false));
+        }
     }
     if study.output.figures {
         let out = dir.join("figures");

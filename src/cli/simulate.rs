@@ -150,6 +150,23 @@ pub struct SimulateArgs {
     pub json: bool,
 }
 
+impl SimulateArgs {
+    /// μk ≤ μs, checked with the arguments rather than when the record is
+    /// solved (which named the record, not the flags).
+    pub fn check(&self) -> Result<(), clap::Error> {
+        match (self.mu_s, self.mu_k) {
+            (Some(s), Some(k)) if k > s => Err(clap::Error::raw(
+                clap::error::ErrorKind::ArgumentConflict,
+                format!(
+                    "--mu-k {k} is larger than --mu-s {s}: the kinetic friction coefficient \
+                     cannot exceed the static one (give --mu-k ≤ {s}, or leave it out for μk = μs)\n"
+                ),
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
 /// Runs `rockfrag simulate`.
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     let record = load_record(&args)?;

@@ -163,10 +163,21 @@ impl std::fmt::Display for Unfit {
             Unfit::Separated {
                 last_survival,
                 first_overturn,
+            } if last_survival == first_overturn => write!(
+                f,
+                "perfectly separated: every analysis below {last_survival} survives and every \
+                 one above it exceeds the limit state, both happening only at {last_survival}; \
+                 the maximum-likelihood β is 0, no finite fit"
+            ),
+            Unfit::Separated {
+                last_survival,
+                first_overturn,
             } => write!(
                 f,
-                "perfectly separated: none exceed the limit state below {first_overturn}, all \
-                 exceed it above {last_survival}; the maximum-likelihood β is 0, no finite fit"
+                "perfectly separated: the highest intensity with a survivor is {last_survival} \
+                 and the lowest with an exceedance is {first_overturn} (every analysis up to \
+                 {last_survival} survives, every one from {first_overturn} on exceeds the limit \
+                 state); the maximum-likelihood β is 0, no finite fit"
             ),
             Unfit::Decreasing => {
                 write!(
@@ -645,6 +656,23 @@ fn ln_cdf(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The separation message says which intensity had the last survivor and
+    /// which the first exceedance; it used to read "none … below 0.6, all …
+    /// above 0.3", which sounds like a contradiction.
+    #[test]
+    fn separation_message_names_last_survivor_and_first_exceedance() {
+        let text = Unfit::Separated {
+            last_survival: 0.3,
+            first_overturn: 0.6,
+        }
+        .to_string();
+        assert!(
+            text.contains("highest intensity with a survivor is 0.3")
+                && text.contains("lowest with an exceedance is 0.6"),
+            "{text}"
+        );
+    }
 
     /// ln Φ is continuous across the switch to the asymptotic series at −30
     /// (relative jump < 1e-12) and matches ln(1 − Φ(−x)) for x > 0.

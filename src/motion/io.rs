@@ -15,8 +15,9 @@ use std::path::{Path, PathBuf};
 use super::record::{Record, integrate_linear};
 use crate::error::{Error, Result};
 
-/// Relative tolerance on the time step when checking that a CSV record is
-/// uniformly sampled.
+/// Relative tolerance (of Δt) on the times of a CSV record, beyond the
+/// rounding of the digits written, when checking that it is uniformly
+/// sampled.
 pub const DT_REL_TOL: f64 = 1e-6;
 
 /// The content of a PEER NGA `.AT2` file: three free header lines, then
@@ -238,12 +239,31 @@ fn file_label(path: &Path) -> String {
 }
 
 /// Reads a PEER NGA `.AT2` file as a record in SI units (acc × `g`, usually
-/// [`super::G_STANDARD`]); velocity and displacement are integrated from rest
-/// by the linear rule. The record is named after the file.
+/// [`super::G_STANDARD`], for a file in g; a header `… IN UNITS OF
+/// CM/SEC/SEC` or `M/S/S` is converted from those units instead); velocity
+/// and displacement are integrated from rest by the linear rule. A header
+/// naming a velocity or displacement series is refused at its line. The
+/// record is named after the file.
 pub fn read_at2(path: impl AsRef<Path>, g: f64) -> Result<Record> {
     let path = path.as_ref();
     let text = read_text(path)?;
-    let at2 = At2::parse(&text, path)?;
+    let mut at2 = At2::parse(&text, path)?;
+    let (line, units) = at2_units(&at2.header).map_err(|(line, m)| parse_err(path, line, m))?;
+    // Values in m/s² or cm/s² are brought to g here, so that times g below
+    // they come back to m/s² (to rounding).
+    if let Some(si) = units.si_factor() {
+        let label = units.label();
+        for a in &mut at2.acc_g {
+            *a *= si / g;
+        }
+        if let Some(k) = at2.acc_g.iter().position(|a| !a.is_finite()) {
+            return Err(parse_err(
+                path,
+                at2_value_line(&text, k),
+                format!("acceleration is not finite once converted from {label} (line {line})"),
+            ));
+        }
+    }
     if let Some(k) = at2.acc_g.iter().position(|a| !(a * g).is_finite()) {
         return Err(parse_err(
             path,
@@ -267,6 +287,112 @@ pub fn read_at2(path: impl AsRef<Path>, g: f64) -> Result<Record> {
     };
     record.validate()?;
     Ok(record)
+}
+
+/// Units of the accelerations of an `.AT2` file, read from its header.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum At2Units {
+    /// g (the PEER NGA default, and what a header without units means).
+    G,
+    /// cm/s² (gal).
+    CmPerS2,
+    /// m/s².
+    MPerS2,
+}
+
+impl At2Units {
+    /// m/s² per unit; `None` for g (the caller's g applies).
+    fn si_factor(self) -> Option<f64> {
+        match self {
+            At2Units::G => None,
+            At2Units::CmPerS2 => Some(0.01),
+            At2Units::MPerS2 => Some(1.0),
+        }
+    }
+
+    fn label(self) -> &'static str {
+        match self {
+            At2Units::G => "g",
+            At2Units::CmPerS2 => "cm/s²",
+            At2Units::MPerS2 => "m/s²",
+        }
+    }
+}
+
+/// The series kind and units of an `.AT2` file from its three header lines,
+/// and the 1-based line that says so (0 if none does: then g, as PEER NGA
+/// files are). The PEER layouts: NGA-West2 `ACCELERATION TIME SERIES IN
+/// UNITS OF G`, the older `ACCELERATION TIME HISTORY IN UNITS OF G` (at times
+/// followed by `. FILTER POINTS: …`), and the velocity and displacement files
+/// of the same layout, `VELOCITY TIME SERIES IN UNITS OF CM/S` and
+/// `DISPLACEMENT TIME SERIES IN UNITS OF CM`, which are refused. Units
+/// understood: G; CM/SEC/SEC, CM/S/S, CM/S^2, CM/S2, CM/S**2, CM/SEC^2, GAL;
+/// M/SEC/SEC, M/S/S, M/S^2, M/S2 (any case, with or without spaces).
+fn at2_units(header: &[String; 3]) -> std::result::Result<(usize, At2Units), (usize, String)> {
+    for (i, line) in header.iter().enumerate() {
+        let upper = line.to_uppercase();
+        let describes = upper.contains("TIME SERIES")
+            || upper.contains("TIME HISTORY")
+            || upper.contains("UNITS OF")
+            || upper.contains("UNITS:");
+        if !describes {
+            continue;
+        }
+        let words: Vec<&str> = upper
+            .split(|c: char| !c.is_ascii_alphabetic())
+            .filter(|w| !w.is_empty())
+            .collect();
+        let kind = words
+            .iter()
+            .find(|w| ["ACCELERATION", "VELOCITY", "DISPLACEMENT"].contains(w));
+        if let Some(kind @ (&"VELOCITY" | &"DISPLACEMENT")) = kind {
+            return Err((
+                i + 1,
+                format!(
+                    "header line {} '{}' says this is a {} series: rockfrag reads ground \
+                     acceleration (a PEER .AT2 file, 'ACCELERATION TIME SERIES IN UNITS OF G')",
+                    i + 1,
+                    line.trim(),
+                    kind.to_lowercase()
+                ),
+            ));
+        }
+        let Some(at) = upper
+            .find("UNITS OF")
+            .map(|k| k + 8)
+            .or_else(|| upper.find("UNITS:").map(|k| k + 6))
+        else {
+            continue;
+        };
+        let unit: String = upper[at..]
+            .trim_start()
+            .split(|c: char| c.is_whitespace() || c == ',' || c == ';' || c == '(' || c == '[')
+            .next()
+            .unwrap_or("")
+            .trim_end_matches(['.', ':'])
+            .replace('²', "^2")
+            .replace("**", "^");
+        let units = match unit.as_str() {
+            "G" => At2Units::G,
+            "CM/SEC/SEC" | "CM/S/S" | "CM/S^2" | "CM/S2" | "CM/SEC^2" | "CM/SEC2" | "GAL"
+            | "GALS" => At2Units::CmPerS2,
+            "M/SEC/SEC" | "M/S/S" | "M/S^2" | "M/S2" | "M/SEC^2" | "M/SEC2" => At2Units::MPerS2,
+            _ => {
+                return Err((
+                    i + 1,
+                    format!(
+                        "header line {} '{}': units '{}' not understood: expected G, \
+                         CM/SEC/SEC (or CM/S/S, CM/S^2, GAL) or M/SEC/SEC (or M/S/S, M/S^2)",
+                        i + 1,
+                        line.trim(),
+                        unit
+                    ),
+                ));
+            }
+        };
+        return Ok((i + 1, units));
+    }
+    Ok((0, At2Units::G))
 }
 
 /// The 1-based line of value `k` (0-based) of the text of a parsed `.AT2`
@@ -311,9 +437,103 @@ fn check_integrated(
     }
 }
 
+/// The time fields (first column) of the CSV rows at `lines` (1-based) of
+/// `text`, as written.
+fn text_times<'a>(text: &'a str, lines: &[usize]) -> Vec<&'a str> {
+    let all: Vec<&str> = text.lines().collect();
+    lines
+        .iter()
+        .map(|&l| all[l - 1].split(',').next().unwrap_or("").trim())
+        .collect()
+}
+
+/// Half a unit in the last digit of a number as written (`0.003333` →
+/// 5e-7, `3.33e-3` → 5e-6): how far a value rounded to those digits can be
+/// from the value the writer meant. A number written without a decimal point
+/// or exponent (`0`, `12`) is taken as exact: writers drop the `.0` of whole
+/// numbers.
+fn rounding_of(token: &str) -> f64 {
+    let t = token.trim().trim_start_matches(['+', '-']);
+    let (mantissa, exponent) = match t.find(['e', 'E', 'd', 'D']) {
+        Some(i) => (&t[..i], t[i + 1..].parse::<i32>().unwrap_or(0)),
+        None => (t, 0),
+    };
+    match mantissa.find('.') {
+        Some(i) => {
+            let decimals = (mantissa.len() - i - 1) as i32;
+            0.5 * 10f64.powi(exponent - decimals)
+        }
+        None if exponent != 0 => 0.5 * 10f64.powi(exponent),
+        None => 0.0,
+    }
+}
+
+/// The time step of a CSV record's time column `t` (rows at file `lines`,
+/// `times` as written), refusing gaps and jitter.
+///
+/// Times written with rounding (`%.6f` at Δt = 1/300 s) are accepted: Δt =
+/// (t_last − t_0)/(n − 1), and each time must lie within its rounding (half a
+/// unit in its last written digit, plus the larger of the first's and the
+/// last's, which fix Δt) plus [`DT_REL_TOL`]·Δt of t_0 + k·Δt. That bound
+/// must stay below Δt/4, so that a missing or extra sample (which moves some
+/// time by at least Δt/2 from the line) cannot hide in it; when the digits
+/// written are too few for that (`0.01` at Δt = 0.01), the times are taken
+/// as exact instead: every step must equal the first to [`DT_REL_TOL`]
+/// relative, and Δt is the first step (so a file written by [`write_csv`]
+/// reads back bit for bit).
+fn uniform_step(path: &Path, t: &[f64], times: &[&str], lines: &[usize]) -> Result<f64> {
+    let n = t.len();
+    let dt_first = t[1] - t[0];
+    let exact = (2..n).all(|k| ((t[k] - t[k - 1]) - dt_first).abs() <= DT_REL_TOL * dt_first);
+    if exact {
+        return Ok(dt_first);
+    }
+    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let ends = rounding_of(times[0]).max(rounding_of(times[n - 1]));
+    let bound = |k: usize| rounding_of(times[k]) + ends + DT_REL_TOL * dt;
+    let resolvable = dt.is_finite() && dt > 0.0 && (0..n).all(|k| bound(k) < 0.25 * dt);
+    if !resolvable {
+        // Too few digits to read the times as rounded: report the first step
+        // that differs from the first one.
+        let k = (2..n)
+            .find(|&k| ((t[k] - t[k - 1]) - dt_first).abs() > DT_REL_TOL * dt_first)
+            .unwrap_or(n - 1);
+        let step = t[k] - t[k - 1];
+        return Err(parse_err(
+            path,
+            lines[k],
+            format!(
+                "non-uniform time step: t = {} follows {} (step {step}, but the first step is {dt_first})",
+                t[k],
+                t[k - 1]
+            ),
+        ));
+    }
+    for k in 1..n - 1 {
+        let expected = t[0] + k as f64 * dt;
+        let off = t[k] - expected;
+        if off.abs() > bound(k) {
+            return Err(parse_err(
+                path,
+                lines[k],
+                format!(
+                    "non-uniform time step: t = {} is {off:+e} s from t_0 + k·Δt = {expected} \
+                     (row {k} after the first; Δt = (t_last − t_0)/(n − 1) = {dt}), more than \
+                     the rounding of the digits written allows ({:e} s): a gap or jitter in the time column",
+                    times[k],
+                    bound(k)
+                ),
+            ));
+        }
+    }
+    Ok(dt)
+}
+
 /// Reads a CSV record with header `t,acc` or `t,acc,vel,disp` (s, m/s², m/s,
-/// m), as written by [`write_csv`]. The time step must be uniform (relative
-/// tolerance [`DT_REL_TOL`]); sample k is taken at k·Δt from the first row.
+/// m), as written by [`write_csv`]. The time step must be uniform, up to the
+/// rounding of the digits written (Δt from the first and last times, each
+/// time within its rounding of t_0 + k·Δt); sample k is taken
+/// at k·Δt from the first row.
 /// Without `vel`/`disp` columns they are integrated from rest by the linear
 /// rule. Blank lines are skipped.
 pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
@@ -378,36 +598,24 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
             format!("{} samples: at least 2 are needed", t.len()),
         ));
     }
-    let dt = t[1] - t[0];
-    // Both times are finite, so dt is not NaN.
-    if dt <= 0.0 {
+    let dt_first = t[1] - t[0];
+    // Both times are finite, so dt_first is not NaN.
+    if dt_first <= 0.0 {
         return Err(parse_err(
             path,
             lines[1],
             format!("time step t = {} after {} is not positive", t[1], t[0]),
         ));
     }
-    if !dt.is_finite() {
+    if !dt_first.is_finite() {
         return Err(parse_err(
             path,
             lines[1],
             format!("time step t = {:e} after {:e} is not finite", t[1], t[0]),
         ));
     }
-    for k in 2..t.len() {
-        let step = t[k] - t[k - 1];
-        if (step - dt).abs() > DT_REL_TOL * dt {
-            return Err(parse_err(
-                path,
-                lines[k],
-                format!(
-                    "non-uniform time step: t = {} follows {} (step {step}, but the first step is {dt})",
-                    t[k],
-                    t[k - 1]
-                ),
-            ));
-        }
-    }
+    let times: Vec<&str> = text_times(&text, &lines);
+    let dt = uniform_step(path, &t, &times, &lines)?;
     let name = file_label(path);
     let (vel, disp) = if ncol == 4 {
         (vel, disp)

@@ -71,33 +71,81 @@ impl SpecFile {
 
 // ───────────────────────────── top level ─────────────────────────────
 
-/// `name`: given, or the first word of the spec file's stem.
+/// `name`: given, or derived from the first word of the spec file's stem
+/// (accents dropped, other characters not allowed in a name become `_`:
+/// `stüdy 2.toml` is `study`).
 fn name(spec: &Origin, name: Option<String>) -> Result<String> {
+    const ALLOWED: &str =
+        "a non-empty name of letters, digits, '.', '_' or '-' (not starting with '.')";
+    let valid = |n: &str| {
+        !n.is_empty()
+            && !n.starts_with('.')
+            && n.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-'))
+    };
     let name = match name {
         Some(n) => n,
-        None => spec
-            .origin
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default()
-            .split_whitespace()
-            .next()
-            .unwrap_or_default()
-            .to_string(),
+        None => {
+            let stem = spec
+                .origin
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let word = stem.split_whitespace().next().unwrap_or_default();
+            let derived = ascii_name(word);
+            if !valid(&derived) {
+                return Err(spec.bad(
+                    "name",
+                    &format!("(none; the file name '{stem}' gives \"{derived}\")"),
+                    &format!("{ALLOWED}: add name = \"...\" to the spec"),
+                ));
+            }
+            derived
+        }
     };
-    if name.is_empty()
-        || name.starts_with('.')
-        || !name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-'))
-    {
-        return Err(spec.bad(
-            "name",
-            &format!("\"{name}\""),
-            "a non-empty name of letters, digits, '.', '_' or '-' (not starting with '.')",
-        ));
+    if !valid(&name) {
+        return Err(spec.bad("name", &format!("\"{name}\""), ALLOWED));
     }
     Ok(name)
+}
+
+/// A file-name word as a study name: Latin letters lose their accents
+/// (`ü` → `u`, `ß` → `ss`), any other character not allowed in a name
+/// becomes `_`, and leading dots go.
+fn ascii_name(word: &str) -> String {
+    let mut out = String::new();
+    for c in word.chars() {
+        let plain = match c {
+            'à'..='å' => "a",
+            'À'..='Å' => "A",
+            'ç' => "c",
+            'Ç' => "C",
+            'è'..='ë' => "e",
+            'È'..='Ë' => "E",
+            'ì'..='ï' => "i",
+            'Ì'..='Ï' => "I",
+            'ñ' => "n",
+            'Ñ' => "N",
+            'ò'..='ö' | 'ø' => "o",
+            'Ò'..='Ö' | 'Ø' => "O",
+            'ù'..='ü' => "u",
+            'Ù'..='Ü' => "U",
+            'ý' | 'ÿ' => "y",
+            'Ý' => "Y",
+            'ß' => "ss",
+            'æ' => "ae",
+            'Æ' => "AE",
+            'œ' => "oe",
+            'Œ' => "OE",
+            c if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') => {
+                out.push(c);
+                continue;
+            }
+            _ => "_",
+        };
+        out.push_str(plain);
+    }
+    out.trim_start_matches('.').to_string()
 }
 
 /// `g`, m/s² (default: standard gravity).

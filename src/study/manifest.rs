@@ -118,6 +118,53 @@ impl Manifest {
     }
 }
 
+/// Refuses to start a run into `dir` over a finished run (its
+/// `outcomes.csv`) of another spec, other record files or another shard
+/// than `this` describes, unless `force`. A finished run of the same spec
+/// and shard is simply run again.
+pub fn check_finished(dir: &Path, this: &Manifest, force: bool) -> Result<()> {
+    let outcomes = dir.join(super::files::OUTCOMES);
+    if force || !outcomes.exists() {
+        return Ok(());
+    }
+    let path = dir.join(super::files::MANIFEST);
+    let what = match Manifest::read(&path) {
+        Ok(old) => {
+            if old.spec_hash == this.spec_hash
+                && old.records_hash == this.records_hash
+                && old.shard == this.shard
+            {
+                return Ok(());
+            }
+            let mut diff = Vec::new();
+            if old.spec_hash != this.spec_hash {
+                diff.push(format!(
+                    "spec hash {} (study '{}', from {}), not {}",
+                    old.spec_hash, old.study, old.spec_file, this.spec_hash
+                ));
+            }
+            if old.records_hash != this.records_hash {
+                diff.push(format!(
+                    "record files {}, not {}",
+                    old.records_hash.as_deref().unwrap_or("none (synthetic)"),
+                    this.records_hash.as_deref().unwrap_or("none (synthetic)")
+                ));
+            }
+            if old.shard != this.shard {
+                diff.push(format!("shard {}, not {}", old.shard, this.shard));
+            }
+            format!("a finished run of another spec: {}", diff.join("; "))
+        }
+        Err(e) => format!("an outcomes.csv whose manifest cannot be read ({e})"),
+    };
+    Err(Error::Conflict {
+        path: dir.to_path_buf(),
+        message: format!(
+            "holds {what}: refusing to overwrite it; pass another --out, or --force to replace it"
+        ),
+    })
+}
+
 /// A hash as written in manifests and checkpoints.
 pub fn hash_text(h: u64) -> String {
     format!("fnv1a64:{h:016x}")

@@ -66,22 +66,46 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
         }
     }
     shards.sort_by_key(|(m, _)| m.shard.index);
-    for (k, (m, dir)) in shards.iter().enumerate() {
-        if m.shard.index != k + 1 {
-            let have: Vec<String> = shards.iter().map(|(m, _)| m.shard.to_string()).collect();
-            return Err(conflict(
-                dir,
-                format!(
-                    "the shards given are {} but all of 1/{n}..{n}/{n} are needed, once each",
-                    have.join(", ")
-                ),
+    // Every shard 1/N..N/N once: name the missing and the repeated ones.
+    let given = |k: usize| shards.iter().filter(|(m, _)| m.shard.index == k).count();
+    let missing: Vec<String> = (1..=n)
+        .filter(|&k| given(k) == 0)
+        .map(|k| format!("{k}/{n}"))
+        .collect();
+    let repeated: Vec<String> = (1..=n)
+        .filter(|&k| given(k) > 1)
+        .map(|k| {
+            let where_: Vec<String> = shards
+                .iter()
+                .filter(|(m, _)| m.shard.index == k)
+                .map(|(_, d)| d.display().to_string())
+                .collect();
+            format!("{k}/{n} (in {})", where_.join(" and "))
+        })
+        .collect();
+    if !missing.is_empty() || !repeated.is_empty() {
+        let have: Vec<String> = shards
+            .iter()
+            .map(|(m, d)| format!("{} in {}", m.shard, d.display()))
+            .collect();
+        let mut what = Vec::new();
+        if !missing.is_empty() {
+            what.push(format!(
+                "shard {} missing (run it with --shard {} and merge again)",
+                missing.join(", "),
+                missing[0]
             ));
         }
-    }
-    if shards.len() != n {
+        if !repeated.is_empty() {
+            what.push(format!("shard {} given twice", repeated.join(", ")));
+        }
         return Err(conflict(
             first_dir.as_path(),
-            format!("{} shard folders given for {n} shards", shards.len()),
+            format!(
+                "{}: every shard 1/{n}..{n}/{n} is needed once; given: {}",
+                what.join("; "),
+                have.join(", ")
+            ),
         ));
     }
 

@@ -26,13 +26,16 @@
 //! manifest, and the run carries on; the caller decides the exit status.
 
 pub mod files;
+mod lock;
 mod manifest;
 mod merge;
 pub(crate) mod paper;
 pub(crate) mod plan;
+mod progress;
 mod source;
 mod summary;
 
+pub use lock::RunLock;
 pub use manifest::Manifest;
 pub use merge::merge;
 pub use plan::{Case, Shard, Unit};
@@ -46,11 +49,10 @@ use crate::outcome::Outcome;
 use crate::outcomes_csv::{Columns, RecordInfo};
 use crate::solver::{Analysis, simulate};
 use crate::spec::{Motions, Study, fnv1a64};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use plan::columns;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::io::{IsTerminal, Seek, Write};
+use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -63,7 +65,9 @@ pub struct RunOptions {
     pub threads: usize,
     /// Which shard of the units to run.
     pub shard: Shard,
-    /// Draw a progress bar on standard error (only if it is a terminal).
+    /// Report on standard error: the analyses to run, a time estimate after
+    /// the first chunk, then a progress bar on a terminal, or a progress line
+    /// every 5 % or minute off one.
     pub progress: bool,
     /// The spec file as the user named it, for the manifest.
     pub spec_file: String,
@@ -73,6 +77,9 @@ pub struct RunOptions {
     /// Stop, as if killed, once this many units have been done by this
     /// invocation (the checkpoint is left for a later run to resume). For tests.
     pub stop_after_units: Option<usize>,
+    /// Replace a finished run of another spec or shard in `out_dir` (else
+    /// refused).
+    pub force: bool,
 }
 
 impl RunOptions {
@@ -86,6 +93,7 @@ impl RunOptions {
             spec_file: String::new(),
             chunk_analyses: 0,
             stop_after_units: None,
+            force: false,
         }
     }
 }
@@ -137,11 +145,13 @@ fn records_hash(study: &Study) -> Result<Option<u64>> {
 }
 
 /// Runs `study` (or its shard) into `opts.out_dir`, resuming from a
-/// checkpoint there if one matches.
+/// checkpoint there if one matches. The folder is locked ([`RunLock`]) for
+/// the run: a second run into it is refused before it touches a file.
 pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let t0 = Instant::now();
     let dir = &opts.out_dir;
     std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    let _lock = RunLock::acquire(dir)?;
     let threads = if opts.threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
@@ -195,12 +205,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
             }
             resume(dir, &old, &partial_path)?
                 .map(|f| (old.clone(), f))
-                .map_or_else(
-                    || start(&cols, fresh.clone(), &partial_path, &ckpt_path),
-                    Ok,
-                )?
+                .map_or_else(|| start(&cols, fresh.clone(), &partial_path), Ok)?
         }
-        None => start(&cols, fresh.clone(), &partial_path, &ckpt_path)?,
+        None => {
+            manifest::check_finished(dir, &manifest, opts.force)?;
+            start(&cols, fresh.clone(), &partial_path)?
+        }
     };
     let resumed_at_unit = ckpt.units_done;
 
@@ -209,9 +219,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         .build()
         .map_err(|e| Error::invalid("threads", threads, &format!("a usable thread count ({e})")))?;
     let source = Source::new(study)?;
-    let bar = progress_bar(opts.progress, (units.len() * cases.len()) as u64);
-    bar.set_position((ckpt.units_done * cases.len()) as u64);
-    bar.reset_eta();
+    let mut bar = progress::Progress::start(
+        opts.progress,
+        (units.len() * cases.len()) as u64,
+        (ckpt.units_done * cases.len()) as u64,
+        threads,
+    );
 
     let chunk_analyses = match opts.chunk_analyses {
         0 => threads * 128,
@@ -235,7 +248,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         analyses_run += n;
         bar.inc(n);
     }
-    bar.finish_and_clear();
+    bar.finish();
     drop(file);
 
     let mut report = RunReport {
@@ -357,21 +370,6 @@ fn solve(
     }
 }
 
-fn progress_bar(show: bool, len: u64) -> ProgressBar {
-    let target = if show && std::io::stderr().is_terminal() {
-        ProgressDrawTarget::stderr()
-    } else {
-        ProgressDrawTarget::hidden()
-    };
-    let bar = ProgressBar::with_draw_target(Some(len), target);
-    if let Ok(style) = ProgressStyle::with_template(
-        "{elapsed_precise} [{wide_bar}] {human_pos}/{human_len} analyses, {per_sec}, ETA {eta}",
-    ) {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
-}
-
 fn read_checkpoint(path: &Path) -> Result<Option<Checkpoint>> {
     match std::fs::read_to_string(path) {
         Ok(text) => serde_json::from_str(&text)
@@ -394,13 +392,10 @@ fn write_checkpoint(path: &Path, ckpt: &Checkpoint) -> Result<()> {
     .map_err(Error::io(path))
 }
 
-/// Starts a run from scratch: the partial file holds the header only.
-fn start(
-    cols: &Columns,
-    ckpt: Checkpoint,
-    partial: &Path,
-    ckpt_path: &Path,
-) -> Result<(Checkpoint, std::fs::File)> {
+/// Starts a run from scratch: the partial file holds the header only. The
+/// first checkpoint is written after the first chunk: a checkpoint always
+/// has work to resume.
+fn start(cols: &Columns, ckpt: Checkpoint, partial: &Path) -> Result<(Checkpoint, std::fs::File)> {
     let mut file = std::fs::File::create(partial).map_err(Error::io(partial))?;
     let header = cols.header();
     file.write_all(header.as_bytes())
@@ -410,7 +405,6 @@ fn start(
         bytes: header.len() as u64,
         ..ckpt
     };
-    write_checkpoint(ckpt_path, &ckpt)?;
     Ok((ckpt, file))
 }
 
