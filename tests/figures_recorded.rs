@@ -46,8 +46,8 @@ fn run_recorded_study(root: &Path) -> std::path::PathBuf {
 /// working directory, which stays empty). The sample record is the study's
 /// first file as recorded (its name and PGA 0.25 g in the title), the
 /// history is chosen among the study's files (a file name in its title,
-/// no ensemble seed), and the synthetic-ensemble spectrum is not drawn: a
-/// note says why.
+/// no ensemble seed), and the spectrum is that of the study's two records
+/// as recorded, with no synthetic target.
 #[test]
 fn recorded_study_figures_show_its_records_in_its_folder() {
     let root = tempfile::tempdir().unwrap();
@@ -68,11 +68,13 @@ fn recorded_study_figures_show_its_records_in_its_folder() {
         assert!(path.is_file(), "{}", path.display());
         assert!(listed.contains(&path.display().to_string()), "{listed}");
     }
-    assert!(!figures.join("spectrum.svg").exists());
+    let spectrum = std::fs::read_to_string(figures.join("spectrum.svg")).unwrap();
     assert!(
-        err.contains("spectrum: skipped") && err.contains("record_files"),
-        "{err}"
+        spectrum.contains("Mean spectrum of 2 recorded motions"),
+        "spectrum title"
     );
+    assert!(!spectrum.contains("eq. (6)"), "no synthetic target");
+    assert!(!err.contains("spectrum: skipped"), "{err}");
     let motion = std::fs::read_to_string(figures.join("motion.svg")).unwrap();
     assert!(
         motion.contains("rec-0.csv, as recorded (PGA 0.25 g)"),

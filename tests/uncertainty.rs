@@ -4,6 +4,8 @@
 //! count and shard split; its draws are in range and differ per analysis;
 //! its fitted medians rise with severity. And the spec's rules for the table.
 
+mod common;
+
 use rockfrag::fragility::{fit_cases, read_outcomes_for};
 use rockfrag::motion::{At2, G_STANDARD as G, SynthesisSettings, Synthesizer};
 use rockfrag::outcomes_csv::{Column, OutcomesReader};
@@ -264,4 +266,62 @@ fn canonical_spec_round_trips() {
     let back = Study::from_toml(&canonical, Path::new("x.toml")).unwrap();
     assert!(back.uncertainty == study.uncertainty && back.aspects == study.aspects);
     assert_eq!(back.hash(), study.hash());
+}
+
+/// `rockfrag fragility DIR` learns from the study's manifest which
+/// parameters were drawn and pools them: one row per limit state for the
+/// pooled case (e column empty), not one per analysis; `--limit-state`
+/// flags replace the study's limit states, in the order given; a malformed
+/// flag is refused naming the expected form.
+#[test]
+fn fragility_command_pools_drawn_parameters_and_takes_limit_states() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = tmp.path().join("u.toml");
+    std::fs::write(
+        &spec,
+        "name = \"u\"\nseed = 4\nrecords = 6\n[grid]\naspect = [4]\n\
+         pga = [0.2, 0.4, 0.6, 0.8, 1.0]\n[uncertainty]\n\
+         restitution = { dist = \"uniform\", min = 0.0, max = 0.9 }\n",
+    )
+    .unwrap();
+    let dir = tmp.path().join("out");
+    let d = dir.to_str().unwrap();
+    let o = common::rockfrag(&["run", spec.to_str().unwrap(), "--out", d]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+
+    let rows = |args: &[&str]| {
+        let o = common::rockfrag(args);
+        assert!(o.status.success(), "{}", common::stderr(&o));
+        let text = std::fs::read_to_string(dir.join("fragility.csv")).unwrap();
+        text.lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f[2].to_string(), f[6].to_string())
+            })
+            .collect::<Vec<_>>()
+    };
+    let pooled = rows(&["fragility", d, "--bootstrap", "0"]);
+    assert_eq!(pooled, [(String::new(), "overturning".to_string())]);
+    let two = rows(&[
+        "fragility",
+        d,
+        "--bootstrap",
+        "0",
+        "--limit-state",
+        "rocks-third=theta_max_over_theta_c>0.3",
+        "--limit-state",
+        "overturning=overturned",
+    ]);
+    let names: Vec<&str> = two.iter().map(|r| r.1.as_str()).collect();
+    assert_eq!(names, ["rocks-third", "overturning"]);
+    assert!(two.iter().all(|r| r.0.is_empty()), "e pooled: {two:?}");
+
+    let o = common::rockfrag(&["fragility", d, "--limit-state", "rocks"]);
+    assert!(!o.status.success());
+    assert!(
+        common::stderr(&o).contains("NAME=MEASURE"),
+        "{}",
+        common::stderr(&o)
+    );
 }

@@ -234,7 +234,7 @@ impl FitReport {
             ""
         };
         format!(
-            "fragility: {} of {} curves fitted; wrote {}{see}, fragility_curves.csv, fragility.xml\n",
+            "fragility: {} of {} curves fitted; wrote {}{see}, fragility_curves.csv, fragility_bootstrap.csv, fragility.xml\n",
             self.fitted,
             self.curves,
             self.fragility_csv.display()

@@ -249,12 +249,26 @@ fn recorded_figures(
     file: &dyn Fn(&str) -> PathBuf,
     report: &mut FiguresReport,
 ) -> Result<()> {
-    report.notes.push(
-        "spectrum: skipped, the study's motions are recorded (record_files); the synthetic \
-         ensemble's spectrum would not describe them"
-            .to_string(),
-    );
     let g = options.synthesis.g;
+    // The spectrum of every record the study ran, as recorded.
+    let mut all = Vec::with_capacity(options.record_files.len());
+    for path in &options.record_files {
+        match read_record(path, g) {
+            Ok(r) => all.push(r),
+            Err(e) => {
+                report.notes.push(format!(
+                    "spectrum: skipped, record file {} cannot be read ({e})",
+                    path.display()
+                ));
+                all.clear();
+                break;
+            }
+        }
+    }
+    if !all.is_empty() {
+        let spectrum = SpectrumFigure::recorded(&all, "recorded motions");
+        write(&spectrum, file("spectrum"), report)?;
+    }
     let n = (options.history.records.max(1) as usize).min(options.record_files.len());
     let mut records = Vec::with_capacity(n);
     let mut names = Vec::with_capacity(n);

@@ -58,10 +58,12 @@ pub struct CurvePoint {
     pub p_hi: f64,
 }
 
-/// A friction model for legends: `μ = ∞` or `μₛ = 0.7, μₖ = 0.6`.
+/// A friction model for legends: `μ = ∞` or `μₛ = 0.7, μₖ = 0.6` (`μₛ, μₖ
+/// drawn` when drawn per analysis).
 pub fn friction_label(f: &Friction) -> String {
     match *f {
         Friction::Infinite => "μ = ∞".to_string(),
+        Friction::Coulomb { mu_s, .. } if mu_s.is_nan() => "μₛ, μₖ drawn".to_string(),
         Friction::Coulomb { mu_s, mu_k } => format!(
             "μₛ = {}, μₖ = {}",
             super::style::tick_label(mu_s),
@@ -230,19 +232,31 @@ pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
     Ok(points)
 }
 
-/// The distinct values of `values`, sorted (values equal as `f64` are one).
+/// The distinct values of `values`, sorted (values equal as `f64` are one,
+/// and so are NaNs: the placeholder of a drawn parameter).
 pub fn distinct(values: impl IntoIterator<Item = f64>) -> Vec<f64> {
     let mut v: Vec<f64> = values.into_iter().collect();
     v.sort_by(f64::total_cmp);
-    v.dedup();
+    v.dedup_by(|a, b| same(*a, *b));
     v
+}
+
+/// Equal as `f64`, or both NaN (a parameter drawn per analysis, pooled).
+pub fn same(a: f64, b: f64) -> bool {
+    a == b || (a.is_nan() && b.is_nan())
 }
 
 /// The distinct friction models of `values`, infinite first.
 pub fn distinct_friction(values: impl IntoIterator<Item = Friction>) -> Vec<Friction> {
     let mut v: Vec<Friction> = values.into_iter().collect();
     v.sort_by(cmp_friction);
-    v.dedup();
+    v.dedup_by(|a, b| match (*a, *b) {
+        (Friction::Infinite, Friction::Infinite) => true,
+        (Friction::Coulomb { mu_s, mu_k }, Friction::Coulomb { mu_s: s, mu_k: k }) => {
+            same(mu_s, s) && same(mu_k, k)
+        }
+        _ => false,
+    });
     v
 }
 

@@ -19,7 +19,7 @@ use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
 use plotters::style::{BLACK, Color};
 
-use super::data::{StudyData, distinct, distinct_friction, friction_label};
+use super::data::{StudyData, distinct, distinct_friction, friction_label, same};
 use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{PAGE_WIDTH_IN, Style, tick_label};
@@ -250,7 +250,7 @@ pub fn restitution_colour(i: usize) -> plotters::style::RGBColor {
 fn distinct_blocks(cases: &[CaseKey]) -> Vec<(f64, f64)> {
     let mut v: Vec<(f64, f64)> = cases.iter().map(|c| (c.aspect, c.width)).collect();
     v.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    v.dedup();
+    v.dedup_by(|a, b| same(a.0, b.0) && same(a.1, b.1));
     v
 }
 

@@ -82,7 +82,7 @@ impl RestitutionFigure {
         let mut blocks: Vec<(f64, f64)> =
             rows.iter().map(|r| (r.case.aspect, r.case.width)).collect();
         blocks.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-        blocks.dedup();
+        blocks.dedup_by(|a, b| super::data::same(a.0, b.0) && super::data::same(a.1, b.1));
         let several_widths = distinct(blocks.iter().map(|b| b.1)).len() > 1;
         let mut panels = Vec::new();
         let (mut n_min, mut n_max) = (usize::MAX, 0);
