@@ -556,13 +556,17 @@ pub fn is_papers(study: &Study) -> bool {
         && study.aspects.iter().all(|a| [2.0, 4.0, 6.0].contains(a))
 }
 
-/// Three significant figures, as in the paper's tables.
+/// Three significant figures, as in the paper's tables; below 10⁻⁴ in
+/// scientific notation (`3.42e-41`, a graze), not forty zeros.
 pub fn sig3(x: f64) -> String {
     if !x.is_finite() {
         return x.to_string();
     }
     if x == 0.0 {
         return "0".to_string();
+    }
+    if x.abs() < 1e-4 {
+        return format!("{x:.2e}");
     }
     let mag = x.abs().log10().floor() as i32;
     let decimals = (2 - mag).max(0) as usize;
@@ -625,6 +629,16 @@ fn uncertainty_text(u: &Uncertainty) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Three significant figures; a graze's 3.4e-41 in scientific notation.
+    #[test]
+    fn sig3_keeps_three_figures_and_small_numbers_short() {
+        assert_eq!(sig3(0.148_3), "0.148");
+        assert_eq!(sig3(12.345), "12.3");
+        assert_eq!(sig3(0.000_123_4), "0.000123");
+        assert_eq!(sig3(3.42e-41), "3.42e-41");
+        assert_eq!(sig3(0.0), "0");
+    }
 
     #[test]
     fn three_significant_figures() {
