@@ -10,7 +10,8 @@
 use std::path::Path;
 
 use crate::error::Result;
-use crate::outcomes_csv::{CaseKey, Column, OutcomesReader, Pooled, cmp_friction};
+pub use crate::outcomes_csv::same;
+use crate::outcomes_csv::{CaseKey, Column, OutcomesReader, Pooled, cmp_friction, same_friction};
 use crate::solver::Friction;
 
 /// One analysis as the figures need it: the case, the intensity and the
@@ -241,22 +242,11 @@ pub fn distinct(values: impl IntoIterator<Item = f64>) -> Vec<f64> {
     v
 }
 
-/// Equal as `f64`, or both NaN (a parameter drawn per analysis, pooled).
-pub fn same(a: f64, b: f64) -> bool {
-    a == b || (a.is_nan() && b.is_nan())
-}
-
 /// The distinct friction models of `values`, infinite first.
 pub fn distinct_friction(values: impl IntoIterator<Item = Friction>) -> Vec<Friction> {
     let mut v: Vec<Friction> = values.into_iter().collect();
     v.sort_by(cmp_friction);
-    v.dedup_by(|a, b| match (*a, *b) {
-        (Friction::Infinite, Friction::Infinite) => true,
-        (Friction::Coulomb { mu_s, mu_k }, Friction::Coulomb { mu_s: s, mu_k: k }) => {
-            same(mu_s, s) && same(mu_k, k)
-        }
-        _ => false,
-    });
+    v.dedup_by(|a, b| same_friction(a, b));
     v
 }
 

@@ -59,10 +59,21 @@ impl Pooled {
     }
 }
 
-/// Equal bit for bit up to the sign of zero: NaN (a pooled parameter)
-/// equals NaN.
-fn same(a: f64, b: f64) -> bool {
+/// Equal as `f64`, or both NaN: how case parameters compare, NaN being the
+/// placeholder of a parameter drawn per analysis (pooled).
+pub fn same(a: f64, b: f64) -> bool {
     a == b || (a.is_nan() && b.is_nan())
+}
+
+/// Friction models equal, NaN coefficients (drawn) equal to NaN.
+pub fn same_friction(a: &Friction, b: &Friction) -> bool {
+    match (a, b) {
+        (Friction::Infinite, Friction::Infinite) => true,
+        (Friction::Coulomb { mu_s, mu_k }, Friction::Coulomb { mu_s: s2, mu_k: k2 }) => {
+            same(*mu_s, *s2) && same(*mu_k, *k2)
+        }
+        _ => false,
+    }
 }
 
 impl PartialEq for CaseKey {
@@ -70,13 +81,7 @@ impl PartialEq for CaseKey {
         same(self.aspect, other.aspect)
             && same(self.width, other.width)
             && same(self.restitution, other.restitution)
-            && match (self.friction, other.friction) {
-                (Friction::Infinite, Friction::Infinite) => true,
-                (Friction::Coulomb { mu_s, mu_k }, Friction::Coulomb { mu_s: s2, mu_k: k2 }) => {
-                    same(mu_s, s2) && same(mu_k, k2)
-                }
-                _ => false,
-            }
+            && same_friction(&self.friction, &other.friction)
     }
 }
 

@@ -6,7 +6,7 @@ use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile, UncertaintyFile}
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::SynthesisSettings;
-use crate::outcomes_csv::Pooled;
+use crate::outcomes_csv::{Pooled, same, same_friction};
 use crate::solver::{Friction, SolverSettings};
 use crate::uncertainty::{Param, Value, analysis_seed, uniforms};
 use std::path::{Path, PathBuf};
@@ -53,17 +53,8 @@ pub struct Study {
 
 impl PartialEq for Study {
     fn eq(&self, other: &Study) -> bool {
-        // Equal, or both NaN (the placeholder of a drawn parameter).
-        let same = |a: f64, b: f64| a == b || (a.is_nan() && b.is_nan());
         let lists =
             |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| same(*x, *y));
-        let friction = |a: &Friction, b: &Friction| match (a, b) {
-            (Friction::Infinite, Friction::Infinite) => true,
-            (Friction::Coulomb { mu_s, mu_k }, Friction::Coulomb { mu_s: s2, mu_k: k2 }) => {
-                same(*mu_s, *s2) && same(*mu_k, *k2)
-            }
-            _ => false,
-        };
         self.name == other.name
             && self.description == other.description
             && self.g == other.g
@@ -77,7 +68,7 @@ impl PartialEq for Study {
                 .frictions
                 .iter()
                 .zip(&other.frictions)
-                .all(|(a, b)| friction(a, b))
+                .all(|(a, b)| same_friction(a, b))
             && self.uncertainty == other.uncertainty
             && self.solver == other.solver
             && self.output == other.output
