@@ -20,6 +20,7 @@ use rockfrag::solver::{
 use rockfrag::spec::Study;
 use rockfrag::study::{self, RunOptions, Shard};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 /// A library error as a Python exception: `OSError` for files that cannot
 /// be read or written, `ValueError` for everything else (bad input), with
@@ -365,7 +366,14 @@ fn motion<'py>(
         settings.baseline.highpass_hz = hz;
     }
     let record = py.detach(|| -> rockfrag::Result<Record> {
-        let mut synth = Synthesizer::new(&settings)?;
+        // The synthesiser of the last settings is kept: building one (the
+        // spectrum, the envelope, the FFT plan) costs more than a record.
+        static LAST: Mutex<Option<Synthesizer>> = Mutex::new(None);
+        let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+        if last.as_ref().is_none_or(|s| *s.settings() != settings) {
+            *last = Some(Synthesizer::new(&settings)?);
+        }
+        let synth = last.as_mut().expect("set above");
         synth.generate(seed, index, settings.pga_from_g(pga))
     });
     let record = record.map_err(py_err)?;
