@@ -291,6 +291,15 @@ fn simulate_one<'py>(
     Ok(d)
 }
 
+/// A record as `simulate_many` takes it: (acc, dt, vel, disp, name).
+type RecordArgs<'py> = (
+    PyReadonlyArray1<'py, f64>,
+    f64,
+    Option<PyReadonlyArray1<'py, f64>>,
+    Option<PyReadonlyArray1<'py, f64>>,
+    String,
+);
+
 /// Simulates many records on rayon's threads (`threads` = 0: one per core),
 /// the GIL released; each record is `(acc, dt, vel, disp, name)`.
 #[pyfunction]
@@ -298,13 +307,7 @@ fn simulate_one<'py>(
 fn simulate_many<'py>(
     py: Python<'py>,
     setup: &Setup,
-    records: Vec<(
-        PyReadonlyArray1<'py, f64>,
-        f64,
-        Option<PyReadonlyArray1<'py, f64>>,
-        Option<PyReadonlyArray1<'py, f64>>,
-        String,
-    )>,
+    records: Vec<RecordArgs<'py>>,
     threads: usize,
 ) -> PyResult<Bound<'py, PyList>> {
     let records: Vec<Record> = records
@@ -337,7 +340,6 @@ fn simulate_many<'py>(
 /// Record `index` of ensemble `seed` at PGA `pga` (g): the record
 /// `rockfrag motion` writes, as (dt, t, acc, vel, disp, name).
 #[pyfunction]
-#[allow(clippy::type_complexity)]
 #[pyo3(signature = (seed, pga, index, dt, duration, highpass))]
 fn motion<'py>(
     py: Python<'py>,
