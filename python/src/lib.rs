@@ -367,6 +367,9 @@ fn motion<'py>(
     if let Some(hz) = highpass {
         settings.baseline.highpass_hz = hz;
     }
+    if let Some(message) = dt.and_then(|_| settings.dt_misfit("dt")) {
+        return Err(PyValueError::new_err(message));
+    }
     let record = py.detach(|| -> rockfrag::Result<Record> {
         // The synthesiser of the last settings is kept: building one (the
         // spectrum, the envelope, the FFT plan) costs more than a record.

@@ -47,11 +47,14 @@ def test_bad_record_is_a_value_error():
         rockfrag.simulate(np.zeros((3, 3)), 0.02)
 
 
-def test_bad_motion_is_a_value_error():
+def test_bad_motion_is_a_value_error(cli):
     with pytest.raises(ValueError, match="invalid pga = -1"):
         rockfrag.motion(1, -1.0)
-    with pytest.raises(ValueError):
+    want = cli_error(cli, "motion", "--seed", 1, "--pga", 0.3, "--dt", 0.03)
+    with pytest.raises(ValueError) as e:
         rockfrag.motion(1, 0.3, dt=0.03)
+    assert str(e.value) == want.replace("--dt", "dt")
+    assert "dt 0.025 or dt 0.04 would work" in str(e.value)
 
 
 def test_a_bad_spec_gives_the_cli_message(cli, tmp_path):
