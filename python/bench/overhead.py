@@ -1,7 +1,7 @@
 """Cost of `rockfrag.simulate` from Python against the same analyses inside a
 `run` study (one thread each).
 
-The study: 25 records × 4 PGA levels × H/B 2, 4, 6 (300 analyses, infinite
+The study: 100 records × 4 PGA levels × H/B 2, 4, 6 (1200 analyses, infinite
 friction, e = 0). From Python: the same 300 analyses, each record synthesised
 by `rockfrag.motion` beforehand (outside the timing, as a notebook holding its
 records would), then `simulate` once per analysis; and the same with each
@@ -23,7 +23,7 @@ import rockfrag
 REPEATS = int(sys.argv[1]) if len(sys.argv) > 1 else 7
 PGAS = [0.3, 0.6, 0.9, 1.2]
 ASPECTS = [2.0, 4.0, 6.0]
-RECORDS = 25
+RECORDS = 100
 SEED = 42
 SPEC = {
     "name": "overhead",
