@@ -114,3 +114,28 @@ def test_simulate_many_is_simulate_on_each(cli):
     # arrays with dt: velocity and displacement integrated from acc
     plain = [rockfrag.simulate(r["acc"], 0.02, restitution=0.5) for r in records]
     assert rockfrag.simulate_many([r["acc"] for r in records], 0.02, restitution=0.5) == plain
+
+
+def test_the_solver_releases_the_gil():
+    """Python keeps running while a worker thread is inside simulate_many."""
+    import threading
+    import time
+
+    records = [rockfrag.motion(*RECORDS[k % 5]) for k in range(1000)]
+    span = {}
+
+    def work():
+        span["start"] = time.perf_counter()
+        rockfrag.simulate_many(records, threads=1)
+        span["end"] = time.perf_counter()
+
+    worker = threading.Thread(target=work)
+    ticks = []
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    worker.join()
+    inside = [t for t in ticks if span["start"] < t < span["end"]]
+    # Held, the GIL would stop this loop for the whole call.
+    assert len(inside) >= 5, (len(inside), span["end"] - span["start"])
