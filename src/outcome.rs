@@ -122,3 +122,23 @@ pub struct Outcome {
     /// Work counters.
     pub stats: Stats,
 }
+
+impl Outcome {
+    /// The outcome as one JSON object (what `rockfrag simulate --json`
+    /// prints, and the Python `simulate` returns): the fields by name, with
+    /// `time_in_mode` keyed by mode name ([`Mode::name`]).
+    pub fn to_json(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("outcome serialises");
+        let modes: serde_json::Map<String, serde_json::Value> = Mode::ALL
+            .iter()
+            .map(|m| {
+                (
+                    m.name().to_string(),
+                    serde_json::json!(self.time_in_mode[m.index()]),
+                )
+            })
+            .collect();
+        v["time_in_mode"] = serde_json::Value::Object(modes);
+        v
+    }
+}

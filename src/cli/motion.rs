@@ -66,47 +66,10 @@ impl MotionArgs {
     /// combination fails and which steps work (the library's message named
     /// df, a setting this command does not offer).
     fn check_dt(&self) -> anyhow::Result<()> {
-        let Some(dt) = self.dt else { return Ok(()) };
-        let settings = self.settings();
-        if settings.period_len().is_ok() {
-            return Ok(());
+        match self.dt.and_then(|_| self.settings().dt_misfit("--dt")) {
+            Some(message) => anyhow::bail!(message),
+            None => Ok(()),
         }
-        let df = settings.df;
-        let n = 1.0 / (df * dt);
-        // Round steps that fit, nearest below and above the one given.
-        let fits = |d: f64| {
-            let m = SynthesisSettings {
-                dt: d,
-                ..settings.clone()
-            };
-            m.period_len().is_ok()
-        };
-        let round: Vec<f64> = [1.0, 2.0, 2.5, 4.0, 5.0, 8.0]
-            .iter()
-            .flat_map(|m| (-4..=0).map(move |e| m * 10f64.powi(e)))
-            .filter(|&d| fits(d))
-            .collect();
-        let below = round
-            .iter()
-            .copied()
-            .filter(|&d| d < dt)
-            .fold(f64::NAN, f64::max);
-        let above = round
-            .iter()
-            .copied()
-            .filter(|&d| d > dt)
-            .fold(f64::NAN, f64::min);
-        let near: Vec<String> = [below, above]
-            .iter()
-            .filter(|d| d.is_finite())
-            .map(|d| format!("--dt {d}"))
-            .collect();
-        anyhow::bail!(
-            "--dt {dt} does not fit the generator's frequency step df = {df} Hz (fixed): \
-             1/(df·dt) = {n:.6} must be a whole number ≥ 2, i.e. dt = {} s / n; {} would work",
-            1.0 / df,
-            near.join(" or ")
-        )
     }
 }
 

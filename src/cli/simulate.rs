@@ -213,7 +213,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         h.write_csv(path)?;
     }
     if args.json {
-        println!("{}", outcome_json(&outcome));
+        println!("{}", outcome.to_json());
     } else {
         print_summary(&args, &block, &record, &outcome);
     }
@@ -255,22 +255,6 @@ fn load_record(args: &SimulateArgs) -> anyhow::Result<Record> {
         }
         _ => anyhow::bail!("give either --motion FILE or both --seed N and --pga G"),
     }
-}
-
-/// The outcome as a JSON object, with time in each mode keyed by mode name.
-pub fn outcome_json(outcome: &Outcome) -> serde_json::Value {
-    let mut v = serde_json::to_value(outcome).expect("outcome serialises");
-    let modes: serde_json::Map<String, serde_json::Value> = Mode::ALL
-        .iter()
-        .map(|m| {
-            (
-                m.name().to_string(),
-                serde_json::json!(outcome.time_in_mode[m.index()]),
-            )
-        })
-        .collect();
-    v["time_in_mode"] = serde_json::Value::Object(modes);
-    v
 }
 
 fn print_summary(args: &SimulateArgs, block: &Block, record: &Record, o: &Outcome) {

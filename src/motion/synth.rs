@@ -143,6 +143,52 @@ impl SynthesisSettings {
         Ok(n as usize)
     }
 
+    /// When Δt does not fit the fixed frequency step (see
+    /// [`SynthesisSettings::period_len`]), the message that says so and which
+    /// round steps near it do fit, naming the setting `name` as its user
+    /// gives it (`--dt` on the command line); `None` when it fits.
+    pub fn dt_misfit(&self, name: &str) -> Option<String> {
+        if self.period_len().is_ok() {
+            return None;
+        }
+        let (dt, df) = (self.dt, self.df);
+        let n = 1.0 / (df * dt);
+        // Round steps that fit, nearest below and above the one given.
+        let fits = |d: f64| {
+            let m = SynthesisSettings {
+                dt: d,
+                ..self.clone()
+            };
+            m.period_len().is_ok()
+        };
+        let round: Vec<f64> = [1.0, 2.0, 2.5, 4.0, 5.0, 8.0]
+            .iter()
+            .flat_map(|m| (-4..=0).map(move |e| m * 10f64.powi(e)))
+            .filter(|&d| fits(d))
+            .collect();
+        let below = round
+            .iter()
+            .copied()
+            .filter(|&d| d < dt)
+            .fold(f64::NAN, f64::max);
+        let above = round
+            .iter()
+            .copied()
+            .filter(|&d| d > dt)
+            .fold(f64::NAN, f64::min);
+        let near: Vec<String> = [below, above]
+            .iter()
+            .filter(|d| d.is_finite())
+            .map(|d| format!("{name} {d}"))
+            .collect();
+        Some(format!(
+            "{name} {dt} does not fit the generator's frequency step df = {df} Hz (fixed): \
+             1/(df·dt) = {n:.6} must be a whole number ≥ 2, i.e. dt = {} s / n; {} would work",
+            1.0 / df,
+            near.join(" or ")
+        ))
+    }
+
     /// The component indices k (f_k = k·Δf), an inclusive range: f_min ≤ f_k
     /// ≤ f_max and f_k below Nyquist.
     fn components(&self) -> Result<(usize, usize)> {

@@ -1,0 +1,396 @@
+"""rockfrag from Python: Monte Carlo fragility of free-standing rigid blocks.
+
+The functions run the same Rust code as the ``rockfrag`` command line tool, so
+a result here equals the CLI's on the same input, bit for bit. Units are SI
+(m, s, m/s², rad) except where a docstring says g.
+
+    >>> import rockfrag
+    >>> m = rockfrag.motion(seed=1, pga=0.4)            # record 0 at 0.4 g
+    >>> o = rockfrag.simulate(m["acc"], m["dt"], width=0.5, aspect=4)
+    >>> o["overturned"], o["theta_max_over_theta_c"]
+
+Functions: :func:`motion`, :func:`simulate`, :func:`simulate_many`,
+:func:`run`, :func:`read_outcomes`, :func:`fit`. Bad input raises
+``ValueError`` with the CLI's message; files that cannot be read or written
+raise ``OSError``; a solver failure raises ``RuntimeError``.
+"""
+
+import csv as _csv
+import json as _json
+import os as _os
+
+import numpy as _np
+
+from . import _rockfrag
+
+__version__ = _rockfrag.__version__
+__all__ = ["motion", "simulate", "simulate_many", "run", "read_outcomes", "fit"]
+
+#: Standard gravity used to convert accelerations given in g (m/s²).
+G_STANDARD = 9.81
+
+_RTOL, _SETTLE_TOL = _rockfrag.solver_defaults()
+
+
+def motion(seed, pga, index=0, *, dt=None, duration=None, highpass=None):
+    """Synthetic ground motion: record ``index`` of ensemble ``seed``.
+
+    The record ``rockfrag motion --seed SEED --pga PGA --index INDEX`` writes
+    (same bits): a Clough–Penzien spectrum, modulated and high-passed, scaled
+    so that its peak |acc| is exactly ``pga``.
+
+    Parameters
+    ----------
+    seed : int
+        Ensemble seed; record ``index`` of ensemble ``seed`` is always the
+        same record.
+    pga : float
+        Peak ground acceleration, in g (converted with g = 9.81 m/s²).
+    index : int
+        Index of the record within the ensemble (default 0).
+    dt : float, optional
+        Sample interval, s (default 0.02); 1/(0.05·dt) must be an integer.
+    duration : float, optional
+        Record duration, s (default 30).
+    highpass : float, optional
+        High-pass corner frequency, Hz (default 0.07); 0 disables the filter.
+
+    Returns
+    -------
+    dict
+        ``t`` (s), ``acc`` (m/s²), ``vel`` (m/s), ``disp`` (m): numpy arrays,
+        sample k at t = k·dt; ``dt`` (s) and ``name`` (``seed/index``).
+    """
+    return _rockfrag.motion(int(seed), float(pga), int(index), dt, duration, highpass)
+
+
+def _setup(width, aspect, restitution, mu_s, mu_k, solver):
+    solver = dict(solver)
+    args = dict(
+        theta0=0.0,
+        theta_dot0=0.0,
+        rtol=None,
+        settle_tol=None,
+        follow_cascades=False,
+        model="nonlinear",
+        integrator="taylor",
+        impact="newton",
+        rock_impact="bounce",
+        g=G_STANDARD,
+        audit_energy=False,
+    )
+    unknown = sorted(set(solver) - set(args))
+    if unknown:
+        raise TypeError(
+            "unknown solver keyword(s) %s: expected %s"
+            % (", ".join(unknown), ", ".join(sorted(args)))
+        )
+    args.update(solver)
+    return _rockfrag.Setup(
+        float(width),
+        float(aspect),
+        float(restitution),
+        None if mu_s is None else float(mu_s),
+        None if mu_k is None else float(mu_k),
+        float(args["theta0"]),
+        float(args["theta_dot0"]),
+        None if args["rtol"] is None else float(args["rtol"]),
+        None if args["settle_tol"] is None else float(args["settle_tol"]),
+        bool(args["follow_cascades"]),
+        str(args["model"]),
+        str(args["integrator"]),
+        str(args["impact"]),
+        str(args["rock_impact"]),
+        float(args["g"]),
+        bool(args["audit_energy"]),
+    )
+
+
+def _f64(x, what):
+    if x is None:
+        return None
+    a = _np.ascontiguousarray(x, dtype=_np.float64)
+    if a.ndim != 1:
+        raise ValueError("%s must be one-dimensional, not of shape %s" % (what, a.shape))
+    return a
+
+
+def simulate(
+    acc,
+    dt,
+    *,
+    width=0.5,
+    aspect=4.0,
+    restitution=0.0,
+    mu_s=None,
+    mu_k=None,
+    vel=None,
+    disp=None,
+    history=False,
+    name="record",
+    **solver,
+):
+    """One block under one ground-motion record: ``rockfrag simulate --json``.
+
+    Parameters
+    ----------
+    acc : array_like
+        Horizontal ground acceleration, m/s², sample k at t = k·dt (linear
+        between samples).
+    dt : float
+        Sample interval, s.
+    width : float
+        Base width 2B of the block, m (default 0.5).
+    aspect : float
+        Aspect ratio H/B (default 4).
+    restitution : float
+        Coefficient of restitution e in [0, 1] (default 0).
+    mu_s, mu_k : float, optional
+        Static and kinetic friction coefficients; giving ``mu_s`` selects
+        Coulomb friction (``mu_k`` defaults to ``mu_s``); without it contacts
+        never slip (the CLI's ``--friction inf``).
+    vel, disp : array_like, optional
+        Ground velocity (m/s) and displacement (m), both or neither; by
+        default integrated from rest by the linear-acceleration rule.
+    history : bool
+        Also return the time history under key ``history``: arrays ``t`` (s),
+        ``mode`` (after each instant), ``theta`` (rad), ``theta_dot``
+        (rad/s), ``x``, ``y`` (m, of the centre of mass relative to the
+        ground), ``x_dot``, ``y_dot`` (m/s), ``N``, ``F`` (normal and
+        horizontal reactions per unit mass, m/s²): the columns of the CLI's
+        ``--history`` CSV; ``event`` marks event rows (bool).
+    name : str
+        Name of the record in error messages.
+    **solver
+        The CLI's solver flags: ``theta0`` (rad, default 0), ``theta_dot0``
+        (rad/s, default 0), ``rtol`` (default %(rtol)g), ``settle_tol``
+        (default %(settle)g), ``follow_cascades`` (False), ``model``
+        ("nonlinear" | "linear"), ``integrator`` ("taylor" | "dopri5"),
+        ``impact`` ("newton" | "energetic"), ``rock_impact`` ("bounce" |
+        "rock"), ``g`` (m/s², 9.81), ``audit_energy`` (False).
+
+    Returns
+    -------
+    dict
+        The keys of ``simulate --json``: ``overturned``, ``overturn_time``
+        (s or None), ``theta_max_over_theta_c``, ``mu_motion``,
+        ``mu_impact``, ``impacts``, ``time_in_mode`` (s, by mode), ``stats``…
+    """
+    setup = _setup(width, aspect, restitution, mu_s, mu_k, solver)
+    return _rockfrag.simulate_one(
+        setup,
+        _f64(acc, "acc"),
+        float(dt),
+        _f64(vel, "vel"),
+        _f64(disp, "disp"),
+        str(name),
+        bool(history),
+    )
+
+
+simulate.__doc__ = simulate.__doc__ % {"rtol": _RTOL, "settle": _SETTLE_TOL}
+
+
+def simulate_many(
+    records,
+    dt=None,
+    *,
+    width=0.5,
+    aspect=4.0,
+    restitution=0.0,
+    mu_s=None,
+    mu_k=None,
+    threads=None,
+    **solver,
+):
+    """One block under each of many records, in parallel (rayon, GIL released).
+
+    Parameters
+    ----------
+    records : iterable
+        Each a 1-D array of ground acceleration (m/s², with ``dt``), or a dict
+        with ``acc`` and ``dt`` and optionally ``vel``, ``disp`` and ``name``
+        (what :func:`motion` returns).
+    dt : float, optional
+        Sample interval (s) of records given as arrays.
+    threads : int, optional
+        Worker threads (default: one per core). Results do not depend on it.
+    width, aspect, restitution, mu_s, mu_k, **solver
+        As for :func:`simulate`.
+
+    Returns
+    -------
+    list of dict
+        The outcome of each record, in order, as :func:`simulate` gives it.
+    """
+    setup = _setup(width, aspect, restitution, mu_s, mu_k, solver)
+    items = []
+    for i, r in enumerate(records):
+        if isinstance(r, dict):
+            rdt = r.get("dt", dt)
+            if rdt is None:
+                raise ValueError("record %d has no dt: give it in the dict or as dt=" % i)
+            items.append(
+                (
+                    _f64(r["acc"], "acc"),
+                    float(rdt),
+                    _f64(r.get("vel"), "vel"),
+                    _f64(r.get("disp"), "disp"),
+                    str(r.get("name", i)),
+                )
+            )
+        else:
+            if dt is None:
+                raise ValueError("records given as arrays need dt=")
+            items.append((_f64(r, "acc"), float(dt), None, None, str(i)))
+    if threads is not None and int(threads) < 1:
+        raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
+    return _rockfrag.simulate_many(setup, items, 0 if threads is None else int(threads))
+
+
+def run(spec=None, out=None, threads=None):
+    """Runs a study, as ``rockfrag run`` does, and returns its output folder.
+
+    Parameters
+    ----------
+    spec : str, os.PathLike or dict, optional
+        A study spec file (TOML), or a dict with the spec's fields (tables as
+        nested dicts, e.g. ``{"name": "s", "seed": 1, "records": 10,
+        "grid": {"aspect": [4], "pga": [0.3, 0.6]}}``); record files in a
+        dict are relative to the working directory. Default: the paper's
+        study, built in.
+    out : str or os.PathLike, optional
+        Output folder (default ``results/<study name>``). Rerunning into a
+        folder holding an interrupted run of the same study resumes it.
+    threads : int, optional
+        Worker threads (default: one per core). Results do not depend on it.
+
+    Returns
+    -------
+    str
+        The output folder: ``outcomes.csv``, ``summary.md``,
+        ``manifest.json`` and, when the spec asks, the fragility files and
+        figures. Read the outcomes with :func:`read_outcomes`.
+    """
+    path = js = None
+    if isinstance(spec, dict):
+        js = _json.dumps(spec)
+    elif spec is not None:
+        path = _os.fspath(spec)
+    if threads is not None and int(threads) < 1:
+        raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
+    return _rockfrag.run(
+        path, js, None if out is None else _os.fspath(out), 0 if threads is None else int(threads)
+    )
+
+
+def _column(values):
+    present = [v for v in values if v != ""]
+    if present and all(v in ("true", "false") for v in present):
+        if len(present) == len(values):
+            return _np.array([v == "true" for v in values], dtype=bool)
+        return _np.array([None if v == "" else v == "true" for v in values], dtype=object)
+    try:
+        floats = [float(v) if v != "" else _np.nan for v in values]
+    except ValueError:
+        return _np.array(values, dtype=object)
+    if len(present) == len(values) and all(
+        v.lstrip("-").isdigit() for v in values
+    ):
+        return _np.array([int(v) for v in values], dtype=_np.int64)
+    return _np.array(floats, dtype=_np.float64)
+
+
+def read_outcomes(folder, *, as_frame=None):
+    """The outcomes of a study folder (its ``outcomes.csv``), one row per analysis.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        A study's output folder (what :func:`run` returns), or the path of an
+        ``outcomes.csv``.
+    as_frame : bool, optional
+        Return a pandas DataFrame (default: when pandas is installed).
+
+    Returns
+    -------
+    pandas.DataFrame or dict
+        The columns of ``outcomes.csv`` (``aspect``, ``width``, ``pga`` in g,
+        ``overturned``, ``theta_max_over_theta_c``, …): booleans as bool,
+        counts as int64, numbers as float64 (empty cells NaN), text as
+        objects. A dict of numpy arrays when pandas is not installed or
+        ``as_frame`` is False.
+    """
+    path = _os.fspath(folder)
+    if _os.path.isdir(path):
+        path = _os.path.join(path, "outcomes.csv")
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(_csv.reader(f))
+    if not rows:
+        raise ValueError("%s: empty file: expected the outcomes header" % path)
+    header, body = rows[0], rows[1:]
+    for i, r in enumerate(body):
+        if len(r) != len(header):
+            raise ValueError(
+                "%s:%d: %d fields, expected %d" % (path, i + 2, len(r), len(header))
+            )
+    cols = {name: _column([r[j] for r in body]) for j, name in enumerate(header)}
+    if as_frame is None or as_frame:
+        try:
+            import pandas as pd
+        except ImportError:
+            if as_frame:
+                raise
+            return cols
+        return pd.DataFrame(cols)
+    return cols
+
+
+def fit(im, overturned, trials=None):
+    """Fits a lognormal fragility P(overturn | IM = x) = Φ(ln(x/θ)/β).
+
+    Maximum likelihood (probit GLM, Baker 2015), the fit of ``rockfrag
+    fragility``.
+
+    Parameters
+    ----------
+    im : array_like
+        Intensity of each analysis (or of each stripe, with ``trials``), in
+        the IM's unit (e.g. PGA in g); finite and > 0.
+    overturned : array_like
+        Without ``trials``: whether each analysis overturned (bool). With
+        ``trials``: how many analyses overturned at each intensity.
+    trials : array_like, optional
+        Analyses at each intensity.
+
+    Returns
+    -------
+    dict
+        ``status`` ("ok", or why no lognormal can be fitted: "separated",
+        "none-overturned", …, with ``message``), ``median`` θ (IM unit),
+        ``beta`` β, their standard errors ``se_median``, ``se_beta``,
+        ``se_ln_median``, the probit coefficients ``a``, ``b`` with ``cov``,
+        ``loglik`` and ``iterations``. Numbers are NaN when not fitted.
+    """
+    im = _np.asarray(im, dtype=_np.float64).ravel()
+    z = _np.asarray(overturned).ravel()
+    if len(z) != len(im):
+        raise ValueError(
+            "im and overturned have different lengths (%d, %d)" % (len(im), len(z))
+        )
+    if trials is None:
+        levels, inverse = _np.unique(im, return_inverse=True)
+        n = _np.bincount(inverse, minlength=len(levels))
+        k = _np.bincount(inverse, weights=z.astype(bool), minlength=len(levels))
+        im, n, z = levels, n, k
+    else:
+        n = _np.asarray(trials).ravel()
+        if len(n) != len(im):
+            raise ValueError(
+                "im and trials have different lengths (%d, %d)" % (len(im), len(n))
+            )
+        if (n < 0).any() or (z < 0).any():
+            raise ValueError("trials and overturned must be counts ≥ 0")
+    return _rockfrag.fit(
+        [float(x) for x in im], [int(x) for x in n], [int(x) for x in z]
+    )

@@ -1,0 +1,568 @@
+//! The compiled core of the `rockfrag` Python package (module
+//! `rockfrag._rockfrag`). The Python layer (`python/rockfrag/__init__.py`)
+//! gives the functions their keyword arguments, defaults and docstrings;
+//! this layer converts arrays and runs the library with the GIL released.
+//!
+//! Every function calls the same library functions as the CLI, so a result
+//! here is the CLI's result on the same input, bit for bit.
+
+use numpy::{IntoPyArray, PyReadonlyArray1};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyList, PyString};
+use rayon::prelude::*;
+use rockfrag::fragility::{Observation, fit_lognormal};
+use rockfrag::motion::{Record, SynthesisSettings, Synthesizer, integrate_linear};
+use rockfrag::solver::{
+    Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, RockImpact,
+    SolverSettings, simulate,
+};
+use rockfrag::spec::Study;
+use rockfrag::study::{self, RunOptions, Shard};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// A library error as a Python exception: `OSError` for files that cannot
+/// be read or written, `ValueError` for everything else (bad input), with
+/// the message the CLI prints.
+fn py_err(e: rockfrag::Error) -> PyErr {
+    match e {
+        rockfrag::Error::Io { .. } => PyOSError::new_err(e.to_string()),
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// A JSON value as the Python object `json.loads` would give.
+fn json_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(n) => match (n.as_u64(), n.as_i64()) {
+            (Some(u), _) if !n.is_f64() => u.into_pyobject(py)?.into_any(),
+            (_, Some(i)) if !n.is_f64() => i.into_pyobject(py)?.into_any(),
+            _ => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
+        },
+        Value::String(s) => PyString::new(py, s).into_any(),
+        Value::Array(a) => {
+            let items = a
+                .iter()
+                .map(|x| json_to_py(py, x))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        Value::Object(m) => {
+            let d = PyDict::new(py);
+            for (k, x) in m {
+                d.set_item(k, json_to_py(py, x)?)?;
+            }
+            d.into_any()
+        }
+    })
+}
+
+fn choice<T: Copy>(field: &str, given: &str, options: &[(&str, T)]) -> PyResult<T> {
+    options
+        .iter()
+        .find(|(name, _)| *name == given)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
+            PyValueError::new_err(format!(
+                "invalid {field} = '{given}': expected one of {}",
+                names.join(", ")
+            ))
+        })
+}
+
+/// One block and the solver settings: everything an analysis needs besides
+/// the record, checked once (build it with `rockfrag.simulate`'s keywords).
+#[pyclass(frozen, module = "rockfrag._rockfrag")]
+struct Setup {
+    analysis: Analysis,
+    settings: SolverSettings,
+}
+
+#[pymethods]
+impl Setup {
+    #[new]
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (width, aspect, restitution, mu_s, mu_k, theta0, theta_dot0, rtol,
+        settle_tol, follow_cascades, model, integrator, impact, rock_impact, g, audit_energy))]
+    fn new(
+        width: f64,
+        aspect: f64,
+        restitution: f64,
+        mu_s: Option<f64>,
+        mu_k: Option<f64>,
+        theta0: f64,
+        theta_dot0: f64,
+        rtol: Option<f64>,
+        settle_tol: Option<f64>,
+        follow_cascades: bool,
+        model: &str,
+        integrator: &str,
+        impact: &str,
+        rock_impact: &str,
+        g: f64,
+        audit_energy: bool,
+    ) -> PyResult<Setup> {
+        if let (None, Some(_)) = (mu_s, mu_k) {
+            return Err(PyValueError::new_err(
+                "mu_k needs mu_s: give mu_s for Coulomb friction (mu_k defaults to mu_s)",
+            ));
+        }
+        if let (Some(s), Some(k)) = (mu_s, mu_k)
+            && k > s
+        {
+            return Err(PyValueError::new_err(format!(
+                "mu_k {k} is larger than mu_s {s}: the kinetic friction coefficient \
+                 cannot exceed the static one (give mu_k ≤ {s}, or leave it out for μk = μs)"
+            )));
+        }
+        let block = Block::new(width, aspect, g).map_err(py_err)?;
+        let mut analysis = Analysis::new(block, restitution);
+        if let Some(mu_s) = mu_s {
+            analysis.friction = Friction::Coulomb {
+                mu_s,
+                mu_k: mu_k.unwrap_or(mu_s),
+            };
+        }
+        analysis.initial = Initial {
+            theta: theta0,
+            theta_dot: theta_dot0,
+            ..Initial::default()
+        };
+        let defaults = SolverSettings::default();
+        let settings = SolverSettings {
+            model: choice(
+                "model",
+                model,
+                &[("nonlinear", Model::Nonlinear), ("linear", Model::Linear)],
+            )?,
+            integrator: choice(
+                "integrator",
+                integrator,
+                &[
+                    ("taylor", Integrator::Taylor),
+                    ("dopri5", Integrator::Dopri5),
+                ],
+            )?,
+            impact: choice(
+                "impact",
+                impact,
+                &[
+                    ("newton", ImpactLaw::Newton),
+                    ("energetic", ImpactLaw::Energetic),
+                ],
+            )?,
+            rock_impact: choice(
+                "rock_impact",
+                rock_impact,
+                &[("bounce", RockImpact::Bounce), ("rock", RockImpact::Rock)],
+            )?,
+            rtol: rtol.unwrap_or(defaults.rtol),
+            settle_tol: settle_tol.unwrap_or(defaults.settle_tol),
+            settle_cascades: !follow_cascades,
+            audit_energy,
+            ..defaults
+        };
+        analysis.validate().map_err(py_err)?;
+        settings.validate().map_err(py_err)?;
+        Ok(Setup { analysis, settings })
+    }
+
+    /// θc = atan(B/H) of the block (rad).
+    #[getter]
+    fn theta_c(&self) -> f64 {
+        self.analysis.block.theta_c
+    }
+}
+
+/// The solver's default relative tolerance and settle threshold.
+#[pyfunction]
+fn solver_defaults() -> (f64, f64) {
+    let d = SolverSettings::default();
+    (d.rtol, d.settle_tol)
+}
+
+/// A record from arrays: velocity and displacement integrated from rest by
+/// the linear-acceleration rule unless both are given.
+fn record(
+    name: String,
+    dt: f64,
+    acc: Vec<f64>,
+    vel: Option<Vec<f64>>,
+    disp: Option<Vec<f64>>,
+) -> rockfrag::Result<Record> {
+    let (vel, disp) = match (vel, disp) {
+        (Some(v), Some(d)) => (v, d),
+        (None, None) => integrate_linear(dt, &acc, 0.0, 0.0),
+        _ => {
+            return Err(rockfrag::Error::InvalidRecord {
+                name,
+                message: "give both vel and disp, or neither (they are then integrated from acc)"
+                    .into(),
+            });
+        }
+    };
+    let r = Record {
+        name,
+        dt,
+        acc,
+        vel,
+        disp,
+        acc_v: None,
+    };
+    r.validate()?;
+    Ok(r)
+}
+
+fn vec_of(a: Option<PyReadonlyArray1<'_, f64>>) -> Option<Vec<f64>> {
+    a.map(|a| a.as_array().iter().copied().collect())
+}
+
+/// One analysis: the CLI's `simulate` on the record, with its context on error.
+fn solve(
+    setup: &Setup,
+    r: &Record,
+    history: Option<&mut History>,
+) -> PyResult<rockfrag::outcome::Outcome> {
+    simulate(&setup.analysis, r, &setup.settings, history).map_err(|e| {
+        let text = e.to_string();
+        let msg = if text.contains(&r.name) {
+            format!(
+                "solving record {}: {}",
+                r.name,
+                text.replace(&format!("invalid record {}: ", r.name), "")
+            )
+        } else {
+            format!("solving record {}: {text}", r.name)
+        };
+        match e {
+            rockfrag::Error::Solver { .. } => PyRuntimeError::new_err(msg),
+            _ => PyValueError::new_err(msg),
+        }
+    })
+}
+
+/// Simulates one record; returns the outcome as `simulate --json` gives it,
+/// and the time history as arrays when `history` is true.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (setup, acc, dt, vel, disp, name, history))]
+fn simulate_one<'py>(
+    py: Python<'py>,
+    setup: &Setup,
+    acc: PyReadonlyArray1<'py, f64>,
+    dt: f64,
+    vel: Option<PyReadonlyArray1<'py, f64>>,
+    disp: Option<PyReadonlyArray1<'py, f64>>,
+    name: String,
+    history: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let acc: Vec<f64> = acc.as_array().iter().copied().collect();
+    let r = record(name, dt, acc, vec_of(vel), vec_of(disp)).map_err(py_err)?;
+    let mut h = history.then(History::default);
+    let outcome = py.detach(|| solve(setup, &r, h.as_mut()))?;
+    let d = json_to_py(py, &outcome.to_json())?.cast_into::<PyDict>()?;
+    if let Some(h) = h {
+        let hd = PyDict::new(py);
+        let col = |f: fn(&rockfrag::solver::HistoryRow) -> f64| -> Vec<f64> {
+            h.rows.iter().map(f).collect()
+        };
+        hd.set_item("t", col(|r| r.t).into_pyarray(py))?;
+        hd.set_item(
+            "mode",
+            PyList::new(py, h.rows.iter().map(|r| r.mode.name()))?,
+        )?;
+        hd.set_item("theta", col(|r| r.theta).into_pyarray(py))?;
+        hd.set_item("theta_dot", col(|r| r.theta_dot).into_pyarray(py))?;
+        hd.set_item("x", col(|r| r.x).into_pyarray(py))?;
+        hd.set_item("x_dot", col(|r| r.x_dot).into_pyarray(py))?;
+        hd.set_item("y", col(|r| r.y).into_pyarray(py))?;
+        hd.set_item("y_dot", col(|r| r.y_dot).into_pyarray(py))?;
+        hd.set_item("N", col(|r| r.n).into_pyarray(py))?;
+        hd.set_item("F", col(|r| r.f).into_pyarray(py))?;
+        let events: Vec<bool> = h.rows.iter().map(|r| r.event).collect();
+        hd.set_item("event", events.into_pyarray(py))?;
+        d.set_item("history", hd)?;
+    }
+    Ok(d)
+}
+
+/// A record as `simulate_many` takes it: (acc, dt, vel, disp, name).
+type RecordArgs<'py> = (
+    PyReadonlyArray1<'py, f64>,
+    f64,
+    Option<PyReadonlyArray1<'py, f64>>,
+    Option<PyReadonlyArray1<'py, f64>>,
+    String,
+);
+
+/// Simulates many records on rayon's threads (`threads` = 0: one per core),
+/// the GIL released; each record is `(acc, dt, vel, disp, name)`.
+#[pyfunction]
+#[pyo3(signature = (setup, records, threads))]
+fn simulate_many<'py>(
+    py: Python<'py>,
+    setup: &Setup,
+    records: Vec<RecordArgs<'py>>,
+    threads: usize,
+) -> PyResult<Bound<'py, PyList>> {
+    let records: Vec<Record> = records
+        .into_iter()
+        .map(|(acc, dt, vel, disp, name)| {
+            let acc: Vec<f64> = acc.as_array().iter().copied().collect();
+            record(name, dt, acc, vec_of(vel), vec_of(disp)).map_err(py_err)
+        })
+        .collect::<PyResult<_>>()?;
+    let outcomes = py.detach(|| -> PyResult<Vec<_>> {
+        let work =
+            || -> PyResult<Vec<_>> { records.par_iter().map(|r| solve(setup, r, None)).collect() };
+        if threads == 0 {
+            work()
+        } else {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?
+                .install(work)
+        }
+    })?;
+    let items = outcomes
+        .iter()
+        .map(|o| json_to_py(py, &o.to_json()))
+        .collect::<PyResult<Vec<_>>>()?;
+    PyList::new(py, items)
+}
+
+/// Record `index` of ensemble `seed` at PGA `pga` (g): the record
+/// `rockfrag motion` writes, as (dt, t, acc, vel, disp, name).
+#[pyfunction]
+#[pyo3(signature = (seed, pga, index, dt, duration, highpass))]
+fn motion<'py>(
+    py: Python<'py>,
+    seed: u64,
+    pga: f64,
+    index: u64,
+    dt: Option<f64>,
+    duration: Option<f64>,
+    highpass: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if !(pga.is_finite() && pga > 0.0) {
+        return Err(py_err(rockfrag::Error::invalid(
+            "pga",
+            pga,
+            "a positive peak ground acceleration in g",
+        )));
+    }
+    let mut settings = SynthesisSettings::default();
+    if let Some(dt) = dt {
+        settings.dt = dt;
+    }
+    if let Some(duration) = duration {
+        settings.duration = duration;
+    }
+    if let Some(hz) = highpass {
+        settings.baseline.highpass_hz = hz;
+    }
+    if let Some(message) = dt.and_then(|_| settings.dt_misfit("dt")) {
+        return Err(PyValueError::new_err(message));
+    }
+    let record = py.detach(|| -> rockfrag::Result<Record> {
+        // The synthesiser of the last settings is kept: building one (the
+        // spectrum, the envelope, the FFT plan) costs more than a record.
+        static LAST: Mutex<Option<Synthesizer>> = Mutex::new(None);
+        let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+        if last.as_ref().is_none_or(|s| *s.settings() != settings) {
+            *last = Some(Synthesizer::new(&settings)?);
+        }
+        let synth = last.as_mut().expect("set above");
+        synth.generate(seed, index, settings.pga_from_g(pga))
+    });
+    let record = record.map_err(py_err)?;
+    let t: Vec<f64> = (0..record.len()).map(|k| k as f64 * record.dt).collect();
+    let d = PyDict::new(py);
+    d.set_item("t", t.into_pyarray(py))?;
+    d.set_item("acc", record.acc.into_pyarray(py))?;
+    d.set_item("vel", record.vel.into_pyarray(py))?;
+    d.set_item("disp", record.disp.into_pyarray(py))?;
+    d.set_item("dt", record.dt)?;
+    d.set_item("name", record.name)?;
+    Ok(d)
+}
+
+/// A study from a file, or from a JSON object of the spec's fields (turned
+/// into TOML and read as a file in the working directory would be).
+fn load_study(path: Option<&str>, json: Option<&str>) -> PyResult<(Study, String)> {
+    match (path, json) {
+        (Some(p), _) => Ok((Study::load(Path::new(p)).map_err(py_err)?, p.to_string())),
+        (None, Some(j)) => {
+            let value: serde_json::Value =
+                serde_json::from_str(j).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            let table = toml::Value::try_from(&value).map_err(|e| {
+                PyValueError::new_err(format!("the spec dict is not a TOML table: {e}"))
+            })?;
+            let text = toml::to_string(&table).map_err(|e| {
+                PyValueError::new_err(format!("the spec dict is not a TOML table: {e}"))
+            })?;
+            let origin = std::env::current_dir()
+                .unwrap_or_default()
+                .join("spec-dict.toml");
+            let study = Study::from_toml(&text, &origin).map_err(|e| {
+                PyValueError::new_err(format!("{e}\n(the spec dict as TOML:)\n{text}"))
+            })?;
+            Ok((study, "<dict>".to_string()))
+        }
+        (None, None) => Ok((
+            Study::shenton_jones(),
+            rockfrag::spec::SHENTON_JONES_ORIGIN.to_string(),
+        )),
+    }
+}
+
+/// Runs a study as `rockfrag run` does (the fragility fit and the figures
+/// too when the spec asks), returning the output folder.
+#[pyfunction]
+#[pyo3(signature = (path, json, out, threads))]
+fn run(
+    py: Python<'_>,
+    path: Option<String>,
+    json: Option<String>,
+    out: Option<String>,
+    threads: usize,
+) -> PyResult<String> {
+    let (study, spec_file) = load_study(path.as_deref(), json.as_deref())?;
+    let out = out.map_or_else(|| PathBuf::from("results").join(&study.name), PathBuf::from);
+    let opts = RunOptions {
+        threads,
+        shard: Shard::WHOLE,
+        spec_file,
+        ..RunOptions::new(&out)
+    };
+    py.detach(|| -> PyResult<()> {
+        std::fs::create_dir_all(&out)
+            .map_err(rockfrag::Error::io(&out))
+            .map_err(py_err)?;
+        let _lock = study::RunLock::acquire(&out).map_err(py_err)?;
+        let report = study::run(&study, &opts).map_err(py_err)?;
+        if let Some(options) = &study.fragility {
+            let input = out.join("outcomes.csv");
+            let outcomes =
+                rockfrag::fragility::read_outcomes_for(&input, options).map_err(py_err)?;
+            if outcomes.cases.is_empty() {
+                return Err(PyValueError::new_err(format!(
+                    "{}: no analyses to fit",
+                    input.display()
+                )));
+            }
+            let fits = rockfrag::fragility::fit_cases(&outcomes, options).map_err(py_err)?;
+            rockfrag::fragility::write_outputs(&out, &fits).map_err(py_err)?;
+        }
+        if study.output.figures {
+            let options = rockfrag::figures::FigureOptions::for_study(&study);
+            rockfrag::figures::study_figures(&out, &out.join("figures"), &options)
+                .map_err(py_err)?;
+        }
+        let c = report.counts;
+        if c.failed > 0 {
+            return Err(PyRuntimeError::new_err(format!(
+                "{} of {} analyses failed (status 'failed' and the reason in {}); all results are written",
+                c.failed,
+                c.analyses,
+                out.join("outcomes.csv").display()
+            )));
+        }
+        Ok(())
+    })?;
+    Ok(out.display().to_string())
+}
+
+/// Fits a lognormal fragility to counts: `overturned[i]` of `trials[i]`
+/// analyses at intensity `im[i]`.
+#[pyfunction]
+fn fit<'py>(
+    py: Python<'py>,
+    im: Vec<f64>,
+    trials: Vec<u64>,
+    overturned: Vec<u64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if im.len() != trials.len() || im.len() != overturned.len() {
+        return Err(PyValueError::new_err(format!(
+            "im, trials and overturned have different lengths ({}, {}, {})",
+            im.len(),
+            trials.len(),
+            overturned.len()
+        )));
+    }
+    let mut obs = Vec::with_capacity(im.len());
+    for ((&x, &n), &z) in im.iter().zip(&trials).zip(&overturned) {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(py_err(rockfrag::Error::invalid(
+                "im",
+                x,
+                "a positive finite intensity",
+            )));
+        }
+        if z > n {
+            return Err(PyValueError::new_err(format!(
+                "{z} overturned of {n} analyses at im = {x}: cannot exceed the analyses"
+            )));
+        }
+        obs.push(Observation {
+            im: x,
+            trials: n,
+            overturned: z,
+        });
+    }
+    let d = PyDict::new(py);
+    match fit_lognormal(&obs) {
+        Ok(f) => {
+            d.set_item("status", "ok")?;
+            d.set_item("median", f.median())?;
+            d.set_item("beta", f.beta())?;
+            d.set_item("se_median", f.se_median())?;
+            d.set_item("se_ln_median", f.se_ln_median())?;
+            d.set_item("se_beta", f.se_beta())?;
+            d.set_item("a", f.a)?;
+            d.set_item("b", f.b)?;
+            d.set_item("cov", f.cov.to_vec())?;
+            d.set_item("loglik", f.loglik)?;
+            d.set_item("iterations", f.iterations)?;
+            d.set_item("message", "")?;
+        }
+        Err(u) => {
+            d.set_item("status", u.status())?;
+            for k in [
+                "median",
+                "beta",
+                "se_median",
+                "se_ln_median",
+                "se_beta",
+                "a",
+                "b",
+            ] {
+                d.set_item(k, f64::NAN)?;
+            }
+            d.set_item("cov", py.None())?;
+            d.set_item("loglik", f64::NAN)?;
+            d.set_item("iterations", 0)?;
+            d.set_item("message", u.to_string())?;
+        }
+    }
+    Ok(d)
+}
+
+#[pymodule]
+fn _rockfrag(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Setup>()?;
+    m.add_function(wrap_pyfunction!(solver_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_one, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_many, m)?)?;
+    m.add_function(wrap_pyfunction!(motion, m)?)?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

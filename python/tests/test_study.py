@@ -1,0 +1,114 @@
+"""Studies from Python: `run`, `read_outcomes` and `fit` agree with the CLI and
+with `simulate`; a notebook-sized ensemble end to end."""
+
+import csv
+import math
+
+import numpy as np
+import pytest
+
+import rockfrag
+
+SPEC = {
+    "name": "py-small",
+    "seed": 11,
+    "records": 6,
+    "motion": {"duration": 10.0},
+    "grid": {"width": [0.5], "aspect": [4], "restitution": [0.0], "pga": [0.2, 0.5, 0.8, 1.1]},
+    "fragility": {"im": "pga", "bootstrap": 20},
+}
+
+TOML = """
+name = "py-small"
+seed = 11
+records = 6
+
+[motion]
+duration = 10.0
+
+[grid]
+width = [0.5]
+aspect = [4]
+restitution = [0.0]
+pga = [0.2, 0.5, 0.8, 1.1]
+
+[fragility]
+im = "pga"
+bootstrap = 20
+"""
+
+
+@pytest.fixture(scope="module")
+def dict_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("dict") / "study"
+    return rockfrag.run(SPEC, out=out, threads=2)
+
+
+def test_a_dict_spec_is_the_cli_study_file(cli, tmp_path, dict_run):
+    spec = tmp_path / "small.toml"
+    spec.write_text(TOML)
+    cli("run", spec, "--out", tmp_path / "cli", "--threads", 1)
+    want = (tmp_path / "cli" / "outcomes.csv").read_text()
+    assert (tmp_path / "cli" / "fragility.csv").read_text() == open(dict_run + "/fragility.csv").read()
+    assert open(dict_run + "/outcomes.csv").read() == want
+    # a file spec from Python too
+    out = rockfrag.run(spec, out=tmp_path / "py-file")
+    assert open(out + "/outcomes.csv").read() == want
+
+
+def test_read_outcomes_types(dict_run):
+    cols = rockfrag.read_outcomes(dict_run, as_frame=False)
+    assert cols["overturned"].dtype == bool
+    assert cols["record"].dtype == np.int64
+    assert cols["theta_max_over_theta_c"].dtype == np.float64
+    assert len(cols["pga"]) == 6 * 4
+    assert np.isnan(cols["overturn_time"][~cols["overturned"]]).all()
+
+
+def test_read_outcomes_frame(dict_run):
+    pd = pytest.importorskip("pandas")
+    df = rockfrag.read_outcomes(dict_run)
+    assert isinstance(df, pd.DataFrame) and len(df) == 24
+
+
+def test_a_study_row_is_simulate_on_its_record(dict_run):
+    cols = rockfrag.read_outcomes(dict_run, as_frame=False)
+    for i in range(len(cols["pga"])):
+        m = rockfrag.motion(11, cols["pga"][i], int(cols["record"][i]), duration=10.0)
+        o = rockfrag.simulate(m["acc"], m["dt"], vel=m["vel"], disp=m["disp"])
+        assert o["overturned"] == cols["overturned"][i]
+        assert abs(o["theta_max_over_theta_c"] - cols["theta_max_over_theta_c"][i]) <= 1e-12
+
+
+def test_fit_is_the_cli_fragility(dict_run):
+    cols = rockfrag.read_outcomes(dict_run, as_frame=False)
+    got = rockfrag.fit(cols["pga"], cols["overturned"])
+    with open(dict_run + "/fragility.csv") as f:
+        row = next(csv.DictReader(f))
+    assert row["status"] == got["status"]
+    if got["status"] == "ok":
+        assert math.isclose(float(row["median"]), got["median"], rel_tol=1e-9)
+        assert math.isclose(float(row["beta"]), got["beta"], rel_tol=1e-9)
+
+
+def test_fit_counts_and_reasons():
+    im = [0.2, 0.4, 0.6, 0.8]
+    got = rockfrag.fit(im, [1, 4, 6, 9], trials=[10, 10, 10, 10])
+    assert got["status"] == "ok" and 0.4 < got["median"] < 0.7 and got["beta"] > 0
+    assert got["cov"][0][1] == got["cov"][1][0]
+    sep = rockfrag.fit(im, [0, 0, 10, 10], trials=[10] * 4)
+    assert sep["status"] == "separated" and math.isnan(sep["median"]) and sep["message"]
+
+
+def test_notebook_sized_example():
+    """An ensemble in a notebook: 10 records × 5 PGA levels, fitted."""
+    pgas = [0.2, 0.4, 0.6, 0.8, 1.0]
+    records = [rockfrag.motion(2024, pga, i, duration=15.0) for pga in pgas for i in range(10)]
+    outcomes = rockfrag.simulate_many(records, width=0.5, aspect=4.0, restitution=0.0)
+    im = np.repeat(pgas, 10)
+    overturned = np.array([o["overturned"] for o in outcomes])
+    assert 0 < overturned.sum() < len(overturned)
+    f = rockfrag.fit(im, overturned)
+    assert f["status"] in ("ok", "separated")
+    if f["status"] == "ok":
+        assert 0.1 < f["median"] < 3.0
