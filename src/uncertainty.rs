@@ -175,34 +175,35 @@ impl Distribution {
                 }
             }
         }
-        let (s_lo, s_hi) = self.support();
-        if s_lo < lo {
-            let sub = if matches!(self, Distribution::Uniform { .. }) || s_lo.is_finite() {
-                "min"
+        // A support reaching past the parameter's range: name the bound
+        // (`min`/`max`), or `dist` for an untruncated unbounded side.
+        let outside = |side: &str, bound: f64, expected: String| {
+            let sub = if bound.is_finite() || matches!(self, Distribution::Uniform { .. }) {
+                side
             } else {
                 "dist"
             };
-            return Err(Error::invalid(
-                &format!("{field}.{sub}"),
-                if s_lo.is_finite() {
-                    s_lo.to_string()
-                } else {
-                    "(unbounded)".into()
-                },
-                &format!("a lower bound ≥ {lo}: {what} (truncate the distribution with `min`)"),
-            ));
+            let value = if bound.is_finite() {
+                bound.to_string()
+            } else {
+                "(unbounded)".into()
+            };
+            Err(Error::invalid(&format!("{field}.{sub}"), value, &expected))
+        };
+        let (s_lo, s_hi) = self.support();
+        if s_lo < lo {
+            return outside(
+                "min",
+                s_lo,
+                format!("a lower bound ≥ {lo}: {what} (truncate the distribution with `min`)"),
+            );
         }
         if s_hi > hi {
-            let sub = if s_hi.is_finite() { "max" } else { "dist" };
-            return Err(Error::invalid(
-                &format!("{field}.{sub}"),
-                if s_hi.is_finite() {
-                    s_hi.to_string()
-                } else {
-                    "(unbounded)".into()
-                },
-                &format!("an upper bound ≤ {hi}: {what} (truncate the distribution with `max`)"),
-            ));
+            return outside(
+                "max",
+                s_hi,
+                format!("an upper bound ≤ {hi}: {what} (truncate the distribution with `max`)"),
+            );
         }
         // The truncation must keep some probability, or the inversion is
         // numerically meaningless (bounds many standard deviations out).

@@ -391,22 +391,7 @@ fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
             status,
         ]);
     }
-    // Pad every column but the last to its widest cell.
-    let columns = rows[0].len();
-    let widths: Vec<usize> = (0..columns)
-        .map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0))
-        .collect();
-    let mut text = String::new();
-    for r in &rows {
-        for (c, cell) in r.iter().enumerate() {
-            text.push_str(cell);
-            if c + 1 < columns {
-                text.push_str(&" ".repeat(widths[c] - cell.chars().count() + 2));
-            }
-        }
-        text.push('\n');
-    }
-    text
+    super::table::aligned(&rows)
 }
 
 /// Three significant digits, without exponent for ordinary magnitudes.

@@ -11,6 +11,7 @@ mod paper;
 mod risk;
 mod run;
 mod simulate;
+mod table;
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};

@@ -160,25 +160,5 @@ fn table(rows: &[RiskRow], options: &RiskOptions) -> String {
         };
         cells.push(row);
     }
-    let columns = cells[0].len();
-    let widths: Vec<usize> = (0..columns)
-        .map(|c| {
-            cells
-                .iter()
-                .map(|r| r[c].chars().count())
-                .max()
-                .unwrap_or(0)
-        })
-        .collect();
-    let mut text = String::new();
-    for r in &cells {
-        for (c, cell) in r.iter().enumerate() {
-            text.push_str(cell);
-            if c + 1 < columns {
-                text.push_str(&" ".repeat(widths[c] - cell.chars().count() + 2));
-            }
-        }
-        text.push('\n');
-    }
-    text
+    super::table::aligned(&cells)
 }

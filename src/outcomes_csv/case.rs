@@ -143,8 +143,9 @@ impl CaseKey {
     }
 }
 
-/// A case parameter as text: its value, or `drawn` when pooled (NaN).
-fn param(x: f64) -> String {
+/// A case parameter as text: its value, or `drawn` for the NaN of a
+/// parameter drawn per analysis (pooled).
+pub fn param_text(x: f64) -> String {
     if x.is_nan() {
         "drawn".to_string()
     } else {
@@ -159,13 +160,13 @@ impl std::fmt::Display for CaseKey {
         write!(
             f,
             "H/B={} 2B={} e={} {}",
-            param(self.aspect),
-            param(self.width),
-            param(self.restitution),
+            param_text(self.aspect),
+            param_text(self.width),
+            param_text(self.restitution),
             self.friction_name()
         )?;
         if let Friction::Coulomb { mu_s, mu_k } = self.friction {
-            write!(f, " μs={} μk={}", param(mu_s), param(mu_k))?;
+            write!(f, " μs={} μk={}", param_text(mu_s), param_text(mu_k))?;
         }
         Ok(())
     }

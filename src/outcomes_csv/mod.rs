@@ -38,7 +38,7 @@ mod columns;
 mod read;
 mod write;
 
-pub use case::{CaseKey, Pooled, cmp_friction, same, same_friction};
+pub use case::{CaseKey, Pooled, cmp_friction, param_text, same, same_friction};
 pub use columns::{CASE, CASE_COLUMNS, Column, Columns, MeasureKind, OUTCOME, STATS, TIME_IN_MODE};
 pub use read::{OutcomesReader, Row};
 pub use write::RecordInfo;

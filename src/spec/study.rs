@@ -335,16 +335,6 @@ pub fn friction_label(f: Friction) -> String {
     }
 }
 
-/// A case parameter as text: its value, or `drawn` for the placeholder NaN
-/// of a parameter drawn per analysis.
-pub fn param_text(x: f64) -> String {
-    if x.is_nan() {
-        "drawn".to_string()
-    } else {
-        x.to_string()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
