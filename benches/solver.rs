@@ -1,7 +1,8 @@
 //! Criterion benchmarks of one 30-s analysis (H/B = 4, 2B = 0.5 m, PGA 0.6 g),
 //! e = 0 and e = 0.9; the nonlinear model by each integrator (Taylor, the
 //! default, and Dormand–Prince) and the linearised model, at the default
-//! tolerances. `solver/ensemble` solves 10 records per iteration (throughput in
+//! tolerances, and Taylor following every impact at e = 0.9 (the cascade
+//! rules off). `solver/ensemble` solves 10 records per iteration (throughput in
 //! analyses per second); `solver/single` one record.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
@@ -33,6 +34,17 @@ fn bench_solver(c: &mut Criterion) {
             });
         }
     }
+    // every impact followed (the cascade rules off), on the bouncy case the
+    // chatter rule is for
+    let follow = SolverSettings {
+        settle_cascades: false,
+        ..SolverSettings::default()
+    };
+    single.bench_with_input(
+        BenchmarkId::new("taylor-follow", "e=0.9"),
+        &Analysis::new(block, 0.9),
+        |b, an| b.iter(|| simulate(black_box(an), &records[0], &follow, None).unwrap()),
+    );
     single.finish();
     let mut ens = c.benchmark_group("solver/ensemble");
     ens.throughput(Throughput::Elements(records.len() as u64));

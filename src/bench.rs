@@ -83,6 +83,10 @@ pub struct SettingReport {
     pub label: String,
     /// The settings measured.
     pub settings: SolverSettings,
+    /// The coefficient of restitution this setting was run on alone, or
+    /// `None` for every case (a point of its own, e.g. the chatter rule at
+    /// e = 0.9, the cases it is for).
+    pub restitution_only: Option<f64>,
     /// Analyses compared.
     pub analyses: usize,
     /// Median wall time per analysis (s).
@@ -147,7 +151,7 @@ pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>>
         .map(|c| simulate(&c.analysis, &records[c.record], &reference_settings, None))
         .collect::<Result<_>>()?;
     let mut reports = Vec::new();
-    let mut all: Vec<(String, SolverSettings)> = Vec::new();
+    let mut all: Vec<(String, SolverSettings, Option<f64>)> = Vec::new();
     for &integrator in &opts.integrators {
         for &rtol in &opts.rtols {
             all.push((
@@ -158,27 +162,36 @@ pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>>
                     atol: rtol * 1e-2,
                     ..SolverSettings::default()
                 },
+                None,
             ));
         }
     }
-    all.push((
-        "taylor rtol=1e-8, cascade rule off".to_string(),
-        SolverSettings {
-            settle_cascades: false,
-            ..SolverSettings::default()
-        },
-    ));
+    let off = SolverSettings {
+        settle_cascades: false,
+        ..SolverSettings::default()
+    };
+    all.push(("taylor rtol=1e-8, cascade rules off".to_string(), off, None));
+    if opts.restitution.contains(&0.9) {
+        // the chatter rule's own point: the bouncy cases, with and without it
+        let label = "taylor rtol=1e-8, e=0.9 only";
+        all.push((label.to_string(), SolverSettings::default(), Some(0.9)));
+        all.push((format!("{label}, cascade rules off"), off, Some(0.9)));
+    }
     all.push((
         "linear".to_string(),
         SolverSettings {
             model: Model::Linear,
             ..SolverSettings::default()
         },
+        None,
     ));
-    for (label, set) in all {
+    for (label, set, only) in all {
         let mut rows = Vec::new();
         for (c, r) in cases.iter().zip(&reference) {
             if set.model == Model::Linear && c.analysis.friction != Friction::Infinite {
+                continue;
+            }
+            if only.is_some_and(|e| c.analysis.restitution != e) {
                 continue;
             }
             // timed one at a time, on one thread, for a fair cost per
@@ -196,7 +209,7 @@ pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>>
                 rows.push((best, o, r));
             }
         }
-        reports.push(summarise(label, set, &rows));
+        reports.push(summarise(label, set, only, &rows));
     }
     Ok(reports)
 }
@@ -212,6 +225,7 @@ pub fn integrator_name(i: Integrator) -> &'static str {
 fn summarise(
     label: String,
     settings: SolverSettings,
+    restitution_only: Option<f64>,
     rows: &[(f64, Outcome, &Outcome)],
 ) -> SettingReport {
     let mut times: Vec<f64> = rows.iter().map(|r| r.0).collect();
@@ -242,6 +256,7 @@ fn summarise(
     SettingReport {
         label,
         settings,
+        restitution_only,
         analyses: rows.len(),
         median_time: median(&mut times),
         mean_rhs: rhs,
@@ -278,6 +293,7 @@ pub fn cheapest_acceptable(reports: &[SettingReport]) -> Option<&SettingReport> 
         .iter()
         .filter(|r| {
             r.settings.model == Model::Nonlinear
+                && r.restitution_only.is_none()
                 && r.overturn_mismatches == 0
                 && r.theta_err.1 < 1e-6
         })

@@ -119,9 +119,9 @@ pub struct SimulateArgs {
     /// Ring-down settle threshold ε (rebounds below ε·√(gR) are plastic).
     #[arg(long, value_name = "X", default_value_t = SolverSettings::default().settle_tol, value_parser = open_unit_interval)]
     pub settle_tol: f64,
-    /// Follow every impact of an e = 0 ring-down instead of settling the
-    /// cascade once it provably dies out (the cascade rule; the later motion
-    /// is the same either way).
+    /// Follow every impact: of an e = 0 ring-down instead of settling the
+    /// cascade once it provably dies out, and of an e > 0 bounce series
+    /// instead of closing its tail in closed form (the cascade rules).
     #[arg(long)]
     pub follow_cascades: bool,
     /// Rock equation.

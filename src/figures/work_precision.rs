@@ -45,6 +45,8 @@ impl Figure for WorkPrecision<'_> {
         let pts: Vec<(f64, f64, &SettingReport)> = self
             .reports
             .iter()
+            // the points over one restitution alone are in the table only
+            .filter(|r| r.restitution_only.is_none())
             .map(|r| (r.median_time * 1e6, r.theta_err.0.max(FLOOR), r))
             .collect();
         let (mut x0, mut x1) = (f64::INFINITY, 0.0_f64);

@@ -1,5 +1,6 @@
 //! Sequential corner impacts and the choice of the mode after them; the
-//! cascade rule (see the driver's module documentation).
+//! cascade rule and the chatter rule's place (see the driver's module
+//! documentation).
 
 use super::{FlightState, RockState, Run, SlideState, State};
 use crate::solver::impact::{self, Velocity};
@@ -27,6 +28,8 @@ impl Run<'_> {
             [-1.0, 1.0].map(|sd| bl.h + pose.y + offset(sd).1 <= self.h_touch);
         let mut next = Some(side);
         let mut count = 0;
+        // the end of a bounce series closed by the chatter rule
+        let mut series_end = None;
         while let Some(sd) = next {
             let (rx, ry) = offset(sd);
             let law = self.set.impact;
@@ -52,6 +55,36 @@ impl Run<'_> {
                 (r, demand) = hit(0.0);
                 e_applied = 0.0;
                 self.out.settles += 1;
+            } else if self.e > 0.0
+                && un_after > 0.0
+                && un_after <= self.v_close
+                && count == 0
+                && (pose.theta == 0.0 || !touching[if sd < 0.0 { 1 } else { 0 }])
+            {
+                // the chatter rule: close the series of bounces on this corner
+                // with this impact made plastic, and its sums applied at its end
+                let (plastic, plastic_demand) = hit(0.0);
+                if let Some(ch) = self.chatter_settles(
+                    t,
+                    pose.theta,
+                    sd,
+                    rx,
+                    ry,
+                    &r.after,
+                    un_after,
+                    &plastic.after,
+                ) {
+                    self.out.mu_impact = self.out.mu_impact.max(demand).max(ch.demand);
+                    self.out.mu_impact_eq5 = self
+                        .out
+                        .mu_impact_eq5
+                        .max(impact::eq5_mu(&bl, &vel, rx, ry, self.e))
+                        .max(ch.demand_eq5);
+                    series_end = Some((sd, ch.end));
+                    (r, demand) = (plastic, plastic_demand);
+                    e_applied = 0.0;
+                    self.out.settles += 1;
+                }
             }
             self.out.impacts += 1;
             self.out.first_impact_time.get_or_insert(t);
@@ -135,6 +168,11 @@ impl Run<'_> {
                 };
                 let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
                 self.x_base = pose.x - x;
+                if let Some((sd, end)) = series_end
+                    && sd == pivot
+                {
+                    self.series_end = Some(end);
+                }
                 State::Rock(rs)
             }
             [false, false] => {

@@ -41,6 +41,49 @@
 //! demand, to O(u²)); its impacts are not counted in `impacts`; it counts one
 //! in `settles`.
 //!
+//! Chatter rule (`settle_cascades`, e > 0 and infinite friction). With
+//! e > 0 a rock impact starts a series of bounces on the new corner B: the
+//! block flies, B lands, rebounds at e times its landing speed, and so on,
+//! dozens of times, while the block rocks about B underneath. Take B's place
+//! (x_B, y_B) and θ as coordinates; ρ = G − B, I_B = 4R²/3 (per unit mass).
+//! The momentum conjugate to θ, p = Ḃ·ρ⊥ + I_B θ̇ (the angular momentum
+//! about B), does not jump at an impulse applied at B, and obeys
+//! ṗ = −∂V/∂θ − θ̇ Ḃ·ρ (V: gravity and the ground's inertial force, the
+//! same in rock and flight), while θ̇ = (p − Ḃ·ρ⊥)/I_B. In rock Ḃ = 0: so the
+//! series is rock about B from the state a plastic impact leaves, except for
+//! what Ḃ adds. Over one flight ∫Ḃ dt = (Δx_k, 0): B lands where it left,
+//! shifted along the ground by the drift Δx_k = a_t τ_k²/2 (+ ȧ_t τ_k³/6),
+//! a_t = −ẍg − ω² r_x being B's tangential acceleration in flight (it leaves
+//! each Newton impact with no tangential velocity), τ_k = 2u_k/a the flight's
+//! time, a = g + ÿg + ω² r_y B's fall. Summing the flights, with u_k = eᵏu:
+//! D = Σ Δx_k = 2 a_t u²/(a²(1 − e²)) at leading order, and the series ends
+//! at T = Σ τ_k = 2u/(a(1 − e)). To second order in u the series then leaves
+//! B shifted by D, θ ahead of rock about B by Δθ = ρ_y D/I_B = −(3/4R²) r_y D
+//! and θ̇ off by Δθ̇ = −θ̇ ρ_x D/I_B = (3/4R²) θ̇ r_x D (r = B − G). The rule
+//! closes a bounce whose rebound u is below 3e-4·√(gR) (`CLOSE_TOL`):
+//! the impact is made plastic (the energy the series would lose, the whole
+//! of B's normal motion, to O(u²)), and at T the rock state takes Δθ, Δθ̇
+//! and the footprint D. D and T are summed flight by flight on the record's
+//! linear pieces (geometric in closed form when ÿg = 0 and the series stays
+//! in one sample), so ground motion that changes during the series (the
+//! third-order term ȧ_t τ³, the largest neglected one otherwise) is kept.
+//! What remains is third order in u (measured: the median |Δθmax/θc|
+//! against every bounce followed is 3e-10 at e = 0.9; 6e-9 if bounces below
+//! 1e-3·√(gR) were closed). The rule applies only where bounds over the
+//! coming samples prove the series converges before anything else happens
+//! (`Run::chatter_settles`): B's fall stays positive, lo = min(g + ÿg) −
+//! ω_max² R > 0, with ω_max bounding every ω of the series (ω_p + θ̈_max·T +
+//! k_w u, θ̈_max from eq. (1)); within a flight a strays by at most x, so
+//! each flight lands at most √((lo + x)/(lo − x)) faster than it left and
+//! the rebounds shrink by ρ = e√((lo + x)/(lo − x)) < 1; the series, at most
+//! 2u/((lo − x)(1 − ρ)) long, fits in the window; rock about B stays on its
+//! side and below θc over it (a concave bound on ψ and the series' own
+//! excursion k_w h, so the old corner stays off the ground); and N of rock
+//! about B stays positive. Otherwise every bounce is followed. A closed
+//! series counts one impact and one in `settles`; its later impacts' friction
+//! demand (all with the same impulse ratio, since they scale with u) is
+//! taken from one of them; its flights are not counted in `flights`.
+//!
 //! Rock-impact rule (`rock_impact`): by default a rock impact with e > 0 is
 //! resolved by the impact law in full (the block flies and rings down on the
 //! new corner). `rock_impact = "rock"` instead keeps the block rocking on the
@@ -56,11 +99,13 @@
 //!
 //! The driver's own files, one per mode and concern: `rest`, `slide` (slide
 //! and slide-rock), `rock`, `flight`; `events` (reset maps), `impacts`
-//! (sequential impacts and the cascade rule); `stepping` (the Dormand–Prince
+//! (sequential impacts and the cascade rule), `chatter` (the chatter rule);
+//! `stepping` (the Dormand–Prince
 //! loop shared by rock and slide-rock); `bookkeeping` (peaks, slip, energy
 //! audit, history rows).
 
 mod bookkeeping;
+mod chatter;
 mod events;
 mod flight;
 mod impacts;
@@ -142,6 +187,28 @@ impl State {
             State::Flight(_) => Mode::Flight,
         }
     }
+}
+
+/// A bounce whose rebound is below `CLOSE_TOL`·√(gR) may close its series.
+/// The closure's error is third order in the rebound (measured: the median
+/// |Δθmax/θc| against every bounce followed is 3e-10 at 3e-4 and 6e-9 at
+/// 1e-3, over 100 records at e = 0.9).
+const CLOSE_TOL: f64 = 3e-4;
+
+/// The correction a closed series leaves to its end: rock about the corner
+/// from the plastic impact, shifted by the series' second-order effects.
+#[derive(Clone, Copy, Debug)]
+struct SeriesEnd {
+    /// Time the series ends (s).
+    t: f64,
+    /// Rock side s of the rock state the correction applies to.
+    s: f64,
+    /// Rotation gained against rock about the corner (rad).
+    dtheta: f64,
+    /// Relative change of θ̇ against rock about the corner.
+    domega_rel: f64,
+    /// Drift of the corner along the ground (m).
+    dx: f64,
 }
 
 /// Events located inside a sample interval.
@@ -261,6 +328,11 @@ struct Run<'a> {
     escale: f64,
     /// Ring-down velocity threshold ε√(gR) (m/s).
     v_settle: f64,
+    /// Rebound below which the chatter rule may close a bounce series (m/s).
+    v_close: f64,
+    /// The end of a bounce series closed by the chatter rule, whose
+    /// correction is still to be applied to the rock state.
+    series_end: Option<SeriesEnd>,
     /// Contact distance of the two-contact rule (m).
     h_touch: f64,
     /// Coulomb friction (μs, μk), or `None` for infinite friction.
@@ -306,6 +378,8 @@ impl<'a> Run<'a> {
             resid: 0.0,
             escale: bl.g * bl.r * (1.0 - bl.cos_c),
             v_settle: set.settle_tol * (bl.g * bl.r).sqrt(),
+            v_close: CLOSE_TOL * (bl.g * bl.r).sqrt(),
+            series_end: None,
             h_touch: 1e-9 * bl.b,
             fric: match an.friction {
                 Friction::Infinite => None,
@@ -401,7 +475,17 @@ impl<'a> Run<'a> {
                 }
             }
             let seg = self.segment(k);
-            let t_end = (k + 1) as f64 * self.dt;
+            let mut t_end = (k + 1) as f64 * self.dt;
+            // a closed bounce series ends inside this sample: stop there
+            let mut series_ends = false;
+            if let Some(end) = self.series_end {
+                if !matches!(state, State::Rock(rs) if rs.s == end.s) {
+                    self.series_end = None;
+                } else if end.t < t_end {
+                    t_end = end.t.max(t);
+                    series_ends = true;
+                }
+            }
             let t_start = t;
             let mode = state.mode();
             let event = match &mut state {
@@ -444,6 +528,10 @@ impl<'a> Run<'a> {
             };
             self.out.time_in_mode[mode.index()] += t - t_start;
             match event {
+                None if series_ends => {
+                    t = t_end;
+                    self.end_series(&mut state);
+                }
                 None => {
                     t = t_end;
                     k += 1;
