@@ -206,16 +206,7 @@ fn record(
             });
         }
     };
-    let r = Record {
-        name,
-        dt,
-        acc,
-        vel,
-        disp,
-        acc_v: None,
-    };
-    r.validate()?;
-    Ok(r)
+    Record::new(name, dt, acc, vel, disp)
 }
 
 fn vec_of(a: Option<PyReadonlyArray1<'_, f64>>) -> Option<Vec<f64>> {

@@ -277,16 +277,7 @@ pub fn read_at2(path: impl AsRef<Path>, g: f64) -> Result<Record> {
     let acc: Vec<f64> = at2.acc_g.iter().map(|a| a * g).collect();
     let (vel, disp) = integrate_linear(at2.dt, &acc, 0.0, 0.0);
     check_integrated(path, at2.dt, &vel, &disp, |k| at2_value_line(&text, k))?;
-    let record = Record {
-        name: file_label(path),
-        dt: at2.dt,
-        acc,
-        vel,
-        disp,
-        acc_v: None,
-    };
-    record.validate()?;
-    Ok(record)
+    Record::new(file_label(path), at2.dt, acc, vel, disp)
 }
 
 /// Units of the accelerations of an `.AT2` file, read from its header.
@@ -624,16 +615,7 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
         check_integrated(path, dt, &vel, &disp, |k| lines[k])?;
         (vel, disp)
     };
-    let record = Record {
-        name,
-        dt,
-        acc,
-        vel,
-        disp,
-        acc_v: None,
-    };
-    record.validate()?;
-    Ok(record)
+    Record::new(name, dt, acc, vel, disp)
 }
 
 /// Reads a record by extension: `.at2` (any case) with [`read_at2`] and

@@ -38,6 +38,18 @@ impl Record {
     /// ```
     pub fn from_acc(name: impl Into<String>, dt: f64, acc: Vec<f64>) -> Result<Self> {
         let (vel, disp) = integrate_linear(dt, &acc, 0.0, 0.0);
+        Record::new(name, dt, acc, vel, disp)
+    }
+
+    /// A horizontal record from its three series, checked by
+    /// [`Record::validate`].
+    pub fn new(
+        name: impl Into<String>,
+        dt: f64,
+        acc: Vec<f64>,
+        vel: Vec<f64>,
+        disp: Vec<f64>,
+    ) -> Result<Self> {
         let r = Record {
             name: name.into(),
             dt,

@@ -56,6 +56,19 @@ pub struct ImpactResult {
     pub delta_kinetic: f64,
 }
 
+impl ImpactResult {
+    /// Friction needed to prevent sliding during the impact, |P_t/P_n|
+    /// (0 when there is no normal impulse).
+    #[inline]
+    pub fn friction_demand(&self) -> f64 {
+        if self.p_n > 0.0 {
+            (self.p_t / self.p_n).abs()
+        } else {
+            0.0
+        }
+    }
+}
+
 /// Velocity (u_t, u_n) of the point at offset (rx, ry) from G.
 #[inline]
 pub fn point_velocity(v: &Velocity, rx: f64, ry: f64) -> (f64, f64) {
@@ -207,11 +220,7 @@ pub fn corner_impact_friction(
     mu_k: f64,
 ) -> (ImpactResult, f64) {
     let stick = corner_impact(block, v, rx, ry, e, law);
-    let demand = if stick.p_n > 0.0 {
-        (stick.p_t / stick.p_n).abs()
-    } else {
-        0.0
-    };
+    let demand = stick.friction_demand();
     if stick.p_t.abs() <= mu_s * stick.p_n {
         return (stick, demand);
     }

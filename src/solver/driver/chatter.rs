@@ -3,7 +3,7 @@
 //! its drift, rotation and duration summed in closed form (the derivation is
 //! in the driver's module documentation).
 
-use super::{Run, SeriesEnd};
+use super::{RockState, Run, SeriesEnd, State};
 use crate::solver::impact::{self, Velocity};
 use crate::solver::physics as ph;
 
@@ -216,11 +216,7 @@ impl Run<'_> {
                 omega: newton.omega,
             };
             let r = impact::corner_impact(&bl, &before, rx, ry, e, self.set.impact);
-            let demand = if r.p_n > 0.0 {
-                (r.p_t / r.p_n).abs()
-            } else {
-                0.0
-            };
+            let demand = r.friction_demand();
             let demand_eq5 = impact::eq5_mu(&bl, &before, rx, ry, e);
             // The sums: the drift D, and from it the rotation and the angular
             // velocity the series gains against rock about the corner (module
@@ -251,29 +247,32 @@ impl Run<'_> {
 impl Run<'_> {
     /// Applies the correction of a closed bounce series at its end to the rock
     /// state it left (none if the block has left that rock since).
-    pub(super) fn end_series(&mut self, state: &mut super::State) {
+    pub(super) fn end_series(&mut self, state: &mut State) {
         let Some(end) = self.series_end.take() else {
             return;
         };
-        if let super::State::Rock(rs) = state
-            && rs.s == end.s
-        {
-            let before = if self.set.audit_energy {
-                self.energy(state)
-            } else {
-                0.0
-            };
-            if let super::State::Rock(rs) = state {
-                rs.theta += end.dtheta;
-                rs.omega += end.domega_rel * rs.omega;
-                rs.last = None;
-            }
-            self.x_base += end.dx;
-            if self.set.audit_energy {
-                self.jumps += self.energy(state) - before;
-            }
-            self.note_theta(state);
-            self.note_slip(state);
+        let State::Rock(rs) = *state else {
+            return;
+        };
+        if rs.s != end.s {
+            return;
         }
+        let before = if self.set.audit_energy {
+            self.energy(state)
+        } else {
+            0.0
+        };
+        *state = State::Rock(RockState {
+            theta: rs.theta + end.dtheta,
+            omega: rs.omega + end.domega_rel * rs.omega,
+            last: None,
+            ..rs
+        });
+        self.x_base += end.dx;
+        if self.set.audit_energy {
+            self.jumps += self.energy(state) - before;
+        }
+        self.note_theta(state);
+        self.note_slip(state);
     }
 }

@@ -36,12 +36,7 @@ impl Run<'_> {
             let hit = |e: f64| match self.fric {
                 None => {
                     let r = impact::corner_impact(&bl, &vel, rx, ry, e, law);
-                    let demand = if r.p_n > 0.0 {
-                        (r.p_t / r.p_n).abs()
-                    } else {
-                        0.0
-                    };
-                    (r, demand)
+                    (r, r.friction_demand())
                 }
                 Some((mu_s, mu_k)) => {
                     impact::corner_impact_friction(&bl, &vel, rx, ry, e, law, mu_s, mu_k)
