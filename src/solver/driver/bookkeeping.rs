@@ -15,8 +15,18 @@ impl Run<'_> {
             State::SlideRock(r) => r.theta,
             State::Flight(f) => f.theta,
         };
-        let ratio = (th.abs() / self.bl.theta_c).min(FRAC_PI_2 / self.bl.theta_c);
-        self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio);
+        self.note_angle(th);
+    }
+
+    /// Raises the peak θmax/θc to |θ|/θc (capped at the overturning angle).
+    #[inline]
+    pub(super) fn note_angle(&mut self, th: f64) {
+        // the division only where θ may raise the peak (a bound with margin
+        // for the rounding of the ratio)
+        if th.abs() >= self.out.theta_max_over_theta_c * self.bl.theta_c * (1.0 - 1e-12) {
+            let ratio = (th.abs() / self.bl.theta_c).min(FRAC_PI_2 / self.bl.theta_c);
+            self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio);
+        }
     }
 
     /// Tracks the block's slip: the offset of its footprint (or of the

@@ -1,14 +1,77 @@
 //! Free flight in closed form, and the location of landings and overturning.
 
 use super::{Event, FlightState, Run, Segment, earliest};
+use crate::solver::impact::{Velocity, point_velocity};
 use crate::solver::physics as ph;
 use crate::solver::scan::{first_descent, first_descent_after_release};
 use std::f64::consts::FRAC_PI_2;
 
 impl Run<'_> {
+    /// Free flight over [t, t_end]: returns the first event (a landing or
+    /// overturning) that ends it, having resolved on the way the plain
+    /// bounces of a lone corner ([`Run::bounce`]), which need none of the
+    /// event loop's decisions.
+    pub(super) fn flight(
+        &mut self,
+        fs: &mut FlightState,
+        seg: &Segment,
+        t: &mut f64,
+        t_end: f64,
+    ) -> Option<Event> {
+        loop {
+            let event = self.flight_piece(fs, seg, t, t_end);
+            match event {
+                Some(Event::Landing(side)) if *t < t_end && self.bounce(fs, side, *t) => {}
+                _ => return event,
+            }
+        }
+    }
+
+    /// A bounce of corner `side` landing at `t` that leaves the block in
+    /// flight with nothing for the event loop to decide: the other corner is
+    /// off the ground and the rebound is faster than the ring-down and
+    /// chatter rules look at. Then the impact is applied to `fs` and counted
+    /// as the event loop would (the same arithmetic: results do not depend on
+    /// the shortcut), and true is returned. Not taken with a history or the
+    /// energy audit, which record every event.
+    fn bounce(&mut self, fs: &mut FlightState, side: f64, t: f64) -> bool {
+        if self.hist.is_some()
+            || self.set.audit_energy
+            || self.out.stats.events >= self.set.max_events
+            || self.released.is_some_and(|(tr, _)| tr == t)
+        {
+            return false;
+        }
+        let bl = self.bl;
+        // as `impacts` takes the pose
+        let (sn, cs) = ph::sin_cos_small(fs.theta);
+        let (_, oy) = bl.corner_offset_sc(-side, sn, cs);
+        if bl.h + fs.y + oy <= self.h_touch {
+            return false;
+        }
+        let (rx, ry) = bl.corner_offset_sc(side, sn, cs);
+        let vel = Velocity {
+            vx: fs.vx,
+            vy: fs.vy,
+            omega: fs.omega,
+        };
+        let (r, demand) = self.hit(&vel, rx, ry, self.e);
+        let un_after = point_velocity(&r.after, rx, ry).1;
+        if un_after <= self.v_settle.max(self.v_close) {
+            return false;
+        }
+        self.out.stats.events += 1;
+        self.note_impact(t, &vel, &r, demand, rx, ry, self.e);
+        self.out.flights += 1;
+        fs.vx = r.after.vx;
+        fs.vy = r.after.vy;
+        fs.omega = r.after.omega;
+        true
+    }
+
     /// Free flight over [t, t_end] in closed form; locates landings of either
     /// corner and overturning.
-    pub(super) fn flight(
+    fn flight_piece(
         &mut self,
         fs: &mut FlightState,
         seg: &Segment,
@@ -33,29 +96,42 @@ impl Run<'_> {
             }
         };
         let span = t_end - t0;
-        let n = 1 + (f.omega.abs() * span / 0.2) as usize;
         let xtol = 1e-15 * t_end.abs().max(1.0);
         let mut best: Option<(f64, Event)> = None;
         // θ(τ) = θ0 + ωτ: sin and cos by angle addition, the small rotation
         // by its series (most flights of a ring-down rotate little)
-        let (s0, c0) = f.theta.sin_cos();
-        for side in [-1.0, 1.0] {
-            let height = |tau: f64| {
-                let p = pos(tau);
-                let (sx, cx) = ph::sin_cos_small(f.omega * tau);
-                let (st, ct) = (s0 * cx + c0 * sx, c0 * cx - s0 * sx);
-                let (rx, ry) = bl.corner_offset_sc(side, st, ct);
-                (bl.h + p.y + ry, p.vy + p.omega * rx)
-            };
-            // a corner leaving the ground at the start of this piece of flight
-            // (just released by an impact or a lift-off) is departing
-            let (h0, u0) = height(0.0);
-            let found = if h0 <= self.h_touch && u0 >= -self.v_settle {
-                first_descent_after_release(height, 0.0, span, n, xtol)
-            } else {
-                first_descent(height, 0.0, span, n, xtol)
-            };
-            earliest(&mut best, found, Event::Landing(side));
+        let (s0, c0) = ph::sin_cos_small(f.theta);
+        let height = |side: f64, tau: f64| {
+            let p = pos(tau);
+            let (sx, cx) = ph::sin_cos_small(f.omega * tau);
+            let (st, ct) = (s0 * cx + c0 * sx, c0 * cx - s0 * sx);
+            let (rx, ry) = bl.corner_offset_sc(side, st, ct);
+            (bl.h + p.y + ry, p.vy + p.omega * rx)
+        };
+        match self.lone_landing(
+            &f,
+            (s0, c0),
+            (gy0, gy0 + (b1 * span).min(0.0)),
+            span,
+            xtol,
+            height,
+        ) {
+            Some((side, found)) => earliest(&mut best, found, Event::Landing(side)),
+            None => {
+                let n = 1 + (f.omega.abs() * span / 0.2) as usize;
+                for side in [-1.0, 1.0] {
+                    // a corner leaving the ground at the start of this piece of
+                    // flight (just released by an impact or a lift-off) is departing
+                    let (h0, u0) = height(side, 0.0);
+                    let fd = |tau| height(side, tau);
+                    let found = if h0 <= self.h_touch && u0 >= -self.v_settle {
+                        first_descent_after_release(fd, 0.0, span, n, xtol)
+                    } else {
+                        first_descent(fd, 0.0, span, n, xtol)
+                    };
+                    earliest(&mut best, found, Event::Landing(side));
+                }
+            }
         }
         if f.omega != 0.0 {
             let te = (FRAC_PI_2.copysign(f.omega) - f.theta) / f.omega;
@@ -80,11 +156,7 @@ impl Run<'_> {
         }
         *fs = pos(tau_end);
         *t = t0 + tau_end;
-        let ratio = fs.theta.abs() / bl.theta_c;
-        self.out.theta_max_over_theta_c = self
-            .out
-            .theta_max_over_theta_c
-            .max(ratio.min(FRAC_PI_2 / bl.theta_c));
+        self.note_angle(fs.theta);
         match best {
             Some((_, ev)) => Some(ev),
             None => {
@@ -92,5 +164,108 @@ impl Run<'_> {
                 None
             }
         }
+    }
+
+    /// The landing of a flight's lower corner when it alone can land: θ keeps
+    /// its sign until then, so the upper corner stays 2B|sin θ| above the
+    /// lower one, and the lower corner's height h is concave (h″ = −(g + ÿg)
+    /// − ω² r_y ≤ −`gy_min` + ω²R < 0), so it has at most one descent through
+    /// zero after a departure. Returns the lower corner's side and its landing
+    /// in (0, `span`], if any; `None` where those conditions do not hold (the
+    /// caller then searches both corners). Most flights of a bounce series
+    /// meet them: this is their fast path.
+    ///
+    /// `height(side, τ)` gives the corner's height and its rate, (s0, c0) are
+    /// sin θ and cos θ at the start, `gy0` is g + ÿg at the piece's start and
+    /// `gy_min` its least value over the piece.
+    fn lone_landing(
+        &self,
+        f: &FlightState,
+        (s0, c0): (f64, f64),
+        (gy0, gy_min): (f64, f64),
+        span: f64,
+        xtol: f64,
+        height: impl Fn(f64, f64) -> (f64, f64),
+    ) -> Option<(f64, Option<f64>)> {
+        let bl = self.bl;
+        let w2r = f.omega * f.omega * bl.r;
+        if gy_min <= w2r {
+            return None;
+        }
+        // θ's sign over the piece, and the lower corner
+        let sigma = if f.theta != 0.0 {
+            f.theta.signum()
+        } else if f.omega != 0.0 {
+            f.omega.signum()
+        } else {
+            return None;
+        };
+        let low = -sigma;
+        // the search ends where θ would cross 0 (the corners change places)
+        let limit = if sigma * f.omega < 0.0 {
+            (-f.theta / f.omega).min(span)
+        } else {
+            span
+        };
+        let (h0, d0) = height(low, 0.0);
+        if h0 <= self.h_touch && d0 <= 0.0 {
+            // touching and not departing: the general search decides
+            return None;
+        }
+        let fd = |tau: f64| height(low, tau);
+        let (hl, dl) = fd(limit);
+        if hl > 0.0 {
+            // concave and not below zero at either end: no landing before `limit`
+            return if limit < span {
+                None
+            } else {
+                Some((low, None))
+            };
+        }
+        // One descent through zero in (0, limit]. Newton from its right
+        // (h ≤ 0) stays there on a concave function and converges monotonely;
+        // start from the root of the corner's parabola at τ = 0 (h″ = −(g + ÿg)
+        // − ω² r_y there), or from one Newton step past it.
+        let (_, ry0) = bl.corner_offset_sc(low, s0, c0);
+        let curv = -gy0 - f.omega * f.omega * ry0;
+        let h0c = h0.max(0.0);
+        let tq = (d0 + (d0 * d0 - 2.0 * curv * h0c).max(0.0).sqrt()) / -curv;
+        let (mut tau, mut h, mut d) = (limit, hl, dl);
+        if tq > 0.0 && tq < limit {
+            let (hq, dq) = fd(tq);
+            if hq <= 0.0 {
+                (tau, h, d) = (tq, hq, dq);
+            } else if dq < 0.0 {
+                let tn = tq - hq / dq;
+                if tn < limit {
+                    let (hn, dn) = fd(tn);
+                    if hn <= 0.0 {
+                        (tau, h, d) = (tn, hn, dn);
+                    }
+                }
+            }
+        }
+        let tol = 0.5 * xtol;
+        for _ in 0..32 {
+            if h == 0.0 {
+                return Some((low, Some(tau)));
+            }
+            if d >= 0.0 {
+                break;
+            }
+            let step = h / d;
+            if step <= tol {
+                return Some((low, Some(tau)));
+            }
+            let tn = tau - step;
+            let (hn, dn) = fd(tn);
+            if hn > 0.0 {
+                // rounding put the step before the root: bracket it
+                let r = crate::solver::roots::newton(fd, (tn, hn, dn), (tau, h), xtol);
+                return Some((low, Some(r)));
+            }
+            (tau, h, d) = (tn, hn, dn);
+        }
+        None
     }
 }

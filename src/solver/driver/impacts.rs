@@ -3,7 +3,7 @@
 //! documentation).
 
 use super::{FlightState, RockState, Run, SlideState, State};
-use crate::solver::impact::{self, Velocity};
+use crate::solver::impact::{self, ImpactResult, Velocity};
 use crate::solver::physics as ph;
 
 impl Run<'_> {
@@ -16,13 +16,9 @@ impl Run<'_> {
             vy: pose.vy,
             omega: pose.omega,
         };
-        // the pose is fixed during the impacts: one sine and cosine (none at θ = 0,
-        // where a rock impact happens)
-        let (sn, cs) = if pose.theta == 0.0 {
-            (0.0, 1.0)
-        } else {
-            pose.theta.sin_cos()
-        };
+        // the pose is fixed during the impacts: one sine and cosine (exactly
+        // (0, 1) at θ = 0, where a rock impact happens)
+        let (sn, cs) = ph::sin_cos_small(pose.theta);
         let offset = |sd: f64| bl.corner_offset_sc(sd, sn, cs);
         let touching: [bool; 2] =
             [-1.0, 1.0].map(|sd| bl.h + pose.y + offset(sd).1 <= self.h_touch);
@@ -32,16 +28,7 @@ impl Run<'_> {
         let mut series_end = None;
         while let Some(sd) = next {
             let (rx, ry) = offset(sd);
-            let law = self.set.impact;
-            let hit = |e: f64| match self.fric {
-                None => {
-                    let r = impact::corner_impact(&bl, &vel, rx, ry, e, law);
-                    (r, r.friction_demand())
-                }
-                Some((mu_s, mu_k)) => {
-                    impact::corner_impact_friction(&bl, &vel, rx, ry, e, law, mu_s, mu_k)
-                }
-            };
+            let hit = |e: f64| self.hit(&vel, rx, ry, e);
             let (mut r, mut demand) = hit(self.e);
             let mut e_applied = self.e;
             let un_after = impact::point_velocity(&r.after, rx, ry).1;
@@ -81,17 +68,7 @@ impl Run<'_> {
                     self.out.settles += 1;
                 }
             }
-            self.out.impacts += 1;
-            self.out.first_impact_time.get_or_insert(t);
-            // friction needed to prevent sliding during this impact
-            self.out.mu_impact = self.out.mu_impact.max(demand);
-            // the same, as the paper's eq. (5) evaluates it
-            let eq5 = impact::eq5_mu(&bl, &vel, rx, ry, e_applied);
-            self.out.mu_impact_eq5 = self.out.mu_impact_eq5.max(eq5);
-            let t_before = bl.kinetic(vel.vx, vel.vy, vel.omega);
-            if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
-                self.out.energy_gains += 1;
-            }
+            self.note_impact(t, &vel, &r, demand, rx, ry, e_applied);
             vel = r.after;
             count += 1;
             if count >= 64 {
@@ -179,6 +156,52 @@ impl Run<'_> {
                     ..pose
                 })
             }
+        }
+    }
+
+    /// One impact of the corner at offset (rx, ry) from G with restitution
+    /// `e`, by the analysis' impact law and friction: the result and the
+    /// friction needed to prevent sliding during it.
+    #[inline]
+    pub(super) fn hit(&self, vel: &Velocity, rx: f64, ry: f64, e: f64) -> (ImpactResult, f64) {
+        let law = self.set.impact;
+        match self.fric {
+            None => {
+                let r = impact::corner_impact(&self.bl, vel, rx, ry, e, law);
+                (r, r.friction_demand())
+            }
+            Some((mu_s, mu_k)) => {
+                impact::corner_impact_friction(&self.bl, vel, rx, ry, e, law, mu_s, mu_k)
+            }
+        }
+    }
+
+    /// Counts an impact at `t` of the corner at (rx, ry), applied with
+    /// restitution `e_applied` to the velocity `vel` with result `r`, and
+    /// notes its friction demand, eq. (5)'s, and any energy it gained.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub(super) fn note_impact(
+        &mut self,
+        t: f64,
+        vel: &Velocity,
+        r: &ImpactResult,
+        demand: f64,
+        rx: f64,
+        ry: f64,
+        e_applied: f64,
+    ) {
+        let bl = &self.bl;
+        self.out.impacts += 1;
+        self.out.first_impact_time.get_or_insert(t);
+        // friction needed to prevent sliding during this impact
+        self.out.mu_impact = self.out.mu_impact.max(demand);
+        // the same, as the paper's eq. (5) evaluates it
+        let eq5 = impact::eq5_mu(bl, vel, rx, ry, e_applied);
+        self.out.mu_impact_eq5 = self.out.mu_impact_eq5.max(eq5);
+        let t_before = bl.kinetic(vel.vx, vel.vy, vel.omega);
+        if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
+            self.out.energy_gains += 1;
         }
     }
 
