@@ -3,7 +3,7 @@
 //! its drift, rotation and duration summed in closed form (the derivation is
 //! in the driver's module documentation).
 
-use super::{RockState, Run, SeriesEnd, State};
+use super::{RockState, Run, SeriesEnd, SeriesSums, State};
 use crate::solver::impact::{self, Velocity};
 use crate::solver::physics as ph;
 
@@ -24,64 +24,86 @@ pub(super) struct Chatter {
 
 impl Run<'_> {
     /// Sums the series of bounces of a corner leaving the ground at `u0`
-    /// (m/s) at `t0`, from the corner's free fall a = g + ÿg + ω² r_y and its
-    /// tangential acceleration a_t = −ẍg − ω² r_x on the record's linear
-    /// pieces: returns the corner's drift along the ground (m) and the series'
-    /// duration (s). Each flight lasts τ, the root of u τ − a τ²/2 − ȧ τ³/6,
-    /// drifts a_t τ²/2 + ȧ_t τ³/6 (the corner leaves each Newton impact with no
+    /// (m/s) at `t0`, with offset (rx, ry) from G, while the block would rock
+    /// about it with θ̇ = `w_p` (the plastic impact's). The flight's ω is
+    /// θ̇ + u r_x/I_B (the angular momentum about the corner is the rock's),
+    /// θ̇ = w_p + θ̈ τ and the offset turns with θ; the corner falls at
+    /// a = g + ÿg + ω² r_y and moves along the ground at a_t = −ẍg − ω² r_x,
+    /// which change in a flight at ȧ = d ÿg/dt + ω³ r_x, ȧ_t = −d ẍg/dt + ω³ r_y.
+    /// Each flight lasts τ, the root of u τ − a τ²/2 − ȧ τ³/6, drifts
+    /// a_t τ²/2 + ȧ_t τ³/6 (the corner leaves each Newton impact with no
     /// tangential velocity), and lands at u − a τ − ȧ τ²/2, of which e
-    /// rebounds; the geometric tail below 1e-2·u0 is summed with a and a_t
-    /// held.
-    fn series_sums(&self, t0: f64, u0: f64, w: f64, rx: f64, ry: f64) -> (f64, f64) {
+    /// rebounds. Flight by flight until the rest of the series lies inside
+    /// one sample of the record, where the forcing is linear; that rest is
+    /// summed in closed form ([`geometric_sums`]).
+    fn series_sums(&self, t0: f64, u0: f64, w_p: f64, rx: f64, ry: f64) -> SeriesSums {
         let bl = self.bl;
         let e = self.e;
         let n = self.acc.len();
-        let (mut t, mut u, mut d) = (t0, u0, 0.0);
+        let i_b = 4.0 * bl.r * bl.r / 3.0;
         let mut k = ((t0 / self.dt) as usize).min(n - 2);
         let mut seg = self.segment(k);
-        let (w2x, w2y) = (w * w * rx, w * w * ry);
-        if seg.v1 == 0.0 {
-            // no vertical jerk: every flight lasts τₖ = eᵏ τ, τ = 2u0/a, and
-            // starts at tₖ = t0 + τ (1 − eᵏ)/(1 − e), where a_t has moved by
-            // −ẍg's slope: the sums are geometric
-            let (ax, ay) = seg.at(t0);
-            let a = bl.g + ay + w2y;
-            let at = -ax - w2x;
-            let tau = 2.0 * u0 / a;
-            let duration = tau / (1.0 - e);
-            if t0 + duration <= (k + 1) as f64 * self.dt {
-                let (s2, s3) = (1.0 / (1.0 - e * e), 1.0 / (1.0 - e * e * e));
-                let tau3 = tau * tau * tau;
-                let d = 0.5 * at * tau * tau * s2
-                    - seg.a1 * (0.5 * tau3 / (1.0 - e) * (s2 - s3) + tau3 * s3 / 6.0);
-                return (d, duration);
-            }
-        }
+        // rock about the corner at the start: eq. (1) as I_B θ̈ = (g + ÿg) r_x − ẍg r_y
+        let (ax0, ay0) = seg.at(t0);
+        let alpha = ((bl.g + ay0) * rx - ax0 * ry) / i_b;
+        let mut sums = SeriesSums::default();
+        let (mut t, mut u) = (t0, u0);
         loop {
             while k + 2 < n && t >= (k + 1) as f64 * self.dt {
                 k += 1;
                 seg = self.segment(k);
             }
             let (ax, ay) = seg.at(t);
-            let a = bl.g + ay + w2y;
-            let at = -ax - w2x;
-            if u < 1e-2 * u0 {
-                // the tail, geometric: Σ τ² = τ²/(1 − e²), Σ τ = τ/(1 − e)
-                let tau = 2.0 * u / a;
-                d += 0.5 * at * tau * tau / (1.0 - e * e);
-                t += tau / (1.0 - e);
-                return (d, t - t0);
+            // rock's θ̇ and turn since t0; the corner's offset turned by it (to
+            // second order in the turn)
+            let el = t - t0;
+            let w_r = w_p + alpha * el;
+            let turn = w_p * el + 0.5 * alpha * el * el;
+            let (cx, cy) = (
+                rx - turn * ry - 0.5 * turn * turn * rx,
+                ry + turn * rx - 0.5 * turn * turn * ry,
+            );
+            let w = w_r + u * cx / i_b;
+            let w2 = w * w;
+            let a = bl.g + ay + w2 * cy;
+            // the rest of the series, to leading order, inside this sample (or
+            // the record's last): summed in closed form
+            if t + 2.0 * u / (a * (1.0 - e)) <= (k + 1) as f64 * self.dt || k + 2 >= n {
+                let rest = geometric_sums(&GeometricStart {
+                    e,
+                    u,
+                    w_r,
+                    alpha,
+                    r: (cx, cy),
+                    i_b,
+                    ground: (ax, bl.g + ay),
+                    slopes: (seg.a1, seg.v1),
+                });
+                sums.j += sums.d * rest.duration + rest.j;
+                sums.d += rest.d;
+                sums.u_tau2 += rest.u_tau2;
+                sums.u2_tau += rest.u2_tau;
+                sums.at2_tau3 += rest.at2_tau3;
+                sums.at_u_tau2 += rest.at_u_tau2;
+                sums.duration = t - t0 + rest.duration;
+                return sums;
             }
-            // the flight's time: u − (a/2) τ − (ȧ/6) τ² = 0, ȧ = d ÿg/dt
-            let c = seg.v1 / 6.0;
-            let tau = if c == 0.0 {
-                2.0 * u / a
-            } else {
-                2.0 * u / (0.5 * a + (0.25 * a * a + 4.0 * c * u).sqrt())
-            };
-            d += (0.5 * at - seg.a1 * tau / 6.0) * tau * tau;
+            let at = -ax - w2 * cx;
+            let w3 = w2 * w;
+            let a_dot = seg.v1 + w3 * cx;
+            let at_dot = -seg.a1 + w3 * cy;
+            // the flight's time: u − (a/2) τ − (ȧ/6) τ² = 0
+            let c = a_dot / 6.0;
+            let tau = 2.0 * u / (0.5 * a + (0.25 * a * a + 4.0 * c * u).max(0.0).sqrt());
+            let (tau2, tau3) = (tau * tau, tau * tau * tau);
+            sums.j += sums.d * tau + at * tau3 / 6.0;
+            sums.d += (0.5 * at + at_dot * tau / 6.0) * tau2;
+            sums.u_tau2 += u * tau2;
+            sums.u2_tau += u * u * tau;
+            sums.at2_tau3 += at * at * tau3;
+            sums.at_u_tau2 += at * u * tau2;
             t += tau;
-            u = e * (a * tau + 0.5 * seg.v1 * tau * tau - u);
+            u = e * (a * tau + 0.5 * a_dot * tau2 - u);
         }
     }
 
@@ -221,22 +243,25 @@ impl Run<'_> {
             // The sums: the drift D, and from it the rotation and the angular
             // velocity the series gains against rock about the corner (module
             // documentation): Δθ = −(3/4R²) r_y D, Δθ̇ = (3/4R²) θ̇ r_x D.
-            let (dx, duration) = self.series_sums(t, u1, newton.omega, rx, ry);
-            if duration > t_series {
+            let sums = self.series_sums(t, u1, plastic.omega, rx, ry);
+            if sums.duration > t_series {
                 // the sums disagree with the bound (cannot happen: they follow
                 // the same flights); follow the bounces
                 return None;
             }
-            let k_i = 0.75 / (bl.r * bl.r);
+            // the drift's centroid t* = T − ∫D dt / D
+            let lag = if sums.d != 0.0 {
+                (sums.j / sums.d).clamp(0.0, sums.duration)
+            } else {
+                0.0
+            };
             return Some(Chatter {
                 demand,
                 demand_eq5,
                 end: SeriesEnd {
-                    t: t + duration,
+                    t: t + sums.duration - lag,
                     s,
-                    dtheta: -k_i * ry * dx,
-                    domega_rel: k_i * rx * dx,
-                    dx,
+                    sums,
                 },
             });
         }
@@ -247,7 +272,7 @@ impl Run<'_> {
 impl Run<'_> {
     /// Applies the correction of a closed bounce series at its end to the rock
     /// state it left (none if the block has left that rock since).
-    pub(super) fn end_series(&mut self, state: &mut State) {
+    pub(super) fn end_series(&mut self, t: f64, state: &mut State) {
         let Some(end) = self.series_end.take() else {
             return;
         };
@@ -262,17 +287,120 @@ impl Run<'_> {
         } else {
             0.0
         };
+        let bl = self.bl;
+        let m = &end.sums;
+        // ρ = G − B from the pivot's offset r now; eq. (1) in these terms:
+        // I_B θ̈ = −V_θ, V = (g + ÿg) ρ_y + ẍg ρ_x, V_θθ = −(g + ÿg) ρ_y − ẍg ρ_x
+        let (rx, ry) = bl.corner_offset(-rs.s, rs.theta);
+        let (px, py) = (-rx, -ry);
+        let i_b = 4.0 * bl.r * bl.r / 3.0;
+        let (ax, ay) = self.ground_at(t);
+        let gy = bl.g + ay;
+        let (w, w2) = (rs.omega, rs.omega * rs.omega);
+        let alpha = -(gy * px - ax * py) / i_b;
+        let v_tt = -gy * py - ax * px;
+        // second order: I_B Δθ = ρ_y D, Δp = −θ̇ ρ_x D; third order: the
+        // corner's mean height Y = Σ u τ²/6 and the products of its velocity
+        // (module documentation); the drift's own lag is in t*
+        let y = m.u_tau2 / 6.0;
+        let dtheta = (py * m.d - 2.0 * w * py * y) / i_b;
+        let q = -px * py * m.at2_tau3 / 3.0 - (px * px - py * py) * m.at_u_tau2 / 6.0
+            + px * py * m.u2_tau / 3.0;
+        let dp = -w * px * m.d + (alpha * py + w2 * px) * y + (q + v_tt * px * y) / i_b;
         *state = State::Rock(RockState {
-            theta: rs.theta + end.dtheta,
-            omega: rs.omega + end.domega_rel * rs.omega,
+            theta: rs.theta + dtheta,
+            omega: rs.omega + dp / i_b,
             last: None,
             ..rs
         });
-        self.x_base += end.dx;
+        self.x_base += m.d;
         if self.set.audit_energy {
             self.jumps += self.energy(state) - before;
         }
         self.note_theta(state);
         self.note_slip(state);
+    }
+}
+
+/// Where a bounce series (or its rest) starts, for [`geometric_sums`].
+struct GeometricStart {
+    /// Coefficient of restitution.
+    e: f64,
+    /// Rebound of the first flight (m/s).
+    u: f64,
+    /// θ̇ of rock about the corner (rad/s) and its θ̈ (rad/s²).
+    w_r: f64,
+    alpha: f64,
+    /// The corner's offset from G (m).
+    r: (f64, f64),
+    /// Inertia about the corner per unit mass, 4R²/3 (m²).
+    i_b: f64,
+    /// ẍg and g + ÿg (m/s²).
+    ground: (f64, f64),
+    /// d ẍg/dt and d ÿg/dt (m/s³).
+    slopes: (f64, f64),
+}
+
+/// The sums of a bounce series under forcing linear in time, in closed form
+/// to first order in its small parameters. At zeroth order flight k leaves
+/// at uₖ = eᵏu, lasts τₖ = eᵏq (q = 2u/G) and starts at tₖ = q(1 − eᵏ)/(1 − e),
+/// so Σ τₖ², Σ τₖ³ … are geometric (s1 = 1/(1 − e), s2 = 1/(1 − e²),
+/// s3 = 1/(1 − e³)). To first order the corner's fall and tangential
+/// acceleration move along the series, a = G + G_t t + G_u u and
+/// a_t = A + A_t t + A_u u (the ground's slopes, the rock's θ̈ and turn, and
+/// the flight's ω = θ̇ + u r_x/I_B), and within a flight at ȧ and ȧ_t, which
+/// shortens it by c u (c = 2ȧ/(3G²)) and lands it c u faster. Then
+///
+/// ```text
+/// τₖ = q eᵏ [1 + (P − Q_t)(1 − eᵏ) − (Q_u + c u) eᵏ],  P = c u s1, Q_t = G_t q s1/G, Q_u = G_u u/G
+/// D  = q²/2 {A [s2 + 2(P − Q_t)(s2 − s3) − 2(Q_u + c u) s3] + A_t q s1 (s2 − s3) + A_u u s3} + ȧ_t q³ s3/6
+/// T  = q [s1 + (P − Q_t)(s1 − s2) − (Q_u + c u) s2]
+/// ```
+///
+/// and, to leading order, ∫D dt = A q³ [s2 (s1 − s3)/2 + s3/6] and the
+/// third-order sums from the first flight times s3.
+fn geometric_sums(g: &GeometricStart) -> SeriesSums {
+    let e = g.e;
+    let (s1, s2, s3) = (
+        1.0 / (1.0 - e),
+        1.0 / (1.0 - e * e),
+        1.0 / (1.0 - e * e * e),
+    );
+    let (rx, ry) = g.r;
+    let (ax, gy) = g.ground;
+    let (ax1, ay1) = g.slopes;
+    let (w, u) = (g.w_r, g.u);
+    let (w2, w3) = (w * w, w * w * w);
+    // fall and tangential acceleration at the start, and their rates along
+    // the series (time, rebound) and within a flight
+    let big_g = gy + w2 * ry;
+    let g_t = ay1 + 2.0 * w * g.alpha * ry + w3 * rx;
+    let g_u = 2.0 * w * rx * ry / g.i_b;
+    let a = -ax - w2 * rx;
+    let a_t = -ax1 - 2.0 * w * g.alpha * rx + w3 * ry;
+    let a_u = -2.0 * w * rx * rx / g.i_b;
+    let a_dot = ay1 + w3 * rx;
+    let at_dot = -ax1 + w3 * ry;
+    let q = 2.0 * u / big_g;
+    let cu = 2.0 * a_dot * u / (3.0 * big_g * big_g);
+    let p = cu * s1;
+    let q_t = g_t * q * s1 / big_g;
+    let q_u = g_u * u / big_g;
+    let (q2, q3) = (q * q, q * q * q);
+    let d = 0.5
+        * q2
+        * (a * (s2 + 2.0 * (p - q_t) * (s2 - s3) - 2.0 * (q_u + cu) * s3)
+            + a_t * q * s1 * (s2 - s3)
+            + a_u * u * s3)
+        + at_dot * q3 * s3 / 6.0;
+    let duration = q * (s1 + (p - q_t) * (s1 - s2) - (q_u + cu) * s2);
+    SeriesSums {
+        duration,
+        d,
+        j: a * q3 * (0.5 * s2 * (s1 - s3) + s3 / 6.0),
+        u_tau2: u * q2 * s3,
+        u2_tau: u * u * q * s3,
+        at2_tau3: a * a * q3 * s3,
+        at_u_tau2: a * u * q2 * s3,
     }
 }

@@ -57,7 +57,7 @@ impl Run<'_> {
         };
         let (r, demand) = self.hit(&vel, rx, ry, self.e);
         let un_after = point_velocity(&r.after, rx, ry).1;
-        if un_after <= self.v_settle.max(self.v_close) {
+        if un_after <= self.v_settle || self.chatter_due(side, un_after) {
             return false;
         }
         self.out.stats.events += 1;

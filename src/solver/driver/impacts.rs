@@ -37,10 +37,9 @@ impl Run<'_> {
                 (r, demand) = hit(0.0);
                 e_applied = 0.0;
                 self.out.settles += 1;
-            } else if self.e > 0.0
-                && un_after > 0.0
-                && un_after <= self.v_close
+            } else if un_after > 0.0
                 && count == 0
+                && self.chatter_due(sd, un_after)
                 && (pose.theta == 0.0 || !touching[if sd < 0.0 { 1 } else { 0 }])
             {
                 // the chatter rule: close the series of bounces on this corner
@@ -66,6 +65,11 @@ impl Run<'_> {
                     (r, demand) = (plastic, plastic_demand);
                     e_applied = 0.0;
                     self.out.settles += 1;
+                    self.chatter_retry = (0.0, f64::INFINITY);
+                } else {
+                    // the bounds need a shorter series: try again once the
+                    // rebound has halved
+                    self.chatter_retry = (sd, 0.5 * un_after);
                 }
             }
             self.note_impact(t, &vel, &r, demand, rx, ry, e_applied);
@@ -157,6 +161,20 @@ impl Run<'_> {
                 })
             }
         }
+    }
+
+    /// True if a bounce of corner `side` rebounding at `u` is one the chatter
+    /// rule tries to close: the rule applies (e in (0, 1), infinite friction),
+    /// the rebound is below `CLOSE_TOL`·√(gR), and, after a try on this corner
+    /// failed, it has halved since.
+    #[inline]
+    pub(super) fn chatter_due(&self, side: f64, u: f64) -> bool {
+        self.set.settle_cascades
+            && self.fric.is_none()
+            && self.e > 0.0
+            && self.e < 1.0
+            && u <= self.v_close
+            && (self.chatter_retry.0 != side || u <= self.chatter_retry.1)
     }
 
     /// One impact of the corner at offset (rx, ry) from G with restitution
