@@ -240,9 +240,9 @@ impl Run<'_> {
             let r = impact::corner_impact(&bl, &before, rx, ry, e, self.set.impact);
             let demand = r.friction_demand();
             let demand_eq5 = impact::eq5_mu(&bl, &before, rx, ry, e);
-            // The sums: the drift D, and from it the rotation and the angular
-            // velocity the series gains against rock about the corner (module
-            // documentation): Δθ = −(3/4R²) r_y D, Δθ̇ = (3/4R²) θ̇ r_x D.
+            // The series' sums (drift, duration, the third-order sums); the
+            // correction they make to rock about the corner is applied at the
+            // drift's centroid by `end_series` (module documentation).
             let sums = self.series_sums(t, u1, plastic.omega, rx, ry);
             if sums.duration > t_series {
                 // the sums disagree with the bound (cannot happen: they follow
@@ -270,8 +270,9 @@ impl Run<'_> {
 }
 
 impl Run<'_> {
-    /// Applies the correction of a closed bounce series at its end to the rock
-    /// state it left (none if the block has left that rock since).
+    /// Applies the correction of a closed bounce series, at the drift's
+    /// centroid `t`, to the rock state it left (none if the block has left
+    /// that rock since).
     pub(super) fn end_series(&mut self, t: f64, state: &mut State) {
         let Some(end) = self.series_end.take() else {
             return;

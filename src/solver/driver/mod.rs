@@ -365,8 +365,8 @@ struct Run<'a> {
     /// After a failed try of the chatter rule on corner `.0`: the rebound
     /// below which it tries again.
     chatter_retry: (f64, f64),
-    /// The end of a bounce series closed by the chatter rule, whose
-    /// correction is still to be applied to the rock state.
+    /// A bounce series closed by the chatter rule, whose correction is still
+    /// to be applied to the rock state at the drift's centroid.
     series_end: Option<SeriesEnd>,
     /// Contact distance of the two-contact rule (m).
     h_touch: f64,
