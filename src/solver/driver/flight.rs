@@ -101,17 +101,21 @@ impl Run<'_> {
         // θ(τ) = θ0 + ωτ: sin and cos by angle addition, the small rotation
         // by its series (most flights of a ring-down rotate little)
         let (s0, c0) = ph::sin_cos_small(f.theta);
+        // each corner's offset from G at the start, turned by ωτ in flight
+        let r_left = bl.corner_offset_sc(-1.0, s0, c0);
+        let r_right = bl.corner_offset_sc(1.0, s0, c0);
         let height = |side: f64, tau: f64| {
-            let p = pos(tau);
+            let y = f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau / 6.0;
+            let vy = f.vy - gy0 * tau - b1 * tau * tau / 2.0;
             let (sx, cx) = ph::sin_cos_small(f.omega * tau);
-            let (st, ct) = (s0 * cx + c0 * sx, c0 * cx - s0 * sx);
-            let (rx, ry) = bl.corner_offset_sc(side, st, ct);
-            (bl.h + p.y + ry, p.vy + p.omega * rx)
+            let (r0x, r0y) = if side > 0.0 { r_right } else { r_left };
+            let (rx, ry) = (r0x * cx - r0y * sx, r0x * sx + r0y * cx);
+            (bl.h + y + ry, vy + f.omega * rx)
         };
         match self.lone_landing(
             &f,
             (s0, c0),
-            (gy0, gy0 + (b1 * span).min(0.0)),
+            (gy0, gy0 + (b1 * span).min(0.0), b1 * span),
             span,
             xtol,
             height,
@@ -176,13 +180,14 @@ impl Run<'_> {
     /// meet them: this is their fast path.
     ///
     /// `height(side, τ)` gives the corner's height and its rate, (s0, c0) are
-    /// sin θ and cos θ at the start, `gy0` is g + ÿg at the piece's start and
-    /// `gy_min` its least value over the piece.
+    /// sin θ and cos θ at the start, `gy0` is g + ÿg at the piece's start,
+    /// `gy_min` its least value over the piece and `b1_span` its change over
+    /// the piece.
     fn lone_landing(
         &self,
         f: &FlightState,
         (s0, c0): (f64, f64),
-        (gy0, gy_min): (f64, f64),
+        (gy0, gy_min, b1_span): (f64, f64, f64),
         span: f64,
         xtol: f64,
         height: impl Fn(f64, f64) -> (f64, f64),
@@ -207,45 +212,57 @@ impl Run<'_> {
         } else {
             span
         };
-        let (h0, d0) = height(low, 0.0);
+        // the lower corner at τ = 0: height and rate
+        let (rx0, ry0) = bl.corner_offset_sc(low, s0, c0);
+        let (h0, d0) = (bl.h + f.y + ry0, f.vy + f.omega * rx0);
         if h0 <= self.h_touch && d0 <= 0.0 {
             // touching and not departing: the general search decides
             return None;
         }
         let fd = |tau: f64| height(low, tau);
-        let (hl, dl) = fd(limit);
-        if hl > 0.0 {
-            // concave and not below zero at either end: no landing before `limit`
-            return if limit < span {
-                None
-            } else {
-                Some((low, None))
-            };
-        }
-        // One descent through zero in (0, limit]. Newton from its right
-        // (h ≤ 0) stays there on a concave function and converges monotonely;
-        // start from the root of the corner's parabola at τ = 0 (h″ = −(g + ÿg)
-        // − ω² r_y there), or from one Newton step past it.
-        let (_, ry0) = bl.corner_offset_sc(low, s0, c0);
+        // One descent through zero in (0, limit] at most. Newton from its
+        // right (h ≤ 0) stays there on a concave function and converges
+        // monotonely; start from the root of the corner's parabola at τ = 0
+        // (h″ = −(g + ÿg) − ω² r_y there), or from one Newton step past it,
+        // else from `limit`.
         let curv = -gy0 - f.omega * f.omega * ry0;
         let h0c = h0.max(0.0);
         let tq = (d0 + (d0 * d0 - 2.0 * curv * h0c).max(0.0).sqrt()) / -curv;
-        let (mut tau, mut h, mut d) = (limit, hl, dl);
+        let mut start = None;
         if tq > 0.0 && tq < limit {
             let (hq, dq) = fd(tq);
             if hq <= 0.0 {
-                (tau, h, d) = (tq, hq, dq);
+                start = Some((tq, hq, dq));
             } else if dq < 0.0 {
                 let tn = tq - hq / dq;
                 if tn < limit {
                     let (hn, dn) = fd(tn);
                     if hn <= 0.0 {
-                        (tau, h, d) = (tn, hn, dn);
+                        start = Some((tn, hn, dn));
                     }
                 }
             }
         }
+        let (mut tau, mut h, mut d) = match start {
+            Some(st) => st,
+            None => {
+                let (hl, dl) = fd(limit);
+                if hl > 0.0 {
+                    // concave and not below zero at either end: no landing
+                    // before `limit`
+                    return if limit < span {
+                        None
+                    } else {
+                        Some((low, None))
+                    };
+                }
+                (limit, hl, dl)
+            }
+        };
         let tol = 0.5 * xtol;
+        // |h″| ≤ c2 over the piece: Newton's next error is at most
+        // c2 e²/(2|h′|), e ≤ 2·step once it is below the step
+        let c2 = gy0 + (b1_span).max(0.0) + w2r;
         for _ in 0..32 {
             if h == 0.0 {
                 return Some((low, Some(tau)));
@@ -258,6 +275,11 @@ impl Run<'_> {
                 return Some((low, Some(tau)));
             }
             let tn = tau - step;
+            let next = 2.0 * c2 * step * step / -d;
+            if next <= tol && next <= step {
+                // the step after this one would be below the tolerance
+                return Some((low, Some(tn)));
+            }
             let (hn, dn) = fd(tn);
             if hn > 0.0 {
                 // rounding put the step before the root: bracket it
