@@ -85,24 +85,24 @@ pub fn corner_impact(
     e: f64,
     law: ImpactLaw,
 ) -> ImpactResult {
-    let i = block.inertia;
+    let inv_i = 1.0 / block.inertia;
     // K⁻¹ = [[a, b], [b, c]] (impulse-momentum at the corner)
-    let a = 1.0 + ry * ry / i;
-    let b = -rx * ry / i;
-    let c = 1.0 + rx * rx / i;
+    let a = 1.0 + ry * ry * inv_i;
+    let b = -rx * ry * inv_i;
+    let c = 1.0 + rx * rx * inv_i;
     let (ut, un) = point_velocity(v, rx, ry);
     let (dut, dun) = match law {
         ImpactLaw::Newton => (-ut, -(1.0 + e) * un), // u_t⁺ = 0, u_n⁺ = −e u_n⁻
         ImpactLaw::Energetic => (-(1.0 + e) * ut, -(1.0 + e) * un), // u⁺ = −e u⁻
     };
     // P = K Δu, K = (K⁻¹)⁻¹
-    let det = a * c - b * b;
-    let p_t = (c * dut - b * dun) / det;
-    let p_n = (-b * dut + a * dun) / det;
+    let inv_det = 1.0 / (a * c - b * b);
+    let p_t = (c * dut - b * dun) * inv_det;
+    let p_n = (-b * dut + a * dun) * inv_det;
     let after = Velocity {
         vx: v.vx + p_t,
         vy: v.vy + p_n,
-        omega: v.omega + (rx * p_n - ry * p_t) / i,
+        omega: v.omega + (rx * p_n - ry * p_t) * inv_i,
     };
     // Kelvin: ΔT = P · (u⁻ + u⁺)/2
     let delta_kinetic = 0.5 * (p_t * (2.0 * ut + dut) + p_n * (2.0 * un + dun));
@@ -180,14 +180,14 @@ pub fn rock_impact_mu(block: &Block) -> f64 {
 /// Returns 0 when the corner has no velocity (0/0); +∞ if the denominator is
 /// exactly 0 with a non-zero numerator.
 pub fn eq5_mu(block: &Block, v: &Velocity, rx: f64, ry: f64, e: f64) -> f64 {
-    let r = block.r;
+    let inv_r = 1.0 / block.r;
     // G from the striking corner: X = S_θ R S, Y = R C
     let (xg, yg) = (-rx, -ry);
-    let (sx, c) = (xg / r, yg / r); // S_θ S, C
+    let (sx, c) = (xg * inv_r, yg * inv_r); // S_θ S, C
     // eq. (3) times θ̇₁: θ̇₂ = δi θ̇₁
     let omega2 = v.omega
-        - 0.75 * c * (c * v.omega + v.vx / r)
-        - 0.75 * (1.0 + e) * sx * (sx * v.omega - v.vy / r);
+        - 0.75 * c * (c * v.omega + v.vx * inv_r)
+        - 0.75 * (1.0 + e) * sx * (sx * v.omega - v.vy * inv_r);
     // eq. (5), numerator and denominator times R S θ̇₁
     let num = v.vx + yg * omega2;
     let den = xg * (omega2 + e * v.omega) - (1.0 + e) * v.vy;

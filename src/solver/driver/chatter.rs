@@ -3,24 +3,13 @@
 //! its drift, rotation and duration summed in closed form (the derivation is
 //! in the driver's module documentation).
 
-use super::{RockState, Run, SeriesEnd, SeriesSums, State};
+use super::{Chatter, RockState, Run, SeriesEnd, SeriesSums};
 use crate::solver::impact::{self, Velocity};
 use crate::solver::physics as ph;
 
 /// Longest window, in record samples, over which the bounds are sought (a
 /// series closed below `CLOSE_TOL` lasts a few milliseconds).
 const MAX_SAMPLES: usize = 8;
-
-/// What a closed series leaves to the solver besides the plastic impact.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Chatter {
-    /// Friction demand |P_t/P_n| of the series' later impacts.
-    pub demand: f64,
-    /// The same, as the paper's eq. (5) evaluates it.
-    pub demand_eq5: f64,
-    /// The correction applied at the series' end.
-    pub end: SeriesEnd,
-}
 
 impl Run<'_> {
     /// Sums the series of bounces of a corner leaving the ground at `u0`
@@ -40,7 +29,7 @@ impl Run<'_> {
         let bl = self.bl;
         let e = self.e;
         let n = self.acc.len();
-        let i_b = 4.0 * bl.r * bl.r / 3.0;
+        let i_b = bl.inertia + bl.r * bl.r;
         let mut k = ((t0 / self.dt) as usize).min(n - 2);
         let mut seg = self.segment(k);
         // rock about the corner at the start: eq. (1) as I_B θ̈ = (g + ÿg) r_x − ẍg r_y
@@ -260,7 +249,6 @@ impl Run<'_> {
                 demand_eq5,
                 end: SeriesEnd {
                     t: t + sums.duration - lag,
-                    s,
                     sums,
                 },
             });
@@ -270,56 +258,72 @@ impl Run<'_> {
 }
 
 impl Run<'_> {
-    /// Applies the correction of a closed bounce series, at the drift's
-    /// centroid `t`, to the rock state it left (none if the block has left
-    /// that rock since).
-    pub(super) fn end_series(&mut self, t: f64, state: &mut State) {
-        let Some(end) = self.series_end.take() else {
-            return;
-        };
-        let State::Rock(rs) = *state else {
-            return;
-        };
-        if rs.s != end.s {
-            return;
-        }
-        let before = if self.set.audit_energy {
-            self.energy(state)
-        } else {
-            0.0
-        };
+    /// The rock state a closed bounce series leaves at `t0`, the instant it
+    /// is closed: `rs`, rock about the corner from the plastic impact, with
+    /// the series' correction (module documentation) carried back from the
+    /// drift's centroid t* = t0 + L to t0. Rock's state at t* is expanded
+    /// about t0 to second order in L (ρ̇ = θ̇ ρ⊥, θ̈ and its rate from eq. (1)
+    /// and the ground's slopes), the correction Δ(t*) taken there, and carried
+    /// back along rock's linearised motion z′ = M z (z = (δθ, δp), M = [[0,
+    /// 1/I_B], [F_θ, 0]], F_θ = −V_θθ):
+    ///
+    /// ```text
+    /// Δ(t0) = [I − M L + (M² − M′) L²/2] Δ(t*)
+    /// ```
+    ///
+    /// The neglected terms are of fifth order in the rebound (L is first
+    /// order, Δ second, and the flow's curvature acts on Δ²), so the closure
+    /// keeps its fourth-order error, and rock goes on from t0 with no stop at
+    /// t*. Also moves the footprint by the drift D.
+    pub(super) fn close_series(&mut self, t0: f64, rs: RockState, end: &SeriesEnd) -> RockState {
         let bl = self.bl;
         let m = &end.sums;
-        // ρ = G − B from the pivot's offset r now; eq. (1) in these terms:
-        // I_B θ̈ = −V_θ, V = (g + ÿg) ρ_y + ẍg ρ_x, V_θθ = −(g + ÿg) ρ_y − ẍg ρ_x
+        let l = end.t - t0;
+        let i_b = bl.inertia + bl.r * bl.r;
+        // ρ = G − B from the pivot's offset r; eq. (1) in these terms:
+        // I_B θ̈ = F = −V_θ, V = (g + ÿg) ρ_y + ẍg ρ_x, so F = ẍg ρ_y − (g + ÿg) ρ_x
+        // and F_θ = −V_θθ = (g + ÿg) ρ_y + ẍg ρ_x
         let (rx, ry) = bl.corner_offset(-rs.s, rs.theta);
         let (px, py) = (-rx, -ry);
-        let i_b = 4.0 * bl.r * bl.r / 3.0;
-        let (ax, ay) = self.ground_at(t);
+        let k = ((t0 / self.dt) as usize).min(self.acc.len() - 2);
+        let seg = self.segment(k);
+        let (ax, ay) = seg.at(t0);
         let gy = bl.g + ay;
-        let (w, w2) = (rs.omega, rs.omega * rs.omega);
-        let alpha = -(gy * px - ax * py) / i_b;
-        let v_tt = -gy * py - ax * px;
-        // second order: I_B Δθ = ρ_y D, Δp = −θ̇ ρ_x D; third order: the
-        // corner's mean height Y = Σ u τ²/6 and the products of its velocity
-        // (module documentation); the drift's own lag is in t*
+        let w = rs.omega;
+        let alpha = (ax * py - gy * px) / i_b;
+        let f_th = gy * py + ax * px;
+        // dθ̈/dt = (F_θ θ̇ + ∂F/∂t)/I_B, and dF_θ/dt = (∂F_θ/∂θ) θ̇ + ∂F_θ/∂t
+        let alpha_dot = (f_th * w + seg.a1 * py - seg.v1 * px) / i_b;
+        let f_th_dot = (gy * px - ax * py) * w + seg.v1 * py + seg.a1 * px;
+        // rock at t*: θ̇, the turn, ρ turned by it, and the ground
+        let w_s = w + alpha * l + 0.5 * alpha_dot * l * l;
+        let (sn, cs) = ph::sin_cos_small(w * l + 0.5 * alpha * l * l);
+        let (px_s, py_s) = (px * cs - py * sn, px * sn + py * cs);
+        let (ax_s, ay_s) = self.ground_at(end.t);
+        let gy_s = bl.g + ay_s;
+        let alpha_s = (ax_s * py_s - gy_s * px_s) / i_b;
+        let v_tt_s = -gy_s * py_s - ax_s * px_s;
+        // the correction at t*: second order I_B Δθ = ρ_y D, Δp = −θ̇ ρ_x D;
+        // third order: the corner's mean height Y = Σ u τ²/6 and the products
+        // of its velocity (module documentation)
         let y = m.u_tau2 / 6.0;
-        let dtheta = (py * m.d - 2.0 * w * py * y) / i_b;
-        let q = -px * py * m.at2_tau3 / 3.0 - (px * px - py * py) * m.at_u_tau2 / 6.0
-            + px * py * m.u2_tau / 3.0;
-        let dp = -w * px * m.d + (alpha * py + w2 * px) * y + (q + v_tt * px * y) / i_b;
-        *state = State::Rock(RockState {
+        let dth_s = (py_s * m.d - 2.0 * w_s * py_s * y) / i_b;
+        let q = -px_s * py_s * m.at2_tau3 / 3.0 - (px_s * px_s - py_s * py_s) * m.at_u_tau2 / 6.0
+            + px_s * py_s * m.u2_tau / 3.0;
+        let dp_s = -w_s * px_s * m.d
+            + (alpha_s * py_s + w_s * w_s * px_s) * y
+            + (q + v_tt_s * px_s * y) / i_b;
+        // carried back to t0: Δ − M L Δ + (M² − M′) L² Δ/2, M² = (F_θ/I_B) I
+        let (l2, fi) = (0.5 * l * l, f_th / i_b);
+        let dtheta = dth_s - l * dp_s / i_b + l2 * fi * dth_s;
+        let dp = dp_s - l * f_th * dth_s + l2 * (fi * dp_s - f_th_dot * dth_s);
+        self.x_base += m.d;
+        RockState {
             theta: rs.theta + dtheta,
             omega: rs.omega + dp / i_b,
             last: None,
             ..rs
-        });
-        self.x_base += m.d;
-        if self.set.audit_energy {
-            self.jumps += self.energy(state) - before;
         }
-        self.note_theta(state);
-        self.note_slip(state);
     }
 }
 

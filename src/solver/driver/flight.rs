@@ -18,10 +18,15 @@ impl Run<'_> {
         t: &mut f64,
         t_end: f64,
     ) -> Option<Event> {
+        // sin θ and cos θ at the piece's start, when a bounce has just taken them
+        let mut trig = None;
         loop {
-            let event = self.flight_piece(fs, seg, t, t_end);
+            let event = self.flight_piece(fs, seg, t, t_end, trig);
             match event {
-                Some(Event::Landing(side)) if *t < t_end && self.bounce(fs, side, *t) => {}
+                Some(Event::Landing(side)) if *t < t_end => match self.bounce(fs, side, *t) {
+                    Some(sc) => trig = Some(sc),
+                    None => return event,
+                },
                 _ => return event,
             }
         }
@@ -29,25 +34,25 @@ impl Run<'_> {
 
     /// A bounce of corner `side` landing at `t` that leaves the block in
     /// flight with nothing for the event loop to decide: the other corner is
-    /// off the ground and the rebound is faster than the ring-down and
-    /// chatter rules look at. Then the impact is applied to `fs` and counted
+    /// off the ground, the rebound is faster than the ring-down rule looks at
+    /// and the chatter rule, if due, does not close the series. Then the impact is applied to `fs` and counted
     /// as the event loop would (the same arithmetic: results do not depend on
-    /// the shortcut), and true is returned. Not taken with a history or the
-    /// energy audit, which record every event.
-    fn bounce(&mut self, fs: &mut FlightState, side: f64, t: f64) -> bool {
+    /// the shortcut), and sin θ and cos θ of the pose are returned. Not taken
+    /// with a history or the energy audit, which record every event.
+    fn bounce(&mut self, fs: &mut FlightState, side: f64, t: f64) -> Option<(f64, f64)> {
         if self.hist.is_some()
             || self.set.audit_energy
             || self.out.stats.events >= self.set.max_events
             || self.released.is_some_and(|(tr, _)| tr == t)
         {
-            return false;
+            return None;
         }
         let bl = self.bl;
         // as `impacts` takes the pose
         let (sn, cs) = ph::sin_cos_small(fs.theta);
         let (_, oy) = bl.corner_offset_sc(-side, sn, cs);
         if bl.h + fs.y + oy <= self.h_touch {
-            return false;
+            return None;
         }
         let (rx, ry) = bl.corner_offset_sc(side, sn, cs);
         let vel = Velocity {
@@ -57,8 +62,21 @@ impl Run<'_> {
         };
         let (r, demand) = self.hit(&vel, rx, ry, self.e);
         let un_after = point_velocity(&r.after, rx, ry).1;
-        if un_after <= self.v_settle || self.chatter_due(side, un_after) {
-            return false;
+        if un_after <= self.v_settle {
+            return None;
+        }
+        if self.chatter_due(side, un_after) {
+            // try the chatter rule here; only a success needs the event loop
+            // (which takes this result), a failure bounces on as `impacts` would
+            let (plastic, _) = self.hit(&vel, rx, ry, 0.0);
+            let theta = fs.theta;
+            if let Some(ch) =
+                self.chatter_settles(t, theta, side, rx, ry, &r.after, un_after, &plastic.after)
+            {
+                self.chatter_tried = Some((t, side, ch));
+                return None;
+            }
+            self.chatter_retry = (side, 0.5 * un_after);
         }
         self.out.stats.events += 1;
         self.note_impact(t, &vel, &r, demand, rx, ry, self.e);
@@ -66,19 +84,20 @@ impl Run<'_> {
         fs.vx = r.after.vx;
         fs.vy = r.after.vy;
         fs.omega = r.after.omega;
-        true
+        Some((sn, cs))
     }
 
     /// Free flight over [t, t_end] in closed form; locates landings of either
-    /// corner and overturning.
+    /// corner and overturning. `trig`: sin θ and cos θ at the start, if known.
     fn flight_piece(
         &mut self,
         fs: &mut FlightState,
         seg: &Segment,
         t: &mut f64,
         t_end: f64,
+        trig: Option<(f64, f64)>,
     ) -> Option<Event> {
-        let bl = self.bl;
+        let bl = &self.bl;
         let t0 = *t;
         let (a0, b0) = seg.at(t0);
         let (a1, b1) = (seg.a1, seg.v1);
@@ -87,9 +106,9 @@ impl Run<'_> {
         // relative motion: ẍ = −ẍg, ÿ = −g − ÿg, θ̈ = 0
         let pos = move |tau: f64| -> FlightState {
             FlightState {
-                x: f.x + f.vx * tau - a0 * tau * tau / 2.0 - a1 * tau * tau * tau / 6.0,
+                x: f.x + f.vx * tau - a0 * tau * tau / 2.0 - a1 * tau * tau * tau * (1.0 / 6.0),
                 vx: f.vx - a0 * tau - a1 * tau * tau / 2.0,
-                y: f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau / 6.0,
+                y: f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau * (1.0 / 6.0),
                 vy: f.vy - gy0 * tau - b1 * tau * tau / 2.0,
                 theta: f.theta + f.omega * tau,
                 omega: f.omega,
@@ -100,12 +119,12 @@ impl Run<'_> {
         let mut best: Option<(f64, Event)> = None;
         // θ(τ) = θ0 + ωτ: sin and cos by angle addition, the small rotation
         // by its series (most flights of a ring-down rotate little)
-        let (s0, c0) = ph::sin_cos_small(f.theta);
+        let (s0, c0) = trig.unwrap_or_else(|| ph::sin_cos_small(f.theta));
         // each corner's offset from G at the start, turned by ωτ in flight
         let r_left = bl.corner_offset_sc(-1.0, s0, c0);
         let r_right = bl.corner_offset_sc(1.0, s0, c0);
         let height = |side: f64, tau: f64| {
-            let y = f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau / 6.0;
+            let y = f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau * (1.0 / 6.0);
             let vy = f.vy - gy0 * tau - b1 * tau * tau / 2.0;
             let (sx, cx) = ph::sin_cos_small(f.omega * tau);
             let (r0x, r0y) = if side > 0.0 { r_right } else { r_left };
@@ -137,8 +156,10 @@ impl Run<'_> {
                 }
             }
         }
-        if f.omega != 0.0 {
-            let te = (FRAC_PI_2.copysign(f.omega) - f.theta) / f.omega;
+        // overturning, |θ| = π/2 (the division only when it may fall in the piece)
+        let to_go = FRAC_PI_2.copysign(f.omega) - f.theta;
+        if f.omega != 0.0 && to_go.abs() <= f.omega.abs() * span * (1.0 + 1e-12) {
+            let te = to_go / f.omega;
             if (0.0..=span).contains(&te) {
                 earliest(&mut best, Some(te), Event::Overturn);
             }
@@ -192,7 +213,7 @@ impl Run<'_> {
         xtol: f64,
         height: impl Fn(f64, f64) -> (f64, f64),
     ) -> Option<(f64, Option<f64>)> {
-        let bl = self.bl;
+        let bl = &self.bl;
         let w2r = f.omega * f.omega * bl.r;
         if gy_min <= w2r {
             return None;

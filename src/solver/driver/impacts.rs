@@ -45,16 +45,21 @@ impl Run<'_> {
                 // the chatter rule: close the series of bounces on this corner
                 // with this impact made plastic, and its sums applied at its end
                 let (plastic, plastic_demand) = hit(0.0);
-                if let Some(ch) = self.chatter_settles(
-                    t,
-                    pose.theta,
-                    sd,
-                    rx,
-                    ry,
-                    &r.after,
-                    un_after,
-                    &plastic.after,
-                ) {
+                let tried = match self.chatter_tried.take() {
+                    // already tried by `bounce` on this very impact
+                    Some((tt, ts, ch)) if tt == t && ts == sd => Some(ch),
+                    _ => self.chatter_settles(
+                        t,
+                        pose.theta,
+                        sd,
+                        rx,
+                        ry,
+                        &r.after,
+                        un_after,
+                        &plastic.after,
+                    ),
+                };
+                if let Some(ch) = tried {
                     self.out.mu_impact = self.out.mu_impact.max(demand).max(ch.demand);
                     self.out.mu_impact_eq5 = self
                         .out
@@ -144,12 +149,10 @@ impl Run<'_> {
                 };
                 let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
                 self.x_base = pose.x - x;
-                if let Some((sd, end)) = series_end
-                    && sd == pivot
-                {
-                    self.series_end = Some(end);
+                match series_end {
+                    Some((sd, end)) if sd == pivot => State::Rock(self.close_series(t, rs, &end)),
+                    _ => State::Rock(rs),
                 }
-                State::Rock(rs)
             }
             [false, false] => {
                 self.out.flights += 1;

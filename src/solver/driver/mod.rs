@@ -82,7 +82,11 @@
 //! (`geometric_sums`). The rule closes a bounce whose rebound u is below
 //! 1e-3·√(gR) (`CLOSE_TOL`), making the impact plastic (the energy the
 //! series would lose, the whole of B's normal motion), and applies the
-//! correction at t*. After a try fails on a corner, the next waits until the
+//! correction at once, carried back from t* to the closing impact along
+//! rock's linearised motion to second order in t* − t0 (`Run::close_series`;
+//! what this neglects is of fifth order), so rock runs on with no stop at
+//! t*. The rule is tried inside a flight's plain bounces as well as in the
+//! event loop; after a try fails on a corner, the next waits until the
 //! rebound has halved. The rule applies only where bounds over the
 //! coming samples prove the series converges before anything else happens
 //! (`Run::chatter_settles`): B's fall stays positive, lo = min(g + ÿg) −
@@ -211,15 +215,25 @@ impl State {
 const CLOSE_TOL: f64 = 1e-3;
 
 /// What a closed series leaves to apply: rock about the corner from the
-/// plastic impact, corrected by the series' sums at the drift's centroid.
+/// plastic impact, corrected by the series' sums at the drift's centroid
+/// (carried back to the impact by [`Run::close_series`]).
 #[derive(Clone, Copy, Debug)]
 struct SeriesEnd {
-    /// Time the correction is applied: the centroid of the drift (s).
+    /// The centroid of the drift t* (s).
     t: f64,
-    /// Rock side s of the rock state the correction applies to.
-    s: f64,
     /// The series' sums.
     sums: SeriesSums,
+}
+
+/// What a closed series leaves to the solver besides the plastic impact.
+#[derive(Clone, Copy, Debug)]
+struct Chatter {
+    /// Friction demand |P_t/P_n| of the series' later impacts.
+    demand: f64,
+    /// The same, as the paper's eq. (5) evaluates it.
+    demand_eq5: f64,
+    /// The series' sums and the drift's centroid, for [`Run::close_series`].
+    end: SeriesEnd,
 }
 
 /// Sums over the flights k of a bounce series (module documentation): each
@@ -365,9 +379,10 @@ struct Run<'a> {
     /// After a failed try of the chatter rule on corner `.0`: the rebound
     /// below which it tries again.
     chatter_retry: (f64, f64),
-    /// A bounce series closed by the chatter rule, whose correction is still
-    /// to be applied to the rock state at the drift's centroid.
-    series_end: Option<SeriesEnd>,
+    /// A try of the chatter rule that succeeded inside a flight
+    /// ([`Run::bounce`]), for the event loop's impact at the same instant:
+    /// (time, corner, result).
+    chatter_tried: Option<(f64, f64, Chatter)>,
     /// Contact distance of the two-contact rule (m).
     h_touch: f64,
     /// Coulomb friction (μs, μk), or `None` for infinite friction.
@@ -415,7 +430,7 @@ impl<'a> Run<'a> {
             v_settle: set.settle_tol * (bl.g * bl.r).sqrt(),
             v_close: CLOSE_TOL * (bl.g * bl.r).sqrt(),
             chatter_retry: (0.0, f64::INFINITY),
-            series_end: None,
+            chatter_tried: None,
             h_touch: 1e-9 * bl.b,
             fric: match an.friction {
                 Friction::Infinite => None,
@@ -511,17 +526,7 @@ impl<'a> Run<'a> {
                 }
             }
             let seg = self.segment(k);
-            let mut t_end = (k + 1) as f64 * self.dt;
-            // a closed bounce series ends inside this sample: stop there
-            let mut series_ends = false;
-            if let Some(end) = self.series_end {
-                if !matches!(state, State::Rock(rs) if rs.s == end.s) {
-                    self.series_end = None;
-                } else if end.t < t_end {
-                    t_end = end.t.max(t);
-                    series_ends = true;
-                }
-            }
+            let t_end = (k + 1) as f64 * self.dt;
             let t_start = t;
             let mode = state.mode();
             let event = match &mut state {
@@ -564,10 +569,6 @@ impl<'a> Run<'a> {
             };
             self.out.time_in_mode[mode.index()] += t - t_start;
             match event {
-                None if series_ends => {
-                    t = t_end;
-                    self.end_series(t, &mut state);
-                }
                 None => {
                     t = t_end;
                     k += 1;
