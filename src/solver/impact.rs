@@ -76,7 +76,7 @@ pub fn point_velocity(v: &Velocity, rx: f64, ry: f64) -> (f64, f64) {
 }
 
 /// Applies a no-slip corner impact with restitution `e` at the corner with
-/// offset (rx, ry) from G.
+/// offset (rx, ry) from G (a corner: rx² + ry² = R²).
 pub fn corner_impact(
     block: &Block,
     v: &Velocity,
@@ -95,8 +95,9 @@ pub fn corner_impact(
         ImpactLaw::Newton => (-ut, -(1.0 + e) * un), // u_t⁺ = 0, u_n⁺ = −e u_n⁻
         ImpactLaw::Energetic => (-(1.0 + e) * ut, -(1.0 + e) * un), // u⁺ = −e u⁻
     };
-    // P = K Δu, K = (K⁻¹)⁻¹
-    let inv_det = 1.0 / (a * c - b * b);
+    // P = K Δu, K = (K⁻¹)⁻¹; det K⁻¹ = ac − b² = 1 + (rx² + ry²)/I = 1 + R²/I
+    // for a corner, a constant of the block (off the impact's critical path)
+    let inv_det = block.inertia / (block.inertia + block.r * block.r);
     let p_t = (c * dut - b * dun) * inv_det;
     let p_n = (-b * dut + a * dun) * inv_det;
     let after = Velocity {

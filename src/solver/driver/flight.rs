@@ -247,8 +247,12 @@ impl Run<'_> {
         // (h″ = −(g + ÿg) − ω² r_y there), or from one Newton step past it,
         // else from `limit`.
         let curv = -gy0 - f.omega * f.omega * ry0;
-        let h0c = h0.max(0.0);
-        let tq = (d0 + (d0 * d0 - 2.0 * curv * h0c).max(0.0).sqrt()) / -curv;
+        // (a corner just off the ground, h0 ≤ 0, needs no square root)
+        let tq = if h0 > 0.0 {
+            (d0 + (d0 * d0 - 2.0 * curv * h0).max(0.0).sqrt()) / -curv
+        } else {
+            (d0 + d0.abs()) / -curv
+        };
         let mut start = None;
         if tq > 0.0 && tq < limit {
             let (hq, dq) = fd(tq);
@@ -291,12 +295,13 @@ impl Run<'_> {
             if d >= 0.0 {
                 break;
             }
-            let step = h / d;
+            let inv_d = 1.0 / d;
+            let step = h * inv_d;
             if step <= tol {
                 return Some((low, Some(tau)));
             }
             let tn = tau - step;
-            let next = 2.0 * c2 * step * step / -d;
+            let next = -2.0 * c2 * step * step * inv_d;
             if next <= tol && next <= step {
                 // the step after this one would be below the tolerance
                 return Some((low, Some(tn)));
