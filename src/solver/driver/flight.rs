@@ -134,7 +134,7 @@ impl Run<'_> {
         match self.lone_landing(
             &f,
             (s0, c0),
-            (gy0, gy0 + (b1 * span).min(0.0), b1 * span),
+            (gy0, gy0 + (b1 * span).min(0.0), b1),
             span,
             xtol,
             height,
@@ -191,24 +191,25 @@ impl Run<'_> {
         }
     }
 
-    /// The landing of a flight's lower corner when it alone can land: θ keeps
-    /// its sign until then, so the upper corner stays 2B|sin θ| above the
-    /// lower one, and the lower corner's height h is concave (h″ = −(g + ÿg)
-    /// − ω² r_y ≤ −`gy_min` + ω²R < 0), so it has at most one descent through
-    /// zero after a departure. Returns the lower corner's side and its landing
-    /// in (0, `span`], if any; `None` where those conditions do not hold (the
-    /// caller then searches both corners). Most flights of a bounce series
-    /// meet them: this is their fast path.
+    /// The landing of a flight's lower corner when it alone can land: while
+    /// θ keeps its sign the upper corner stays 2B|sin θ| above the lower one,
+    /// and the lower corner's height h is concave (h″ = −(g + ÿg) − ω² r_y ≤
+    /// −`gy_min` + ω²R < 0), so it has at most one descent through zero after
+    /// a departure ([`descent`]). If θ crosses 0 first, with both corners
+    /// above the ground, the other corner is the lower one from there to the
+    /// piece's end, and the same holds for it. Returns the landing corner's
+    /// side and its landing in (0, `span`], if any; `None` where those
+    /// conditions do not hold (the caller then searches both corners). Most
+    /// flights of a bounce series meet them: this is their fast path.
     ///
     /// `height(side, τ)` gives the corner's height and its rate, (s0, c0) are
     /// sin θ and cos θ at the start, `gy0` is g + ÿg at the piece's start,
-    /// `gy_min` its least value over the piece and `b1_span` its change over
-    /// the piece.
+    /// `gy_min` its least value over the piece and `b1` its rate.
     fn lone_landing(
         &self,
         f: &FlightState,
         (s0, c0): (f64, f64),
-        (gy0, gy_min, b1_span): (f64, f64, f64),
+        (gy0, gy_min, b1): (f64, f64, f64),
         span: f64,
         xtol: f64,
         height: impl Fn(f64, f64) -> (f64, f64),
@@ -240,80 +241,115 @@ impl Run<'_> {
             // touching and not departing: the general search decides
             return None;
         }
-        let fd = |tau: f64| height(low, tau);
-        // One descent through zero in (0, limit] at most. Newton from its
-        // right (h ≤ 0) stays there on a concave function and converges
-        // monotonely; start from the root of the corner's parabola at τ = 0
-        // (h″ = −(g + ÿg) − ω² r_y there), or from one Newton step past it,
-        // else from `limit`.
+        let c2 = gy0 + (b1 * span).max(0.0) + w2r;
         let curv = -gy0 - f.omega * f.omega * ry0;
-        // (a corner just off the ground, h0 ≤ 0, needs no square root)
-        let tq = if h0 > 0.0 {
-            (d0 + (d0 * d0 - 2.0 * curv * h0).max(0.0).sqrt()) / -curv
-        } else {
-            (d0 + d0.abs()) / -curv
-        };
-        let mut start = None;
-        if tq > 0.0 && tq < limit {
-            let (hq, dq) = fd(tq);
-            if hq <= 0.0 {
-                start = Some((tq, hq, dq));
-            } else if dq < 0.0 {
-                let tn = tq - hq / dq;
-                if tn < limit {
-                    let (hn, dn) = fd(tn);
-                    if hn <= 0.0 {
-                        start = Some((tn, hn, dn));
-                    }
-                }
-            }
+        match descent(|tau| height(low, tau), (0.0, h0, d0), curv, limit, c2, xtol)? {
+            Some(found) => return Some((low, Some(found))),
+            None if limit >= span => return Some((low, None)),
+            None => {}
         }
-        let (mut tau, mut h, mut d) = match start {
-            Some(st) => st,
-            None => {
-                let (hl, dl) = fd(limit);
-                if hl > 0.0 {
-                    // concave and not below zero at either end: no landing
-                    // before `limit`
-                    return if limit < span {
-                        None
-                    } else {
-                        Some((low, None))
-                    };
-                }
-                (limit, hl, dl)
-            }
-        };
-        let tol = 0.5 * xtol;
-        // |h″| ≤ c2 over the piece: Newton's next error is at most
-        // c2 e²/(2|h′|), e ≤ 2·step once it is below the step
-        let c2 = gy0 + (b1_span).max(0.0) + w2r;
-        for _ in 0..32 {
-            if h == 0.0 {
-                return Some((low, Some(tau)));
-            }
-            if d >= 0.0 {
-                break;
-            }
-            let inv_d = 1.0 / d;
-            let step = h * inv_d;
-            if step <= tol {
-                return Some((low, Some(tau)));
-            }
-            let tn = tau - step;
-            let next = -2.0 * c2 * step * step * inv_d;
-            if next <= tol && next <= step {
-                // the step after this one would be below the tolerance
-                return Some((low, Some(tn)));
-            }
-            let (hn, dn) = fd(tn);
-            if hn > 0.0 {
-                // rounding put the step before the root: bracket it
-                let r = crate::solver::roots::newton(fd, (tn, hn, dn), (tau, h), xtol);
-                return Some((low, Some(r)));
-            }
-            (tau, h, d) = (tn, hn, dn);
+        // θ crosses 0 at `limit` with both corners above the ground (the
+        // lower one is above it there, so is the other, level with it); after
+        // it the other corner is the lower one, to the piece's end
+        let up = -low;
+        let (hl, dl) = height(up, limit);
+        if hl <= 0.0 {
+            return None;
         }
-        None
+        // h″ at `limit`: −(g + ÿg) − ω² r_y, with r_y turned by ω·limit
+        let (sx, cx) = ph::sin_cos_small(f.omega * limit);
+        let (rx1, ry1) = bl.corner_offset_sc(up, s0, c0);
+        let ry_l = rx1 * sx + ry1 * cx;
+        let curv_l = -(gy0 + b1 * limit) - f.omega * f.omega * ry_l;
+        let found = descent(
+            |tau| height(up, tau),
+            (limit, hl, dl),
+            curv_l,
+            span,
+            c2,
+            xtol,
+        )?;
+        Some((up, found))
     }
+}
+
+/// The first descent through zero of a concave height h on (τa, `limit`],
+/// from (τa, h(τa), h′(τa)) with h(τa) > 0 or h′(τa) > 0, and h″(τa) =
+/// `curv` < 0, |h″| ≤ `c2` over the piece: `Some(None)` if h stays above
+/// zero, `None` if rounding leaves it undecided (h′ ≥ 0 past the root).
+/// Newton from the root's right (h ≤ 0) stays there on a concave function and
+/// converges monotonely; it starts from the root of the parabola at τa, or
+/// from one Newton step past it, else from `limit`.
+fn descent(
+    fd: impl Fn(f64) -> (f64, f64),
+    (ta, ha, da): (f64, f64, f64),
+    curv: f64,
+    limit: f64,
+    c2: f64,
+    xtol: f64,
+) -> Option<Option<f64>> {
+    // (a corner just off the ground, h ≤ 0, needs no square root)
+    let tq = ta
+        + if ha > 0.0 {
+            (da + (da * da - 2.0 * curv * ha).max(0.0).sqrt()) / -curv
+        } else {
+            (da + da.abs()) / -curv
+        };
+    let mut start = None;
+    if tq > ta && tq < limit {
+        let (hq, dq) = fd(tq);
+        if hq <= 0.0 {
+            start = Some((tq, hq, dq));
+        } else if dq < 0.0 {
+            let tn = tq - hq / dq;
+            if tn < limit {
+                let (hn, dn) = fd(tn);
+                if hn <= 0.0 {
+                    start = Some((tn, hn, dn));
+                }
+            }
+        }
+    }
+    let (mut tau, mut h, mut d) = match start {
+        Some(st) => st,
+        None => {
+            let (hl, dl) = fd(limit);
+            if hl > 0.0 {
+                // concave and not below zero at either end: no landing
+                return Some(None);
+            }
+            (limit, hl, dl)
+        }
+    };
+    let tol = 0.5 * xtol;
+    // Newton's next error is at most c2 e²/(2|h′|), e ≤ 2·step once it is
+    // below the step
+    for _ in 0..32 {
+        if h == 0.0 {
+            return Some(Some(tau));
+        }
+        if d >= 0.0 {
+            break;
+        }
+        let inv_d = 1.0 / d;
+        let step = h * inv_d;
+        if step <= tol {
+            return Some(Some(tau));
+        }
+        let tn = tau - step;
+        let next = -2.0 * c2 * step * step * inv_d;
+        if next <= tol && next <= step {
+            // the step after this one would be below the tolerance
+            return Some(Some(tn));
+        }
+        let (hn, dn) = fd(tn);
+        if hn > 0.0 {
+            // rounding put the step before the root: bracket it
+            let r = crate::solver::roots::newton(&fd, (tn, hn, dn), (tau, h), xtol);
+            return Some(Some(r));
+        }
+        (tau, h, d) = (tn, hn, dn);
+    }
+    // (h′ ≥ 0 right of the root cannot happen on a concave h: rounding)
+    None
 }
