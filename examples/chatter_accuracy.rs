@@ -1,11 +1,12 @@
 //! The chatter rule's accuracy and speed against every bounce followed, and,
 //! for scale, Taylor against Dormand–Prince (both following every bounce):
-//! 100 synthetic records at 0.6 g (seed 41), 2B = 0.5 m, H/B 2, 4, 6, e = 0.3,
+//! 100 synthetic records at 0.6 g (seed 41; PGA in g as the second argument),
+//! 2B = 0.5 m, H/B 2, 4, 6, e = 0.3,
 //! 0.6, 0.9, infinite friction, one thread. Prints, per e, the overturning
 //! flips of each pair over 300 runs, the median and largest |Δθmax/θc| over
 //! runs that overturn in neither, and the cost per analysis.
 //!
-//! `cargo run --release --example chatter_accuracy [RECORDS]`
+//! `cargo run --release --example chatter_accuracy [RECORDS] [PGA]`
 
 use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
 use rockfrag::outcome::Outcome;
@@ -16,9 +17,12 @@ fn main() {
     let n: u64 = std::env::args()
         .nth(1)
         .map_or(100, |a| a.parse().expect("RECORDS: a count"));
+    let pga: f64 = std::env::args()
+        .nth(2)
+        .map_or(0.6, |a| a.parse().expect("PGA: in g"));
     let mut syn = Synthesizer::new(&SynthesisSettings::default()).unwrap();
     let recs: Vec<Record> = (0..n)
-        .map(|i| syn.generate(41, i, 0.6 * G).unwrap())
+        .map(|i| syn.generate(41, i, pga * G).unwrap())
         .collect();
     let rule = SolverSettings::default();
     let follow = SolverSettings {

@@ -144,9 +144,9 @@ fn cascade_rule_with_vertical_motion() {
 /// before the ε rule sets it rocking on that corner. The rule closes each
 /// series once its rebound is below 1e-3·√(gR) and its bounds hold: the same
 /// peak (the release angle), the same time at rest to 1 ms, the footprint to
-/// 1 µm, no energy gained, and at most a third of the flights (measured: 228
-/// against 960 at e = 0.5 and 1,658 against 6,470 at e = 0.9; time at rest
-/// within 0.5 ms, footprint within 5e-11 m).
+/// 1 µm, no energy gained, and at most a third of the flights (measured: 138
+/// against 960 at e = 0.5 and 1,028 against 6,470 at e = 0.9; time at rest
+/// within 0.5 ms, footprint within 6e-11 m).
 #[test]
 fn chatter_free_ring_down() {
     let bl = Block::new(0.5, 4.0, G).unwrap();
@@ -238,8 +238,8 @@ fn chatter_falls_back_when_the_bounds_fail() {
 /// The rule must flip no more overturning outcomes than the integrators do
 /// (plus one, for a count this small), keep θmax/θc within 1e-3 in at least
 /// 95 % of the runs where neither overturns, and remove at least 3 flights in
-/// 4. Measured: 91,618 flights against 387,709; θmax/θc within 1e-3 in 73
-/// of 74; 1 flip, as between the integrators.
+/// 4. Measured: 61,952 flights against 387,656; θmax/θc within 1e-3 in 71
+/// of 73; 2 flips, against 1 between the integrators.
 #[test]
 fn chatter_ensembles() {
     let mut syn = Synthesizer::new(&SynthesisSettings::default()).unwrap();

@@ -147,7 +147,7 @@ fn run_announces_its_size_and_an_estimate() {
     assert!(o.status.success());
     let err = stderr(&o);
     let first = err.lines().next().unwrap_or("");
-    assert_eq!(first, "running 24 analyses on 1 threads", "{err}");
+    assert_eq!(first, "running 24 analyses on 1 thread", "{err}");
     // 24 analyses in chunks of 128 per thread: one chunk, nothing left to
     // estimate. With 400 records (800 units of 4 analyses, chunks of 32
     // units) an estimate follows the first chunk.
@@ -166,7 +166,7 @@ fn run_announces_its_size_and_an_estimate() {
     ]);
     let err = stderr(&o);
     let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines[0], "running 800 analyses on 1 threads", "{err}");
+    assert_eq!(lines[0], "running 800 analyses on 1 thread", "{err}");
     assert!(
         lines[1].starts_with("estimate: ") && lines[1].contains("analyses/s over the first 128"),
         "{err}"

@@ -75,7 +75,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let c = report.counts;
     eprintln!(
         "study {}{}: {} analyses ({} overturned, {} uplifted, {} failed); {} run in {:.1} s, \
-         {:.1} analyses/s on {} threads; wrote {}",
+         {:.1} analyses/s on {} thread{}; wrote {}",
         study.name,
         if opts.shard == Shard::WHOLE {
             String::new()
@@ -90,6 +90,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         report.wall_seconds,
         rate,
         report.threads,
+        if report.threads == 1 { "" } else { "s" },
         out.display()
     );
     // The fit and the figures skip failed analyses (and say how many), so

@@ -66,7 +66,8 @@ impl Progress {
             } else {
                 String::new()
             };
-            eprintln!("running {left} analyses{resumed} on {threads} threads");
+            let plural = if threads == 1 { "" } else { "s" };
+            eprintln!("running {left} analyses{resumed} on {threads} thread{plural}");
         }
         let bar = (show && tty).then(|| {
             let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
