@@ -50,7 +50,7 @@
 //!
 //! ## Uncertainty
 //!
-//! Percentile bootstrap ([`bootstrap`]): each replicate resamples whole
+//! Percentile bootstrap ([`bootstrap()`]): each replicate resamples whole
 //! records with replacement (a drawn record brings its analyses at every
 //! stripe) or, for independent trials, analyses within each stripe
 //! ([`BootstrapUnit`]); the fit is repeated, and the 5th–95th percentiles

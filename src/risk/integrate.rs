@@ -194,7 +194,7 @@ const WGK: [f64; 8] = [
     0.204_432_940_075_298_9,
     0.209_482_141_084_727_8,
 ];
-/// Gauss weights of the 7-point rule (nodes XGK[1], XGK[3], XGK[5], XGK[7]).
+/// Gauss weights of the 7-point rule (nodes `XGK[1]`, `XGK[3]`, `XGK[5]`, `XGK[7]`).
 const WG: [f64; 4] = [
     0.129_484_966_168_869_7,
     0.279_705_391_489_276_7,

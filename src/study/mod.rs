@@ -13,7 +13,7 @@
 //! held at a time. The rows of a chunk are put in canonical order before
 //! they are written, so `outcomes.csv` is byte-identical for any thread
 //! count, any interruption and resumption, and any shard split once merged
-//! ([`merge`]).
+//! ([`merge()`]).
 //!
 //! **Resuming.** After each chunk the partial file is synced and
 //! `checkpoint.json` records how many units are done and the partial file's
