@@ -26,6 +26,18 @@ fn without_rule() -> SolverSettings {
     }
 }
 
+/// A block of 2B = 0.5 m and H/B 4 with restitution `e`, released at rest
+/// from θc/2 (the free ring-downs and single series below).
+fn released_from_half_tilt(e: f64) -> Analysis {
+    let bl = Block::new(0.5, 4.0, G).unwrap();
+    let mut an = Analysis::new(bl, e);
+    an.initial = Initial {
+        theta: 0.5 * bl.theta_c,
+        ..Initial::default()
+    };
+    an
+}
+
 /// One analysis (2B = 0.5 m, e = 0, infinite friction) with and without the
 /// rule; asserts that θmax, overturning (and its time), lift-offs and holds
 /// agree exactly.
@@ -90,12 +102,7 @@ fn cascade_rule_changes_no_later_motion() {
 /// angle.
 #[test]
 fn free_ring_down_settles_in_a_few_impacts() {
-    let bl = Block::new(0.5, 4.0, G).unwrap();
-    let mut an = Analysis::new(bl, 0.0);
-    an.initial = Initial {
-        theta: 0.5 * bl.theta_c,
-        ..Initial::default()
-    };
+    let an = released_from_half_tilt(0.0);
     let rec = quiet_record(0.02, 10.0);
     let on = simulate(&an, &rec, &SolverSettings::default(), None).unwrap();
     let off = simulate(&an, &rec, &without_rule(), None).unwrap();
@@ -149,13 +156,8 @@ fn cascade_rule_with_vertical_motion() {
 /// within 0.5 ms, footprint within 6e-11 m).
 #[test]
 fn chatter_free_ring_down() {
-    let bl = Block::new(0.5, 4.0, G).unwrap();
     for e in [0.5, 0.9] {
-        let mut an = Analysis::new(bl, e);
-        an.initial = Initial {
-            theta: 0.5 * bl.theta_c,
-            ..Initial::default()
-        };
+        let an = released_from_half_tilt(e);
         let rec = quiet_record(0.02, 10.0);
         let on = simulate(&an, &rec, &SolverSettings::default(), None).unwrap();
         let off = simulate(&an, &rec, &without_rule(), None).unwrap();
@@ -197,12 +199,7 @@ fn chatter_free_ring_down() {
 /// rad/s.
 #[test]
 fn chatter_series_under_a_steady_push() {
-    let bl = Block::new(0.5, 4.0, G).unwrap();
-    let mut an = Analysis::new(bl, 0.9);
-    an.initial = Initial {
-        theta: 0.5 * bl.theta_c,
-        ..Initial::default()
-    };
+    let an = released_from_half_tilt(0.9);
     let rec = rockfrag::reference::constant_record(0.1 * G, 0.01, 3.0);
     let (mut h_on, mut h_off) = (History::default(), History::default());
     simulate(&an, &rec, &SolverSettings::default(), Some(&mut h_on)).unwrap();
@@ -240,13 +237,8 @@ fn chatter_series_under_a_steady_push() {
 /// it the rule acts (fewer rows).
 #[test]
 fn chatter_falls_back_when_the_bounds_fail() {
-    let bl = Block::new(0.5, 4.0, G).unwrap();
     let (t_on, t_off) = (0.45, 0.8);
-    let mut an = Analysis::new(bl, 0.9);
-    an.initial = Initial {
-        theta: 0.5 * bl.theta_c,
-        ..Initial::default()
-    };
+    let an = released_from_half_tilt(0.9);
     let dt = 0.01;
     let mut rec = quiet_record(dt, 3.0);
     for (k, a) in rec.acc.iter_mut().enumerate() {

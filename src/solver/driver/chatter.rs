@@ -230,8 +230,9 @@ impl Run<'_> {
             let demand = r.friction_demand();
             let demand_eq5 = impact::eq5_mu(&bl, &before, rx, ry, e);
             // The series' sums (drift, duration, the third-order sums); the
-            // correction they make to rock about the corner is applied at the
-            // drift's centroid by `end_series` (module documentation).
+            // correction they make to rock about the corner, taken at the
+            // drift's centroid, is carried back to this impact by
+            // `close_series` (module documentation).
             let sums = self.series_sums(t, u1, plastic.omega, rx, ry);
             if sums.duration > t_series {
                 // the sums disagree with the bound (cannot happen: they follow

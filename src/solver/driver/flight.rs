@@ -35,10 +35,11 @@ impl Run<'_> {
     /// A bounce of corner `side` landing at `t` that leaves the block in
     /// flight with nothing for the event loop to decide: the other corner is
     /// off the ground, the rebound is faster than the ring-down rule looks at
-    /// and the chatter rule, if due, does not close the series. Then the impact is applied to `fs` and counted
-    /// as the event loop would (the same arithmetic: results do not depend on
-    /// the shortcut), and sin θ and cos θ of the pose are returned. Not taken
-    /// with a history or the energy audit, which record every event.
+    /// and the chatter rule, if due, does not close the series. Then the
+    /// impact is applied to `fs` and counted as the event loop would (the same
+    /// arithmetic: results do not depend on the shortcut), and sin θ and cos θ
+    /// of the pose are returned. Not taken with a history or the energy
+    /// audit, which record every event.
     fn bounce(&mut self, fs: &mut FlightState, side: f64, t: f64) -> Option<(f64, f64)> {
         if self.hist.is_some()
             || self.set.audit_energy
@@ -67,16 +68,22 @@ impl Run<'_> {
         }
         if self.chatter_due(side, un_after) {
             // try the chatter rule here; only a success needs the event loop
-            // (which takes this result), a failure bounces on as `impacts` would
+            // (whose `impacts` takes this result), a failure bounces on as
+            // `impacts` would
             let (plastic, _) = self.hit(&vel, rx, ry, 0.0);
-            let theta = fs.theta;
-            if let Some(ch) =
-                self.chatter_settles(t, theta, side, rx, ry, &r.after, un_after, &plastic.after)
-            {
+            if let Some(ch) = self.try_chatter(
+                t,
+                fs.theta,
+                side,
+                rx,
+                ry,
+                &r.after,
+                un_after,
+                &plastic.after,
+            ) {
                 self.chatter_tried = Some((t, side, ch));
                 return None;
             }
-            self.chatter_retry = (side, 0.5 * un_after);
         }
         self.out.stats.events += 1;
         self.note_impact(t, &vel, &r, demand, rx, ry, self.e);
@@ -104,12 +111,19 @@ impl Run<'_> {
         let gy0 = bl.g + b0;
         let f = *fs;
         // relative motion: ẍ = −ẍg, ÿ = −g − ÿg, θ̈ = 0
+        let vertical = move |tau: f64| {
+            (
+                f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau * (1.0 / 6.0),
+                f.vy - gy0 * tau - b1 * tau * tau / 2.0,
+            )
+        };
         let pos = move |tau: f64| -> FlightState {
+            let (y, vy) = vertical(tau);
             FlightState {
                 x: f.x + f.vx * tau - a0 * tau * tau / 2.0 - a1 * tau * tau * tau * (1.0 / 6.0),
                 vx: f.vx - a0 * tau - a1 * tau * tau / 2.0,
-                y: f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau * (1.0 / 6.0),
-                vy: f.vy - gy0 * tau - b1 * tau * tau / 2.0,
+                y,
+                vy,
                 theta: f.theta + f.omega * tau,
                 omega: f.omega,
             }
@@ -124,8 +138,7 @@ impl Run<'_> {
         let r_left = bl.corner_offset_sc(-1.0, s0, c0);
         let r_right = bl.corner_offset_sc(1.0, s0, c0);
         let height = |side: f64, tau: f64| {
-            let y = f.y + f.vy * tau - gy0 * tau * tau / 2.0 - b1 * tau * tau * tau * (1.0 / 6.0);
-            let vy = f.vy - gy0 * tau - b1 * tau * tau / 2.0;
+            let (y, vy) = vertical(tau);
             let (sx, cx) = ph::sin_cos_small(f.omega * tau);
             let (r0x, r0y) = if side > 0.0 { r_right } else { r_left };
             let (rx, ry) = (r0x * cx - r0y * sx, r0x * sx + r0y * cx);

@@ -2,7 +2,7 @@
 //! cascade rule and the chatter rule's place (see the driver's module
 //! documentation).
 
-use super::{FlightState, RockState, Run, SlideState, State};
+use super::{Chatter, FlightState, RockState, Run, SlideState, State};
 use crate::solver::impact::{self, ImpactResult, Velocity};
 use crate::solver::physics as ph;
 
@@ -43,23 +43,19 @@ impl Run<'_> {
                 && (pose.theta == 0.0 || !touching[if sd < 0.0 { 1 } else { 0 }])
             {
                 // the chatter rule: close the series of bounces on this corner
-                // with this impact made plastic, and its sums applied at its end
+                // with this impact made plastic, its sums carried into the rock
+                // state (`close_series`)
                 let (plastic, plastic_demand) = hit(0.0);
-                let tried = match self.chatter_tried.take() {
-                    // already tried by `bounce` on this very impact
-                    Some((tt, ts, ch)) if tt == t && ts == sd => Some(ch),
-                    _ => self.chatter_settles(
-                        t,
-                        pose.theta,
-                        sd,
-                        rx,
-                        ry,
-                        &r.after,
-                        un_after,
-                        &plastic.after,
-                    ),
-                };
-                if let Some(ch) = tried {
+                if let Some(ch) = self.try_chatter(
+                    t,
+                    pose.theta,
+                    sd,
+                    rx,
+                    ry,
+                    &r.after,
+                    un_after,
+                    &plastic.after,
+                ) {
                     self.out.mu_impact = self.out.mu_impact.max(demand).max(ch.demand);
                     self.out.mu_impact_eq5 = self
                         .out
@@ -70,11 +66,6 @@ impl Run<'_> {
                     (r, demand) = (plastic, plastic_demand);
                     e_applied = 0.0;
                     self.out.settles += 1;
-                    self.chatter_retry = (0.0, f64::INFINITY);
-                } else {
-                    // the bounds need a shorter series: try again once the
-                    // rebound has halved
-                    self.chatter_retry = (sd, 0.5 * un_after);
                 }
             }
             self.note_impact(t, &vel, &r, demand, rx, ry, e_applied);
@@ -178,6 +169,35 @@ impl Run<'_> {
             && self.e < 1.0
             && u <= self.v_close
             && (self.chatter_retry.0 != side || u <= self.chatter_retry.1)
+    }
+
+    /// A try of the chatter rule at an impact of corner `side` (the arguments
+    /// of [`Run::chatter_settles`]), or the result `bounce` already found for
+    /// this very impact. After a failure the next try on this corner waits
+    /// until the rebound has halved (the bounds need a shorter series); a
+    /// success clears that wait.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn try_chatter(
+        &mut self,
+        t: f64,
+        theta: f64,
+        side: f64,
+        rx: f64,
+        ry: f64,
+        newton: &Velocity,
+        u1: f64,
+        plastic: &Velocity,
+    ) -> Option<Chatter> {
+        let tried = match self.chatter_tried.take() {
+            Some((tt, ts, ch)) if tt == t && ts == side => Some(ch),
+            _ => self.chatter_settles(t, theta, side, rx, ry, newton, u1, plastic),
+        };
+        self.chatter_retry = if tried.is_some() {
+            (0.0, f64::INFINITY)
+        } else {
+            (side, 0.5 * u1)
+        };
+        tried
     }
 
     /// One impact of the corner at offset (rx, ry) from G with restitution

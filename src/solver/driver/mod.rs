@@ -101,9 +101,9 @@
 //! every series the old corner's landing interrupts: near rest on quiet
 //! ground a series lasts 3e sin²θc/(2(1 − e)η) of the time rock about B takes
 //! to return to θ = 0 (η = 1 − 1.5 sin²θc, the plastic impact's θ̇ ratio;
-//! about 0.9 at H/B 4 and 4 at H/B 2 for e = 0.9), and where it outlasts that B is still
-//! bouncing when the old corner lands, an effect of first order in B's
-//! rebound that no closure at the series' end can carry. A closed
+//! about 0.9 at H/B 4 and 4 at H/B 2 for e = 0.9), and where it outlasts
+//! that, B is still bouncing when the old corner lands, an effect of first
+//! order in B's rebound that no closure at the series' end can carry. A closed
 //! series counts one impact and one in `settles`; its later impacts' friction
 //! demand (all with the same impulse ratio, since they scale with u) is
 //! taken from one of them; its flights are not counted in `flights`.
