@@ -77,6 +77,7 @@ pub fn point_velocity(v: &Velocity, rx: f64, ry: f64) -> (f64, f64) {
 
 /// Applies a no-slip corner impact with restitution `e` at the corner with
 /// offset (rx, ry) from G (a corner: rx² + ry² = R²).
+#[inline]
 pub fn corner_impact(
     block: &Block,
     v: &Velocity,

@@ -111,9 +111,9 @@ impl Run<'_> {
         side: f64,
         rx: f64,
         ry: f64,
-        newton: &Velocity,
+        newton: Velocity,
         u1: f64,
-        plastic: &Velocity,
+        plastic: Velocity,
     ) -> Option<Chatter> {
         let bl = self.bl;
         let n = self.acc.len();

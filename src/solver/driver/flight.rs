@@ -13,23 +13,27 @@ impl Run<'_> {
     /// event loop's decisions.
     pub(super) fn flight(
         &mut self,
-        fs: &mut FlightState,
+        state: &mut FlightState,
         seg: &Segment,
         t: &mut f64,
         t_end: f64,
     ) -> Option<Event> {
+        // a local copy, kept in registers over the bounces (the caller's lives in memory)
+        let mut fs = *state;
         // sin θ and cos θ at the piece's start, when a bounce has just taken them
         let mut trig = None;
-        loop {
-            let event = self.flight_piece(fs, seg, t, t_end, trig);
+        let event = loop {
+            let event = self.flight_piece(&mut fs, seg, t, t_end, trig);
             match event {
-                Some(Event::Landing(side)) if *t < t_end => match self.bounce(fs, side, *t) {
+                Some(Event::Landing(side)) if *t < t_end => match self.bounce(&mut fs, side, *t) {
                     Some(sc) => trig = Some(sc),
-                    None => return event,
+                    None => break event,
                 },
-                _ => return event,
+                _ => break event,
             }
-        }
+        };
+        *state = fs;
+        event
     }
 
     /// A bounce of corner `side` landing at `t` that leaves the block in
@@ -71,16 +75,9 @@ impl Run<'_> {
             // (whose `impacts` takes this result), a failure bounces on as
             // `impacts` would
             let (plastic, _) = self.hit(&vel, rx, ry, 0.0);
-            if let Some(ch) = self.try_chatter(
-                t,
-                fs.theta,
-                side,
-                rx,
-                ry,
-                &r.after,
-                un_after,
-                &plastic.after,
-            ) {
+            if let Some(ch) =
+                self.try_chatter(t, fs.theta, side, rx, ry, r.after, un_after, plastic.after)
+            {
                 self.chatter_tried = Some((t, side, ch));
                 return None;
             }

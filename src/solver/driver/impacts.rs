@@ -46,16 +46,9 @@ impl Run<'_> {
                 // with this impact made plastic, its sums carried into the rock
                 // state (`close_series`)
                 let (plastic, plastic_demand) = hit(0.0);
-                if let Some(ch) = self.try_chatter(
-                    t,
-                    pose.theta,
-                    sd,
-                    rx,
-                    ry,
-                    &r.after,
-                    un_after,
-                    &plastic.after,
-                ) {
+                if let Some(ch) =
+                    self.try_chatter(t, pose.theta, sd, rx, ry, r.after, un_after, plastic.after)
+                {
                     self.out.mu_impact = self.out.mu_impact.max(demand).max(ch.demand);
                     self.out.mu_impact_eq5 = self
                         .out
@@ -175,7 +168,9 @@ impl Run<'_> {
     /// of [`Run::chatter_settles`]), or the result `bounce` already found for
     /// this very impact. After a failure the next try on this corner waits
     /// until the rebound has halved (the bounds need a shorter series); a
-    /// success clears that wait.
+    /// success clears that wait. (The velocities come by value: a reference
+    /// would keep the caller's impact result in memory on every bounce, not
+    /// only on a try.)
     #[allow(clippy::too_many_arguments)]
     pub(super) fn try_chatter(
         &mut self,
@@ -184,9 +179,9 @@ impl Run<'_> {
         side: f64,
         rx: f64,
         ry: f64,
-        newton: &Velocity,
+        newton: Velocity,
         u1: f64,
-        plastic: &Velocity,
+        plastic: Velocity,
     ) -> Option<Chatter> {
         let tried = match self.chatter_tried.take() {
             Some((tt, ts, ch)) if tt == t && ts == side => Some(ch),
@@ -203,7 +198,9 @@ impl Run<'_> {
     /// One impact of the corner at offset (rx, ry) from G with restitution
     /// `e`, by the analysis' impact law and friction: the result and the
     /// friction needed to prevent sliding during it.
-    #[inline]
+    // (always inlined: its result, returned through memory, would be stored
+    // field by field and read back in pairs, which stalls store forwarding)
+    #[inline(always)]
     pub(super) fn hit(&self, vel: &Velocity, rx: f64, ry: f64, e: f64) -> (ImpactResult, f64) {
         let law = self.set.impact;
         match self.fric {
