@@ -171,7 +171,9 @@ pub fn slide_rock_accel(
 /// Below |x| = 0.02 the series stop at x⁷ and x⁸ (truncation below 7e-20
 /// relative), below 2e-3 at x⁵ and x⁶ (below 2e-20): the rotations of a
 /// bounce series' flights mostly fall there.
-#[inline]
+// (always inlined: it sits on the landing → impact chain of every bounce,
+// and left out of line it cost 1.4 % at e = 0.9)
+#[inline(always)]
 pub fn sin_cos_small(x: f64) -> (f64, f64) {
     let ax = x.abs();
     if ax > 0.25 {

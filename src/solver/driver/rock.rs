@@ -4,6 +4,7 @@
 
 use super::{Event, RockState, Run, Segment, State, earliest};
 use crate::error::{Error, Result};
+use crate::solver::block::Block;
 use crate::solver::physics as ph;
 use crate::solver::roots::brent;
 use crate::solver::scan::first_descent;
@@ -66,7 +67,6 @@ impl Run<'_> {
     ) -> Result<Option<Event>> {
         let bl = self.bl;
         let s = rs.s;
-        let seg = *seg;
         let k = 0.75 / bl.r; // eq. (1): I_O = 4mR²/3
         let (atol_th, atol_om) = (
             self.set.atol * bl.theta_c,
@@ -122,7 +122,7 @@ impl Run<'_> {
                 (sn, cs)
             };
             let range = series.psi_bounds(t1 - t0, tol_psi);
-            let found = self.rock_events(rs, &path, &trig, range, &seg, t0, t1, 1);
+            let found = self.rock_events(rs, &path, &trig, range, seg, t0, t1, 1);
             let t_stop = found.map_or(t1, |(te, _)| te);
             if self.set.audit_energy {
                 let w = series.work(bl.r, s, &forcing, bl.g);
@@ -208,12 +208,10 @@ impl Run<'_> {
         let s = rs.s;
         let bl = self.bl;
         let xtol = 1e-15 * tb.abs().max(1.0);
-        let contact = |tt: f64| {
-            let (_, om) = path(tt);
-            let (sp, cp) = trig(tt);
-            let (ax, ay) = seg.at(tt);
-            ph::rock_contact_sc(&bl, s, sp, cp, om, ax, ay)
-        };
+        // the hot call sites call `rock_contact_at` directly: this closure
+        // would be kept out of line and its result returned through memory,
+        // stored field by field and read back in pairs (a store-forwarding stall)
+        let contact = |tt: f64| rock_contact_at(&bl, s, path, trig, seg, tt);
         let mut best: Option<(f64, Event)> = None;
         // Impact: ψ = sθ reaches 0 (grazing dips included).
         let psi = |tt: f64| {
@@ -253,7 +251,7 @@ impl Run<'_> {
         let release = |tt: f64| release_q(&contact(tt));
         let c_a = match rs.last {
             Some((t_last, c)) if t_last == ta => c,
-            _ => contact(ta),
+            _ => rock_contact_at(&bl, s, path, trig, seg, ta),
         };
         let (mut n0, mut q0) = (c_a.n, release_q(&c_a));
         let mut c_end: Option<ph::RockContact> = None;
@@ -272,7 +270,7 @@ impl Run<'_> {
             let mut t0 = ta;
             for i in 1..=n {
                 let t1 = if i == n { tb } else { ta + width * i as f64 };
-                let c1 = contact(t1);
+                let c1 = rock_contact_at(&bl, s, path, trig, seg, t1);
                 if i == n {
                     c_end = Some(c1);
                 }
@@ -331,7 +329,7 @@ impl Run<'_> {
                 break;
             }
             let t1 = if i == n { tb } else { ta + width * i as f64 };
-            let c1 = contact(t1);
+            let c1 = rock_contact_at(&bl, s, path, trig, seg, t1);
             if i == n {
                 c_end = Some(c1);
             }
@@ -373,7 +371,7 @@ impl Run<'_> {
         let t_stop = best.map_or(tb, |(te, _)| te);
         let c_b = match (best, c_end) {
             (None, Some(c)) => c,
-            _ => contact(t_stop),
+            _ => rock_contact_at(&bl, s, path, trig, seg, t_stop),
         };
         rs.last = Some((t_stop, c_b));
         let (th_a, om_a) = path(ta);
@@ -415,4 +413,21 @@ fn sinh_minus_x(x: f64) -> f64 {
         * (1.0
             + x2 / 20.0
                 * (1.0 + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
+}
+
+/// The contact forces of rock about the corner on side −s at `tt`, on the
+/// step's path (θ, θ̇) and its sin φ, cos φ (eq. (1) and its reactions).
+#[inline(always)]
+fn rock_contact_at(
+    bl: &Block,
+    s: f64,
+    path: &impl Fn(f64) -> (f64, f64),
+    trig: &impl Fn(f64) -> (f64, f64),
+    seg: &Segment,
+    tt: f64,
+) -> ph::RockContact {
+    let (_, om) = path(tt);
+    let (sp, cp) = trig(tt);
+    let (ax, ay) = seg.at(tt);
+    ph::rock_contact_sc(bl, s, sp, cp, om, ax, ay)
 }
