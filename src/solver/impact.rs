@@ -211,6 +211,10 @@ pub fn eq5_mu(block: &Block, v: &Velocity, rx: f64, ry: f64, e: f64) -> f64 {
 /// The returned `p_t/p_n` of the *sticking* attempt is the friction needed to
 /// prevent sliding (`mu_impact`); it is returned as the second value.
 #[allow(clippy::too_many_arguments)]
+// (always inlined: out of line it read the caller's velocity, stored field by
+// field, back in pairs, stalling store forwarding on every impact: −8.6 % at
+// e = 0.9 under finite friction)
+#[inline(always)]
 pub fn corner_impact_friction(
     block: &Block,
     v: &Velocity,
