@@ -103,6 +103,13 @@ impl Block {
         )
     }
 
+    /// Inertia about a corner per unit mass, I_O/m = I/m + R² = 4R²/3 (m²)
+    /// (parallel axes).
+    #[inline]
+    pub fn inertia_corner(&self) -> f64 {
+        self.inertia + self.r * self.r
+    }
+
     /// Kinetic energy per unit mass relative to the ground.
     #[inline]
     pub fn kinetic(&self, vx: f64, vy: f64, omega: f64) -> f64 {

@@ -96,9 +96,9 @@ pub fn corner_impact(
         ImpactLaw::Newton => (-ut, -(1.0 + e) * un), // u_t⁺ = 0, u_n⁺ = −e u_n⁻
         ImpactLaw::Energetic => (-(1.0 + e) * ut, -(1.0 + e) * un), // u⁺ = −e u⁻
     };
-    // P = K Δu, K = (K⁻¹)⁻¹; det K⁻¹ = ac − b² = 1 + (rx² + ry²)/I = 1 + R²/I
+    // P = K Δu, K = (K⁻¹)⁻¹; det K⁻¹ = ac − b² = 1 + (rx² + ry²)/I = I_O/I
     // for a corner, a constant of the block (off the impact's critical path)
-    let inv_det = block.inertia / (block.inertia + block.r * block.r);
+    let inv_det = block.inertia / block.inertia_corner();
     let p_t = (c * dut - b * dun) * inv_det;
     let p_n = (-b * dut + a * dun) * inv_det;
     let after = Velocity {

@@ -29,7 +29,7 @@ impl Run<'_> {
         let bl = self.bl;
         let e = self.e;
         let n = self.acc.len();
-        let i_b = bl.inertia + bl.r * bl.r;
+        let i_b = bl.inertia_corner();
         let mut k = ((t0 / self.dt) as usize).min(n - 2);
         let mut seg = self.segment(k);
         // rock about the corner at the start: eq. (1) as I_B θ̈ = (g + ÿg) r_x − ẍg r_y
@@ -280,7 +280,7 @@ impl Run<'_> {
         let bl = self.bl;
         let m = &end.sums;
         let l = end.t - t0;
-        let i_b = bl.inertia + bl.r * bl.r;
+        let i_b = bl.inertia_corner();
         // ρ = G − B from the pivot's offset r; eq. (1) in these terms:
         // I_B θ̈ = F = −V_θ, V = (g + ÿg) ρ_y + ẍg ρ_x, so F = ẍg ρ_y − (g + ÿg) ρ_x
         // and F_θ = −V_θθ = (g + ÿg) ρ_y + ẍg ρ_x
