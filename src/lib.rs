@@ -25,6 +25,8 @@
 //! - [`solver`]: the event-driven block solver (rest, slide, rock, slide-rock,
 //!   free flight; impacts with restitution and Coulomb friction);
 //! - [`outcome`]: what one analysis produces;
+//! - [`case`]: one block configuration (H/B, 2B, e, friction), each
+//!   parameter fixed or drawn per analysis;
 //! - [`outcomes_csv`]: the `outcomes.csv` table of a study's analyses, its
 //!   columns defined once for the writer and every reader;
 //! - [`study`]: running a study (parallel, resumable, shardable) into
@@ -33,7 +35,10 @@
 //! - [`risk`]: the annual rate of each limit state at a site, the fragility
 //!   integrated over a hazard curve (OpenQuake's or a plain table);
 //! - [`figures`]: publication figures drawn with an embedded font;
-//! - [`bench`](mod@bench): the speed-against-error (work–precision) report.
+//! - [`paper`]: the seed paper as a layer on top (its Tables 1–3 beside a
+//!   study's results, its figures, `rockfrag paper`);
+//! - [`pipeline`]: one run sequence (analyses, summary, fit, figures) for
+//!   the command line and Python.
 //!
 //! ## Governing equations
 //!
@@ -66,20 +71,21 @@
 
 // Each module uses only the modules declared above it (tests/architecture.rs).
 pub mod error;
-mod io_util;
+pub mod io_util;
 pub mod stats;
 pub mod uncertainty;
 pub mod motion;
 pub mod outcome;
 pub mod solver;
+pub mod case;
+pub mod table;
 pub mod outcomes_csv;
 pub mod fragility;
 pub mod spec;
 pub mod study;
 pub mod risk;
-pub mod reproduce;
-pub mod bench;
 pub mod figures;
-pub mod reference;
+pub mod paper;
+pub mod pipeline;
 
 pub use error::{Error, Result};

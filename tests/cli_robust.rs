@@ -3,7 +3,7 @@
 //! while it runs, a quiet console, messages that point at the right thing.
 
 mod common;
-use common::{rockfrag, stderr, stdout};
+use common::{rockfrag, run_spec, stderr, stdout};
 use std::path::Path;
 use std::process::{Command, Stdio};
 
@@ -263,12 +263,7 @@ fn non_ascii_spec_file_name_gives_a_valid_study_name() {
     let spec = tmp.path().join("stüdy 2.toml");
     std::fs::write(&spec, text).unwrap();
     let out = tmp.path().join("out");
-    let o = rockfrag(&[
-        "run",
-        spec.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_spec(&spec, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let manifest = std::fs::read_to_string(out.join("manifest.json")).unwrap();
     assert!(manifest.contains("\"study\": \"study\""), "{manifest}");

@@ -2,7 +2,7 @@
 //! write, and one-line errors that name the file and the field.
 
 mod common;
-use common::{rockfrag, stderr};
+use common::{rockfrag, run_spec, stderr};
 use std::path::Path;
 
 const SMALL: &str = concat!(
@@ -142,26 +142,14 @@ fn run_fits_fragility_and_draws_figures_when_the_spec_asks() {
         + "\n[output]\nfigures = true\n\n[fragility]\nbootstrap = 50\n";
     std::fs::write(&spec, text).unwrap();
     let out = tmp.path().join("out");
-    let o = rockfrag(&[
-        "run",
-        spec.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_spec(&spec, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     for name in ["fragility.csv", "fragility_curves.csv", "fragility.xml"] {
         assert!(out.join(name).exists(), "{name} missing");
     }
     let rows = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
     assert_eq!(rows.lines().count(), 1 + 4, "{rows}");
-    for name in [
-        "motion",
-        "spectrum",
-        "history",
-        "fragility",
-        "friction_demand",
-        "restitution",
-    ] {
+    for name in common::FIGURES {
         let svg = std::fs::read_to_string(out.join("figures").join(format!("{name}.svg")))
             .unwrap_or_else(|e| panic!("{name}.svg: {e}"));
         assert!(

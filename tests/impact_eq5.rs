@@ -5,10 +5,10 @@
 //! impulse ratio `mu_impact` except where the sticking impulse is tensile.
 
 mod common;
+use common::reference::rock_impact_velocity;
 use common::{rockfrag, stderr, stdout};
 use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
 use rockfrag::outcome::Outcome;
-use rockfrag::reference::rock_impact_velocity;
 use rockfrag::solver::{
     Analysis, Block, ImpactLaw, SolverSettings, Velocity, corner_impact, eq5_mu, rock_impact_mu,
     simulate,

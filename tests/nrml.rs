@@ -20,9 +20,10 @@
 //! default study's file), so unfitted cases may be comments. CI does not run
 //! OpenQuake; these tests encode its requirements.
 
+use rockfrag::case::Case;
 use rockfrag::fragility::{
-    Analysis, CaseData, CaseFit, CaseKey, FragilityOptions, IntensityMeasure, NrmlEntry,
-    NrmlFunction, fit_case, moments_to_lognormal, nrml_model_string, nrml_string,
+    CaseData, CaseFit, FragilityOptions, IntensityMeasure, NrmlEntry, NrmlFunction, Trial,
+    fit_case, moments_to_lognormal, nrml_model_string, nrml_string,
 };
 use rockfrag::solver::Friction;
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -34,21 +35,16 @@ const NS: &str = "http://openquake.org/xmlns/nrml/0.5";
 fn case(aspect: f64, theta: f64, beta: f64, n: usize, scale: f64) -> CaseData {
     let normal = Normal::standard();
     let mut c = CaseData {
-        key: CaseKey {
-            aspect,
-            width: 0.5,
-            restitution: 0.0,
-            friction: Friction::Infinite,
-        },
+        key: Case::fixed(aspect, 0.5, 0.0, Friction::Infinite),
         records: Vec::new(),
-        analyses: Vec::new(),
+        trials: Vec::new(),
         failed: 0,
     };
     for i in 0..20 {
         let x = 0.1 + 0.05 * i as f64;
         let k = (n as f64 * normal.cdf((x / theta).ln() / beta)).round() as usize;
         for j in 0..n {
-            c.analyses.push(Analysis {
+            c.trials.push(Trial {
                 record: c.records.len(),
                 pga: x,
                 im: x * scale,
@@ -173,7 +169,7 @@ fn read_as_openquake(text: &str, expected: &[&str]) -> Vec<Read> {
 fn overturning_model_has_what_openquake_reads() {
     let fitted = fit(&case(4.0, 0.5, 0.4, 40, 1.0), IntensityMeasure::Pga);
     let mut none = case(6.0, 0.5, 0.4, 5, 1.0);
-    none.analyses.iter_mut().for_each(|a| {
+    none.trials.iter_mut().for_each(|a| {
         a.overturned = false;
         a.exceeded = 0;
     });

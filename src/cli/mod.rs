@@ -11,7 +11,6 @@ mod paper;
 mod risk;
 mod run;
 mod simulate;
-mod table;
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};

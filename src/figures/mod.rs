@@ -38,17 +38,18 @@ mod restitution;
 mod risk;
 mod spectrum;
 pub mod style;
-mod work_precision;
 
-pub use batch::{FigureOptions, FiguresReport, study_figures};
-pub use data::{CurvePoint, OutcomeRow, StudyData};
+pub use batch::{FigureOptions, FiguresReport, StudyFigures, study_figures, study_of_folder};
+pub use data::{CurvePoint, PlotRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::FragilityFigure;
 pub use friction::FrictionDemandFigure;
-pub use history::{HistoryCase, HistoryFigure, ModeInterval, mode_colour};
+pub use history::{
+    HistoryCase, HistoryChoice, HistoryFigure, HistorySource, ModeInterval, mode_colour,
+};
 pub use motion::plot_record;
 pub use restitution::RestitutionFigure;
+pub(crate) use restitution::trend_text;
 pub use risk::{RiskFigure, RiskPanel, RiskSeries};
 pub use spectrum::SpectrumFigure;
 pub use style::Style;
-pub use work_precision::plot_work_precision;

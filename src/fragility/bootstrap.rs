@@ -64,7 +64,7 @@ impl BootstrapSummary {
 /// Bootstraps the fit of `case`: `replicates` resamples by `unit`, replicate
 /// r seeded from (`seed`, r), intervals at two-sided level `confidence`
 /// (e.g. 0.9 → 5th and 95th percentiles), curve bands on `grid`. Fits the
-/// case's first limit state ([`Analysis::exceeds`](super::Analysis::exceeds)`(0)`,
+/// case's first limit state ([`Trial::exceeds`](super::Trial::exceeds)`(0)`,
 /// overturning unless limit states were given).
 pub fn bootstrap(
     case: &CaseData,
@@ -219,15 +219,15 @@ struct Plan {
 
 impl Plan {
     fn new(case: &CaseData, limit_state: usize) -> Self {
-        let mut levels: Vec<f64> = case.analyses.iter().map(|a| a.im).collect();
+        let mut levels: Vec<f64> = case.trials.iter().map(|a| a.im).collect();
         levels.sort_by(f64::total_cmp);
         levels.dedup();
-        let mut stripes: Vec<f64> = case.analyses.iter().map(|a| a.pga).collect();
+        let mut stripes: Vec<f64> = case.trials.iter().map(|a| a.pga).collect();
         stripes.sort_by(f64::total_cmp);
         stripes.dedup();
         let mut by_record = vec![Vec::new(); case.records.len()];
         let mut by_stripe = vec![Vec::new(); stripes.len()];
-        for a in &case.analyses {
+        for a in &case.trials {
             let g = levels.partition_point(|&x| x < a.im);
             let s = stripes.partition_point(|&x| x < a.pga);
             by_record[a.record].push((g, a.exceeds(limit_state)));

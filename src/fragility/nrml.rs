@@ -23,10 +23,10 @@ use std::path::Path;
 
 use super::case::CaseFit;
 use super::options::{IntensityMeasure, is_nrml_name};
+use crate::case::{Case, Param};
 use crate::error::{Error, Result};
 use crate::io_util::number;
 use crate::io_util::write_atomic;
-use crate::outcomes_csv::CaseKey;
 
 /// `assetCategory` of the model.
 pub const ASSET_CATEGORY: &str = "buildings";
@@ -49,12 +49,14 @@ pub fn moments_to_lognormal(mean: f64, stddev: f64) -> (f64, f64) {
 }
 
 /// The OpenQuake intensity measure type of a fit and the factor converting
-/// its intensities to OpenQuake's unit for that type (PGA in g, PGV in cm/s).
-pub fn openquake_imt(im: IntensityMeasure, key: &CaseKey) -> (&'static str, f64) {
+/// its intensities to OpenQuake's unit for that type (PGA in g, PGV in cm/s);
+/// no factor for PGA/(g tan θc) of a case whose H/B is drawn (it has no
+/// single PGA equivalent).
+pub fn openquake_imt(im: IntensityMeasure, key: &Case) -> (&'static str, Option<f64>) {
     match im {
-        IntensityMeasure::Pga => ("PGA", 1.0),
-        IntensityMeasure::Pgv => ("PGV", 100.0),
-        IntensityMeasure::PgaOverTan => ("PGA", 1.0 / key.aspect),
+        IntensityMeasure::Pga => ("PGA", Some(1.0)),
+        IntensityMeasure::Pgv => ("PGV", Some(100.0)),
+        IntensityMeasure::PgaOverTan => ("PGA", key.aspect.fixed().map(|a| 1.0 / a)),
     }
 }
 
@@ -100,6 +102,7 @@ pub fn overturning_entry(f: &CaseFit) -> Option<NrmlEntry> {
     match (&f.fit, f.im_range) {
         (Ok(fit), Some((lo, hi))) => {
             let (imt, factor) = openquake_imt(f.im, &f.key);
+            let factor = factor?;
             Some(NrmlEntry::Function(NrmlFunction {
                 id,
                 imt,
@@ -150,14 +153,14 @@ fn case_entry(case: &[&CaseFit], limit_states: &[&str]) -> Option<NrmlEntry> {
     let first = case[0];
     let id = function_id(&first.key);
     let (imt, factor) = openquake_imt(first.im, &first.key);
-    if factor.is_nan() {
+    let Some(factor) = factor else {
         return Some(NrmlEntry::Omitted {
             id,
             reason: "H/B is drawn per analysis, so PGA/(g tan θc) has no single PGA \
                      equivalent; fit against PGA for OpenQuake"
                 .to_string(),
         });
-    }
+    };
     let mut params = Vec::with_capacity(limit_states.len());
     let mut unfitted = Vec::new();
     for ls in limit_states {
@@ -283,15 +286,11 @@ pub fn write_nrml(path: &Path, fits: &[CaseFit]) -> Result<()> {
 /// A fragility-function id from the case: letters, digits, `-` and `_` only
 /// (NRML's rule), e.g. `block-a4-w0p5-e0-inf` or
 /// `block-a4-w0p5-e0p2-coulomb-ms0p6-mk0p5`.
-fn function_id(k: &CaseKey) -> String {
-    let num = |x: f64| {
-        // A drawn parameter (NaN in a pooled case) reads `drawn`.
-        let text = if x.is_nan() {
-            "drawn".to_string()
-        } else {
-            x.to_string()
-        };
-        text.chars()
+fn function_id(k: &Case) -> String {
+    let num = |x: Param<f64>| {
+        // A drawn parameter reads `drawn`.
+        x.text()
+            .chars()
             .map(|c| match c {
                 '.' => 'p',
                 '-' => 'm',
@@ -325,15 +324,15 @@ mod tests {
     /// Ids keep to NRML's alphabet.
     #[test]
     fn function_ids_use_only_allowed_characters() {
-        let key = CaseKey {
-            aspect: 4.0,
-            width: 0.5,
-            restitution: 0.25,
-            friction: Friction::Coulomb {
+        let key = Case::fixed(
+            4.0,
+            0.5,
+            0.25,
+            Friction::Coulomb {
                 mu_s: 0.6,
                 mu_k: f64::INFINITY,
             },
-        };
+        );
         let id = function_id(&key);
         assert_eq!(id, "block-a4-w0p5-e0p25-coulomb-ms0p6-mkinf");
         assert!(is_nrml_name(&id));

@@ -6,8 +6,7 @@ use std::path::Path;
 use super::assess::{RiskOptions, RiskRow};
 use super::hazard::{HazardCurve, HazardSource};
 use crate::error::{Error, Result};
-use crate::fragility::key_fields;
-use crate::io_util::{number, write_atomic};
+use crate::io_util::{number, sig3, write_atomic};
 
 /// Header of `risk.csv`, one row per row of `fragility.csv` (same case
 /// columns and `limit_state`, same order). `median`, `beta` are the fit's
@@ -32,7 +31,7 @@ pub fn write_risk_csv(path: &Path, rows: &[RiskRow], options: &RiskOptions) -> R
             let c = &r.curve;
             let shares = r.shares();
             let fields = [
-                key_fields(&c.key),
+                c.key.fields(),
                 c.limit_state.clone(),
                 c.im.clone(),
                 c.im_unit.clone(),
@@ -71,8 +70,8 @@ pub fn describe_hazard(h: &HazardCurve) -> String {
     let levels = format!(
         "{} levels, {} to {}",
         h.iml.len(),
-        sig(h.iml[0]),
-        sig(h.iml[h.iml.len() - 1])
+        sig3(h.iml[0]),
+        sig3(h.iml[h.iml.len() - 1])
     );
     match &h.source {
         HazardSource::OpenQuake {
@@ -120,7 +119,7 @@ pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOpt
             continue;
         };
         let band = r.band.map_or(String::new(), |b| {
-            format!(" [{}, {}]", sci(b.lo), sci(b.hi))
+            format!(" [{}, {}]", sig3(b.lo), sig3(b.hi))
         });
         let (below, above) = r.shares().unwrap_or_default();
         worst = (worst.0.max(below), worst.1.max(above));
@@ -128,10 +127,10 @@ pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOpt
             "| {} | {} | {}{band} | {} | {} | {} |\n",
             c.key,
             c.limit_state,
-            sci(rate),
-            sig(1.0 / rate),
-            sig(r.poe(options.years).unwrap_or(f64::NAN)),
-            sig(r.integral.map_or(f64::NAN, |i| i.peak_im)),
+            sig3(rate),
+            sig3(1.0 / rate),
+            sig3(r.poe(options.years).unwrap_or(f64::NAN)),
+            sig3(r.integral.map_or(f64::NAN, |i| i.peak_im)),
         ));
     }
     s.push_str(&format!(
@@ -181,23 +180,6 @@ pub fn update_summary(path: &Path, section: &str) -> Result<()> {
         Ok(())
     })
     .map_err(Error::io(path))
-}
-
-/// Three significant digits, without exponent for ordinary magnitudes.
-pub fn sig(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return x.to_string();
-    }
-    if !(1e-3..1e6).contains(&x.abs()) {
-        return sci(x);
-    }
-    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
-    format!("{x:.digits$}")
-}
-
-/// Three significant digits in scientific notation, e.g. `1.23e-4`.
-pub fn sci(x: f64) -> String {
-    format!("{x:.2e}")
 }
 
 #[cfg(test)]

@@ -1,27 +1,25 @@
-//! `summary.md`: the paper's tables for a study, computed from `outcomes.csv`.
+//! `summary.md`: a study's tables, computed from `outcomes.csv`.
 //!
-//! For each friction model, width and aspect ratio, a table in the layout of
-//! the paper's Tables 1–3: e, intensity, number of runs that overturned, and
-//! over the runs that did not, the mean θmax/θc, μ_mot and μ_imp. Two
-//! conventions: **strict** (overturned means |θ| reached π/2) and the
-//! **paper's** (a run that lifted off from rock also counts as overturned:
-//! the paper's program stopped there). When the study is the paper's
-//! (synthetic firm-soil records at the default settings, 25 per level,
-//! 2B = 0.5 m, PGA levels), each value has the published one beside it.
+//! For each friction model, width and aspect ratio, a table of e, intensity,
+//! number of runs that overturned, and over the runs that did not, the mean
+//! θmax/θc, μ_mot and μ_imp. Two conventions: **strict** (overturned means
+//! |θ| reached π/2) and the **paper's** (a run that lifted off from rock
+//! also counts as overturned: the seed paper's program stopped there). A
+//! [`Reference`] of published results (the paper layer has one for its own
+//! study) puts each published value beside ours and tests the counts.
 //!
 //! The summary is always computed by reading `outcomes.csv` back, so a run,
 //! a resumed run and a merge of shards give the same bytes.
 
-use super::paper;
-use super::plan::{self, Case, Shard};
+use super::plan::{self, Shard};
+use crate::case::{Case, Param};
 use crate::error::Result;
-use crate::motion::G_STANDARD;
-use crate::outcomes_csv::param_text;
-use crate::outcomes_csv::{Column, OutcomesReader};
+use crate::io_util::sig3;
+use crate::outcomes_csv::{Column, OutcomesFile};
 use crate::solver::Friction;
 use crate::spec::{Intensity, Motions, Study, Uncertainty, friction_label};
 use crate::stats::{Trend, cochran_armitage, fisher_exact, p_text};
-use crate::uncertainty::{Distribution, Param, Value};
+use crate::uncertainty::{Distribution, Property, Value};
 use std::fmt::Write;
 use std::path::Path;
 
@@ -86,22 +84,9 @@ impl Tally {
     /// record), and the count.
     pub fn read(path: &Path, study: &Study, shard: Shard) -> Result<Tally> {
         let cols = plan::columns(study);
-        let (
-            mut table,
-            [
-                c_level,
-                c_record,
-                c_status,
-                c_ot,
-                c_up,
-                c_theta,
-                c_mot,
-                c_imp,
-                c_eq5,
-            ],
-        ) = OutcomesReader::open(
+        let mut table = OutcomesFile::open(
             path,
-            [
+            &[
                 cols.level(),
                 Column::Record,
                 Column::Status,
@@ -123,7 +108,7 @@ impl Tally {
         }
 
         let cases = plan::cases(study);
-        let pooled = study.pooled();
+        let drawn = study.drawn();
         let total = plan::unit_count(study);
         let levels = study.intensity.levels();
         let mut tally = Tally {
@@ -134,39 +119,48 @@ impl Tally {
         let mut units = shard.units(total);
         let mut unit = None;
         let mut rows = 0usize;
-        while let Some(row) = table.next_row()? {
+        while let Some((line, row)) = table.next_row()? {
+            let at = |message: String| table.error_at(line, message);
             let ci = rows % cases.len();
             if ci == 0 {
                 unit = units.next().map(|u| plan::unit(study, u));
             }
             let Some(u) = unit else {
-                return Err(row.line_error("more rows than the study has analyses".into()));
+                return Err(at("more rows than the study has analyses".into()));
             };
             let case = &cases[ci];
-            let key = row.case()?.pooled(pooled);
-            if key != case.key() {
-                return Err(row.line_error(format!(
-                    "case {key} where the study's order puts {}",
-                    case.key()
+            let key = row.case.pooled(&drawn);
+            if key != *case {
+                return Err(at(format!(
+                    "case {key} where the study's order puts {case}"
                 )));
             }
-            for (i, want) in [(c_level, levels[u.level]), (c_record, u.record as f64)] {
-                if row.number(i)? != want {
-                    return Err(row.line_error(format!(
-                        "{} = {} where the study's order puts {want}",
-                        names[i],
-                        row.field(i)
-                    )));
-                }
+            let level = row.level(&cols);
+            if level != Some(levels[u.level]) {
+                return Err(at(format!(
+                    "{} = {} where the study's order puts {}",
+                    cols.level(),
+                    level.map_or(String::new(), |x| x.to_string()),
+                    levels[u.level]
+                )));
+            }
+            if row.record != u.record {
+                return Err(at(format!(
+                    "record = {} where the study's order puts {}",
+                    row.record, u.record
+                )));
             }
             let cell = &mut tally.cells[ci * tally.levels + u.level];
             tally.counts.analyses += 1;
-            match row.field(c_status) {
-                "ok" => {
-                    let (ot, up) = (row.boolean(c_ot)?, row.boolean(c_up)?);
-                    let theta = row.number(c_theta)?;
-                    let (mot, imp) = (row.number(c_mot)?, row.number(c_imp)?);
-                    let values = [theta, mot, imp, row.number(c_eq5)?];
+            match &row.result {
+                Ok(o) => {
+                    let (ot, up) = (o.overturned, o.uplifted);
+                    let values = [
+                        o.theta_max_over_theta_c,
+                        o.mu_motion,
+                        o.mu_impact,
+                        o.mu_impact_eq5,
+                    ];
                     cell.ok += 1;
                     tally.counts.overturned += ot as u64;
                     tally.counts.uplifted += up as u64;
@@ -182,11 +176,10 @@ impl Tally {
                         cell.paper.add(values);
                     }
                 }
-                "failed" => {
+                Err(_) => {
                     cell.failed += 1;
                     tally.counts.failed += 1;
                 }
-                _ => return Err(row.error(c_status, "ok or failed")),
             }
             rows += 1;
         }
@@ -205,8 +198,14 @@ impl Tally {
         self.counts
     }
 
-    /// The `summary.md` text.
-    pub fn markdown(&self, study: &Study, shard: Shard) -> String {
+    /// The `summary.md` text; with a `reference`, its published values
+    /// beside ours and the counts tested against them.
+    pub fn markdown(
+        &self,
+        study: &Study,
+        shard: Shard,
+        reference: Option<&dyn Reference>,
+    ) -> String {
         let mut s = String::new();
         let c = self.counts;
         let _ = writeln!(s, "# Study `{}`\n", study.name);
@@ -241,14 +240,8 @@ impl Tally {
              table's convention (a run that never left rest counts with θmax/θc = μ = 0); \
              failed analyses are left out.\n"
         );
-        let paper = is_papers(study);
-        if paper {
-            let _ = writeln!(
-                s,
-                "This is the paper's study: each cell shows ours / the paper's (Shenton and Jones, \
-                 Tables 1–3, infinite friction, paper convention); `n/a`: no published value; \
-                 `-`: every run overturned.\n"
-            );
+        if let Some(r) = reference {
+            let _ = writeln!(s, "{}\n", r.intro());
         }
         let _ = writeln!(
             s,
@@ -259,7 +252,7 @@ impl Tally {
              stands beside ours of eq. (5): its e = 0 rows are eq. (8) and agree; its values of \
              3–9,550 at e > 0 are not reproduced by eq. (5) evaluated on our impacts.\n"
         );
-        s.push_str(&self.statistics(study, paper));
+        s.push_str(&self.statistics(study, reference));
         let (level_name, level_unit) = match study.intensity {
             Intensity::Pga(_) => ("A_g", "g"),
             Intensity::Pgv(_) => ("PGV", "m/s"),
@@ -267,16 +260,11 @@ impl Tally {
         };
         let any_failed = c.failed > 0;
         let cases = plan::cases(study);
-        for (fi, &friction) in study.frictions.iter().enumerate() {
+        for &friction in &study.frictions {
             let _ = writeln!(s, "## Friction: {}\n", friction_label(friction));
-            for (wi, &width) in study.widths.iter().enumerate() {
-                for (ai, &aspect) in study.aspects.iter().enumerate() {
-                    let _ = writeln!(
-                        s,
-                        "### H/B = {}, 2B = {} m\n",
-                        param_text(aspect),
-                        param_text(width)
-                    );
+            for &width in &study.widths {
+                for &aspect in &study.aspects {
+                    let _ = writeln!(s, "### H/B = {}, 2B = {} m\n", aspect.text(), width.text());
                     for strict in [true, false] {
                         let _ = writeln!(
                             s,
@@ -295,19 +283,27 @@ impl Tally {
                         for n in names {
                             let _ = write!(head, " {n} |");
                         }
-                        // Fisher's test of the count against the paper's,
-                        // in the paper's own convention only.
-                        let fisher = paper && !strict && friction == Friction::Infinite;
+                        // The published values are in the paper's own
+                        // convention, under the friction model they are for.
+                        let compared = reference.filter(|r| r.friction() == friction);
+                        // Fisher's test of the count against the published one.
+                        let fisher = compared.is_some() && !strict;
                         if fisher {
                             head.push_str(" p (Fisher) |");
                         }
                         let _ = writeln!(s, "{head}");
                         let cols = 3 + any_failed as usize + names.len() + fisher as usize;
                         let _ = writeln!(s, "|{}", "---|".repeat(cols));
-                        for (ei, &e) in study.restitutions.iter().enumerate() {
+                        for &e in &study.restitutions {
+                            let case = Case {
+                                aspect,
+                                width,
+                                restitution: e,
+                                friction,
+                            };
                             let ci = cases
                                 .iter()
-                                .position(|c: &Case| c.index == [ai, wi, ei, fi])
+                                .position(|c| *c == case)
                                 .expect("every case exists");
                             for (li, &level) in study.intensity.levels().iter().enumerate() {
                                 let cell = &self.cells[ci * self.levels + li];
@@ -316,37 +312,34 @@ impl Tally {
                                 } else {
                                     (cell.overturned_or_uplifted, cell.paper.get())
                                 };
-                                let published = paper.then(|| paper::lookup(aspect, e, level));
-                                let mut line =
-                                    format!("| {} | {level} | {} |", param_text(e), cell.ok);
+                                // Beside each value of every table: the
+                                // reference published one set.
+                                let published = reference.map(|r| r.cell(&case, level));
+                                let mut line = format!("| {} | {level} | {} |", e.text(), cell.ok);
                                 if any_failed {
                                     let _ = write!(line, " {} |", cell.failed);
                                 }
                                 let ours_ot = ot.to_string();
-                                let paper_ot = published.map(|p| {
+                                let theirs_ot = published.map(|p| {
                                     p.map_or("n/a".to_string(), |r| r.overturned.to_string())
                                 });
-                                let _ = write!(line, " {} |", beside(&ours_ot, paper_ot));
+                                let _ = write!(line, " {} |", beside(&ours_ot, theirs_ot));
                                 for k in 0..4 {
                                     let ours = means.map_or("-".to_string(), |m| sig3(m[k]));
-                                    // The paper's μ_imp is its eq. (5): it stands
-                                    // beside ours of eq. (5), not the impulse ratio.
-                                    let theirs = published.filter(|_| k != 2).map(|p| match p {
+                                    let theirs = published.map(|p| match p {
                                         None => "n/a".to_string(),
-                                        Some(r) => [
-                                            r.theta_max_over_theta_c,
-                                            r.mu_motion,
-                                            None,
-                                            r.mu_impact,
-                                        ][k]
-                                            .map_or("-".to_string(), sig3),
+                                        Some(r) => r.means[k].map_or("-".to_string(), sig3),
                                     });
+                                    // A column the reference has no values for
+                                    // shows ours alone.
+                                    let theirs =
+                                        theirs.filter(|_| reference.is_some_and(|r| r.has_mean(k)));
                                     let _ = write!(line, " {} |", beside(&ours, theirs));
                                 }
                                 if fisher {
-                                    let p = published.flatten().map(|r| {
-                                        fisher_exact(ot, cell.ok, r.overturned as u64, RECORDS)
-                                    });
+                                    let p = published
+                                        .flatten()
+                                        .map(|r| fisher_exact(ot, cell.ok, r.overturned, r.runs));
                                     let _ = write!(line, " {} |", p.map_or("n/a".into(), p_mark));
                                 }
                                 let _ = writeln!(s, "{line}");
@@ -361,8 +354,37 @@ impl Tally {
     }
 }
 
-/// Runs per cell in the paper.
-const RECORDS: u64 = paper::RECORDS as u64;
+/// Published results a study is compared with, cell by cell, in the
+/// paper's convention (overturned or uplifted): counts out of a number of
+/// runs per cell and means over the runs that did not overturn. The paper
+/// layer has one for the seed paper's Tables 1–3.
+pub trait Reference {
+    /// The paragraph that introduces the published values.
+    fn intro(&self) -> String;
+    /// The friction model the published values are for.
+    fn friction(&self) -> Param<Friction>;
+    /// Runs per published cell.
+    fn runs(&self) -> u64;
+    /// The published cell of `case` at intensity `level`, `None` when
+    /// there is none (then `n/a`, and no runs overturned in the group
+    /// totals: a cell left out of a table had none).
+    fn cell(&self, case: &Case, level: f64) -> Option<ReferenceCell>;
+    /// Whether the reference has values of mean `k` (θmax/θc, μ_mot,
+    /// μ_imp, μ_imp eq. (5)).
+    fn has_mean(&self, k: usize) -> bool;
+}
+
+/// One published cell of a [`Reference`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReferenceCell {
+    /// Runs that overturned (or lifted off).
+    pub overturned: u64,
+    /// Runs in the cell.
+    pub runs: u64,
+    /// Means over the runs that did not overturn: θmax/θc, μ_mot, μ_imp,
+    /// μ_imp eq. (5) (`None`: not published, or every run overturned).
+    pub means: [Option<f64>; 4],
+}
 
 /// A p-value (see [`p_text`]), in bold with `*` below 0.05.
 fn p_mark(p: f64) -> String {
@@ -375,21 +397,15 @@ fn p_mark(p: f64) -> String {
 }
 
 impl Tally {
-    /// Counts in the paper's convention over every level of (aspect index,
-    /// e index, friction index): (overturned or uplifted, runs).
-    fn pooled(
-        &self,
-        study: &Study,
-        cases: &[Case],
-        keep: impl Fn(usize, usize, usize) -> bool,
-    ) -> (u64, u64) {
+    /// Counts in the paper's convention over every level of the cases
+    /// `keep` accepts: (overturned or uplifted, runs).
+    fn pooled(&self, cases: &[Case], keep: impl Fn(&Case) -> bool) -> (u64, u64) {
         let (mut k, mut n) = (0, 0);
         for (ci, case) in cases.iter().enumerate() {
-            let [ai, _, ei, fi] = case.index;
-            if !keep(ai, ei, fi) {
+            if !keep(case) {
                 continue;
             }
-            for li in 0..study.intensity.levels().len() {
+            for li in 0..self.levels {
                 let cell = &self.cells[ci * self.levels + li];
                 k += cell.overturned_or_uplifted;
                 n += cell.ok;
@@ -399,73 +415,81 @@ impl Tally {
     }
 
     /// The `## Statistics` section: totals per e and per H/B, the trend
-    /// over e (Cochran–Armitage), and for the paper's study the same for
-    /// the paper's counts and how many cells differ from them at 5 %.
-    fn statistics(&self, study: &Study, paper: bool) -> String {
+    /// over e (Cochran–Armitage), and with a reference the same for its
+    /// counts and how many cells differ from them at 5 %.
+    fn statistics(&self, study: &Study, reference: Option<&dyn Reference>) -> String {
         let mut s = String::new();
         let cases = plan::cases(study);
+        let levels = study.intensity.levels();
         let _ = writeln!(
             s,
             "## Statistics (paper's convention: overturned or uplifted)\n"
         );
-        for (fi, &friction) in study.frictions.iter().enumerate() {
-            let compare = paper && friction == Friction::Infinite;
+        for &friction in &study.frictions {
+            let compare = reference.filter(|r| r.friction() == friction);
             let _ = writeln!(s, "### Friction: {}\n", friction_label(friction));
-            let published = |keep: &dyn Fn(&paper::PaperRow) -> bool| -> u64 {
-                paper::TABLES
+            // The reference's count over the study's cells `keep` accepts.
+            let published = |r: &dyn Reference, keep: &dyn Fn(&Case) -> bool| -> u64 {
+                cases
                     .iter()
-                    .filter(|r| study.aspects.contains(&r.aspect))
-                    .filter(|r| study.restitutions.contains(&r.restitution))
-                    .filter(|r| study.intensity.levels().contains(&r.pga))
-                    .filter(|r| keep(r))
-                    .map(|r| r.overturned as u64)
+                    .filter(|c| c.friction == friction && keep(c))
+                    .flat_map(|c| levels.iter().filter_map(|&l| r.cell(c, l)))
+                    .map(|cell| cell.overturned)
                     .sum()
             };
             let _ = writeln!(
                 s,
                 "| group | overturned / runs |{}",
-                if compare { " paper's |" } else { "" }
+                if compare.is_some() { " paper's |" } else { "" }
             );
-            let _ = writeln!(s, "|---|---|{}", if compare { "---|" } else { "" });
+            let _ = writeln!(
+                s,
+                "|---|---|{}",
+                if compare.is_some() { "---|" } else { "" }
+            );
             let mut per_e = Vec::new();
-            for (ei, &e) in study.restitutions.iter().enumerate() {
-                let (k, n) = self.pooled(study, &cases, |_, e2, f2| e2 == ei && f2 == fi);
-                per_e.push((k, n, published(&|r| r.restitution == e)));
-                let theirs = per_e.last().expect("pushed").2;
+            for &e in &study.restitutions {
+                let keep = |c: &Case| c.restitution == e;
+                let (k, n) = self.pooled(&cases, |c| keep(c) && c.friction == friction);
+                let theirs = compare.map_or(0, |r| published(r, &keep));
+                per_e.push((k, n, theirs));
+                let runs = |r: &dyn Reference| {
+                    (study.aspects.len() * study.widths.len() * levels.len()) as u64 * r.runs()
+                };
                 let _ = writeln!(
                     s,
                     "| e = {} | {k} / {n} |{}",
-                    param_text(e),
-                    if compare {
-                        format!(" {theirs} / {} |", 300 * study.aspects.len() / 3)
-                    } else {
-                        String::new()
-                    }
+                    e.text(),
+                    compare.map_or(String::new(), |r| format!(" {theirs} / {} |", runs(r)))
                 );
             }
-            for (ai, &aspect) in study.aspects.iter().enumerate() {
-                let (k, n) = self.pooled(study, &cases, |a2, _, f2| a2 == ai && f2 == fi);
-                let theirs = published(&|r| r.aspect == aspect);
-                let runs =
-                    (study.restitutions.len() * study.intensity.levels().len()) as u64 * RECORDS;
+            for &aspect in &study.aspects {
+                let keep = |c: &Case| c.aspect == aspect;
+                let (k, n) = self.pooled(&cases, |c| keep(c) && c.friction == friction);
+                let runs = |r: &dyn Reference| {
+                    (study.restitutions.len() * study.widths.len() * levels.len()) as u64 * r.runs()
+                };
                 let _ = writeln!(
                     s,
                     "| H/B = {} | {k} / {n} |{}",
-                    param_text(aspect),
-                    if compare {
-                        format!(" {theirs} / {runs} |")
-                    } else {
-                        String::new()
-                    }
+                    aspect.text(),
+                    compare.map_or(String::new(), |r| format!(
+                        " {} / {} |",
+                        published(r, &keep),
+                        runs(r)
+                    ))
                 );
             }
             s.push('\n');
-            let scores = &study.restitutions;
-            let ours = cochran_armitage(
-                &per_e.iter().map(|p| p.0).collect::<Vec<_>>(),
-                &per_e.iter().map(|p| p.1).collect::<Vec<_>>(),
-                scores,
-            );
+            // No trend over a drawn e.
+            let scores: Option<Vec<f64>> = study.restitutions.iter().map(|e| e.fixed()).collect();
+            let ours = scores.as_ref().and_then(|scores| {
+                cochran_armitage(
+                    &per_e.iter().map(|p| p.0).collect::<Vec<_>>(),
+                    &per_e.iter().map(|p| p.1).collect::<Vec<_>>(),
+                    scores,
+                )
+            });
             let trend = |t: Option<Trend>| match t {
                 Some(t) => format!(
                     "Z = {:.2}, two-sided p = {}, slope {:+.3} per unit e",
@@ -486,31 +510,33 @@ impl Tally {
                 },
                 trend(ours)
             );
-            if compare {
-                // The paper's runs per e: 25 per published cell; H/B = 2 at
-                // 0.3 g had no rocking, so its 25 runs count with none overturned.
-                let n_paper =
-                    (study.aspects.len() * study.intensity.levels().len()) as u64 * RECORDS;
-                let theirs = cochran_armitage(
-                    &per_e.iter().map(|p| p.2).collect::<Vec<_>>(),
-                    &vec![n_paper; per_e.len()],
-                    scores,
-                );
+            if let Some(r) = compare {
+                // The reference's runs per e: every cell of the study's grid
+                // counts its runs (a cell it left out had none overturned).
+                let n_ref =
+                    (study.aspects.len() * study.widths.len() * levels.len()) as u64 * r.runs();
+                let theirs = scores.as_ref().and_then(|scores| {
+                    cochran_armitage(
+                        &per_e.iter().map(|p| p.2).collect::<Vec<_>>(),
+                        &vec![n_ref; per_e.len()],
+                        scores,
+                    )
+                });
                 let _ = writeln!(s, "The paper's: {}.", trend(theirs));
                 let (mut differ, mut tested) = (0, 0);
                 for (ci, case) in cases.iter().enumerate() {
-                    if case.index[3] != fi {
+                    if case.friction != friction {
                         continue;
                     }
-                    for (li, &level) in study.intensity.levels().iter().enumerate() {
-                        if let Some(r) = paper::lookup(case.aspect, case.restitution, level) {
+                    for (li, &level) in levels.iter().enumerate() {
+                        if let Some(published) = r.cell(case, level) {
                             let cell = &self.cells[ci * self.levels + li];
                             tested += 1;
                             let p = fisher_exact(
                                 cell.overturned_or_uplifted,
                                 cell.ok,
-                                r.overturned as u64,
-                                RECORDS,
+                                published.overturned,
+                                published.runs,
                             );
                             differ += (p < 0.05) as usize;
                         }
@@ -519,8 +545,9 @@ impl Tally {
                 let _ = writeln!(
                     s,
                     "\n{differ} of the {tested} published cells differ from the paper's count at \
-                     5 % (Fisher's exact test, ours against the paper's 25 runs, two-sided; \
+                     5 % (Fisher's exact test, ours against the paper's {} runs, two-sided; \
                      marked \\* in the tables below); about {:.1} would by chance alone.",
+                    r.runs(),
                     0.05 * tested as f64
                 );
             }
@@ -530,63 +557,26 @@ impl Tally {
     }
 }
 
-fn beside(ours: &str, paper: Option<String>) -> String {
-    match paper {
+fn beside(ours: &str, theirs: Option<String>) -> String {
+    match theirs {
         Some(p) => format!("{ours} / {p}"),
         None => ours.to_string(),
     }
 }
 
-/// Whether `study` is the paper's set-up, cell for cell comparable with
-/// Tables 1–3 (its grids may be a subset of the paper's; its records follow
-/// one of the readings of section 4, [`crate::reproduce::readings`]).
-pub fn is_papers(study: &Study) -> bool {
-    let synthetic_default = match &study.motions {
-        Motions::Synthetic {
-            settings, records, ..
-        } => {
-            paper::readings().iter().any(|r| r.settings == *settings) && *records == paper::RECORDS
-        }
-        Motions::Files(_) => false,
-    };
-    synthetic_default
-        && study.g == G_STANDARD
-        && matches!(study.intensity, Intensity::Pga(_))
-        && study.widths == [paper::WIDTH]
-        && study.frictions.contains(&Friction::Infinite)
-        && study.aspects.iter().all(|a| [2.0, 4.0, 6.0].contains(a))
-}
-
-/// Three significant figures, as in the paper's tables; below 10⁻⁴ in
-/// scientific notation (`3.42e-41`, a graze), not forty zeros.
-pub fn sig3(x: f64) -> String {
-    if !x.is_finite() {
-        return x.to_string();
-    }
-    if x == 0.0 {
-        return "0".to_string();
-    }
-    if x.abs() < 1e-4 {
-        return format!("{x:.2e}");
-    }
-    let mag = x.abs().log10().floor() as i32;
-    let decimals = (2 - mag).max(0) as usize;
-    format!("{x:.decimals$}")
-}
-
 /// One sentence on what each analysis draws: "Drawn per analysis (seed 7):
 /// e ~ uniform(0, 0.9); …; the tables pool the draws (`drawn`)."
 fn uncertainty_text(u: &Uncertainty) -> String {
-    let parts: Vec<String> = Param::ALL
+    let parts: Vec<String> = Property::ALL
         .iter()
         .filter_map(|&p| u.get(p).map(|v| (p, v)))
         .map(|(p, v)| {
             let name = match p {
-                Param::Width => "2B (m)",
-                Param::Aspect => "H/B",
-                Param::Restitution => "e",
-                Param::MuS => "μs",
-                Param::MuKOverMuS => "μk/μs",
+                Property::Width => "2B (m)",
+                Property::Aspect => "H/B",
+                Property::Restitution => "e",
+                Property::MuS => "μs",
+                Property::MuKOverMuS => "μk/μs",
             };
             let bounds = |min: Option<f64>, max: Option<f64>| match (min, max) {
                 (None, None) => String::new(),
@@ -625,28 +615,4 @@ fn uncertainty_text(u: &Uncertainty) -> String {
         u.seed,
         parts.join("; ")
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Three significant figures; a graze's 3.4e-41 in scientific notation.
-    #[test]
-    fn sig3_keeps_three_figures_and_small_numbers_short() {
-        assert_eq!(sig3(0.148_3), "0.148");
-        assert_eq!(sig3(12.345), "12.3");
-        assert_eq!(sig3(0.000_123_4), "0.000123");
-        assert_eq!(sig3(3.42e-41), "3.42e-41");
-        assert_eq!(sig3(0.0), "0");
-    }
-
-    #[test]
-    fn three_significant_figures() {
-        assert_eq!(sig3(0.0155), "0.0155");
-        assert_eq!(sig3(0.5244), "0.524");
-        assert_eq!(sig3(5480.2), "5480");
-        assert_eq!(sig3(14.93), "14.9");
-        assert_eq!(sig3(0.0), "0");
-    }
 }

@@ -1,8 +1,9 @@
+#![allow(dead_code)] // each test binary uses a different subset of the problems
 //! Reference problems with known answers, shared by tests and benchmarks.
 
-use crate::motion::Record;
-use crate::solver::Block;
-use crate::solver::impact::Velocity;
+use rockfrag::motion::Record;
+use rockfrag::solver::Block;
+use rockfrag::solver::Velocity;
 
 /// Time for a block released from rest at θ0 (0 < θ0 < θc), with no ground
 /// motion, to reach θ = 0, from the energy integral

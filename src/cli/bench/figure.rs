@@ -9,11 +9,11 @@ use plotters::prelude::{
 };
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::figure::{DrawResult, Figure, save};
-use super::style::{COLUMN_WIDTH_IN, Style, tick_label};
-use crate::bench::SettingReport;
-use crate::error::Result;
-use crate::solver::{Integrator, Model};
+use super::report::SettingReport;
+use rockfrag::Result;
+use rockfrag::figures::style::{COLUMN_WIDTH_IN, Style, tick_label};
+use rockfrag::figures::{DrawResult, Figure, save};
+use rockfrag::solver::{Integrator, Model};
 
 /// Draws the median relative error of θmax/θc against the median time per
 /// analysis (log–log): each integrator of the nonlinear model as a line
