@@ -15,7 +15,7 @@
 //! settings and seed; for a study of recorded motions (`record_files`), its
 //! first record as recorded and the mean spectrum of its records. The
 //! history re-solves one of the study's analyses with its time history
-//! ([`HistoryFigure::from_study`]). The last three are drawn from
+//! (see `figures::history`). The last three are drawn from
 //! `DIR/outcomes.csv` and, if present, `DIR/fragility_curves.csv`. Nothing
 //! depends on the clock or on the order of the rows, so running twice gives
 //! byte-identical files.
@@ -54,7 +54,7 @@ pub struct FigureOptions {
     /// PGA of the sample record, g (default: 0.6).
     pub motion_pga: f64,
     /// Which analysis the history figure draws (default: chosen, see
-    /// [`HistoryFigure::from_study`]).
+    /// the history module).
     pub history: HistoryChoice,
     /// Ground-motion generator settings (default: the generator's). For a
     /// study of recorded motions only `g` is used (to read `.AT2` files).

@@ -132,8 +132,8 @@ fn sort(rows: &mut [PlotRow]) {
 /// Reads `outcomes.csv` through [`OutcomesFile`]; skips failed rows;
 /// returns the rows sorted by case, PGA and record.
 ///
-/// Errors: [`Error::Io`](crate::Error::Io) if the file cannot be read,
-/// [`Error::Parse`](crate::Error::Parse) naming the line for a missing
+/// Errors: [`Error::Io`] if the file cannot be read,
+/// [`Error::Parse`] naming the line for a missing
 /// column, or the line, column and value for an unreadable value.
 pub fn read_outcomes(path: &Path) -> Result<Vec<PlotRow>> {
     let mut table = OutcomesFile::open(

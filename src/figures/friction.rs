@@ -9,12 +9,14 @@
 //! the paper's eq. (5) (`mu_impact_eq5`), which is what the paper's μ_imp
 //! column reports, on the same log axis as (b) since the paper's values span
 //! 0.1–10⁴. Every panel carries the paper's eq. (8),
-//! μ = 3 cosθc sinθc/(1 + 3cos²θc), and its small-angle form 0.75·B/H;
-//! (a) and (c) carry the paper's table values for the study's blocks (open
-//! squares, one per table row, set [`PAPER_DODGE`] of the axis to the right
-//! of their B/H so that they do not hide this study's means). For an
-//! `outcomes.csv` written before the eq. (5) column existed, panel (c) is
-//! left out and the paper's μ_imp values go to panel (b).
+//! μ = 3 cosθc sinθc/(1 + 3cos²θc), and its small-angle form 0.75·B/H.
+//! Published values may be set beside this study's means
+//! ([`DemandSeries::reference`], drawn as open squares set
+//! [`REFERENCE_DODGE`] of the axis to the right of their B/H so that they do
+//! not hide the means, with [`FrictionDemandFigure::reference_label`] in the
+//! legend): the paper layer puts its Tables 1–3 there for the paper's study.
+//! For an `outcomes.csv` written before the eq. (5) column existed, panel
+//! (c) is left out.
 
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};

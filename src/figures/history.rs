@@ -60,8 +60,8 @@ pub const ROCKED: f64 = 0.1;
 /// Which analysis the history figure draws.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum HistoryChoice {
-    /// One of the study's analyses (see the [module docs](self)), at the
-    /// case and stripe given, if any.
+    /// One of the study's analyses, chosen as the module docs of
+    /// `figures::history` say.
     #[default]
     Chosen,
     /// One of the study's analyses at this case (its [`Case::id`]) and, if
@@ -144,7 +144,7 @@ pub fn mode_colour(mode: Mode) -> RGBColor {
 /// Where the history's analysis comes from: the study (when known) and its
 /// motions as the figures see them (see `FigureOptions`).
 #[derive(Clone, Copy, Debug)]
-pub struct HistorySource<'a> {
+pub(crate) struct HistorySource<'a> {
     /// Which analysis.
     pub choice: &'a HistoryChoice,
     /// The study, when known: its motions and solver settings.
@@ -170,7 +170,7 @@ impl HistoryFigure {
     ///
     /// Errors: a case or stripe asked for that the study does not have, or
     /// a record or analysis that cannot be made.
-    pub fn from_study(dir: &Path, data: &StudyData, options: &HistorySource) -> Result<Self> {
+    pub(crate) fn from_study(dir: &Path, data: &StudyData, options: &HistorySource) -> Result<Self> {
         let (case_id, level) = match options.choice {
             HistoryChoice::Case(case) => {
                 return if options.record_files.is_empty() {

@@ -13,10 +13,11 @@
 //! [`study_figures`] (the CLI's `rockfrag figures DIR`). Each is a plain data
 //! struct built once from the folder's [`StudyData`] ([`SpectrumFigure`],
 //! [`HistoryFigure`], [`FragilityFigure`], [`FrictionDemandFigure`],
-//! [`RestitutionFigure`]) and drawn by [`Figure`]; the CSV files are read by
-//! header name through [`crate::outcomes_csv::OutcomesReader`], the seed
-//! paper's Tables 1–3 come from the study's summary, and the shared titles,
-//! legends and markers from one layout module.
+//! [`RestitutionFigure`]) and drawn by [`Figure`]; the stage files are read
+//! through their row types ([`crate::outcomes_csv::OutcomesFile`],
+//! [`crate::fragility::read_curves_csv`]), and the shared titles, legends
+//! and markers come from one layout module. Published values to compare
+//! with are added by a layer above (the paper's, for its own study).
 //!
 //! ```no_run
 //! use rockfrag::motion::Record;
@@ -45,7 +46,7 @@ pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::FragilityFigure;
 pub use friction::FrictionDemandFigure;
 pub use history::{
-    HistoryCase, HistoryChoice, HistoryFigure, HistorySource, ModeInterval, mode_colour,
+    HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, mode_colour,
 };
 pub use motion::plot_record;
 pub use restitution::RestitutionFigure;

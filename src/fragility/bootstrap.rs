@@ -177,7 +177,7 @@ fn summarise(
 
 /// The seed of replicate r: SplitMix64's finaliser applied to (seed, r), so
 /// neighbouring replicates get unrelated streams.
-pub fn replicate_seed(seed: u64, replicate: u64) -> u64 {
+pub(crate) fn replicate_seed(seed: u64, replicate: u64) -> u64 {
     const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut z = seed
         .wrapping_add(GOLDEN)

@@ -359,7 +359,7 @@ impl CurveRow {
 
 /// The rows of `fit` (row `index` of `fragility.csv`): its curve with its
 /// band, none for a case that was not fitted.
-pub fn curve_rows(index: usize, fit: &CaseFit) -> Vec<CurveRow> {
+pub(crate) fn curve_rows(index: usize, fit: &CaseFit) -> Vec<CurveRow> {
     let Some(curve) = &fit.curve else {
         return Vec::new();
     };
@@ -454,7 +454,7 @@ impl BootstrapRow {
 
 /// The bootstrap rows of `fit` (row `index` of `fragility.csv`); none for a
 /// case that was not fitted or a fit without a bootstrap.
-pub fn bootstrap_rows(index: usize, fit: &CaseFit) -> Vec<BootstrapRow> {
+pub(crate) fn bootstrap_rows(index: usize, fit: &CaseFit) -> Vec<BootstrapRow> {
     let Some(boot) = fit.bootstrap.as_ref().filter(|_| fit.fit.is_ok()) else {
         return Vec::new();
     };
@@ -538,7 +538,7 @@ pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
 }
 
 /// Writes `fragility.csv` (header [`FRAGILITY_HEADER`]).
-pub fn write_fragility_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
+pub(crate) fn write_fragility_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
     write_atomic(path, |w| {
         writeln!(w, "{FRAGILITY_HEADER}")?;
         for f in fits {
@@ -550,7 +550,7 @@ pub fn write_fragility_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
 }
 
 /// Writes `fragility_curves.csv` (header [`CURVES_HEADER`]).
-pub fn write_curves_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
+pub(crate) fn write_curves_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
     write_atomic(path, |w| {
         writeln!(w, "{CURVES_HEADER}")?;
         for (i, f) in fits.iter().enumerate() {
@@ -564,7 +564,7 @@ pub fn write_curves_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
 }
 
 /// Writes `fragility_bootstrap.csv` (header [`BOOTSTRAP_HEADER`]).
-pub fn write_bootstrap_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
+pub(crate) fn write_bootstrap_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
     write_atomic(path, |w| {
         writeln!(w, "{BOOTSTRAP_HEADER}")?;
         for (i, f) in fits.iter().enumerate() {

@@ -437,10 +437,10 @@ pub fn fit_common_beta(sets: &[&[Observation]]) -> Result<Vec<LognormalFit>, Unf
 
 /// Probabilities within this of 0 or 1 are too close to tell curves apart:
 /// a crossing there does not count ([`curves_cross`]).
-pub const CROSSING_TOLERANCE: f64 = 1e-3;
+pub(crate) const CROSSING_TOLERANCE: f64 = 1e-3;
 
 /// Whether two fitted curves cross at an intensity in (0, `im_max`] where
-/// their common probability is in ([`CROSSING_TOLERANCE`], 1 − it): two
+/// their common probability is in (10⁻³, 1 − 10⁻³): two
 /// lognormal curves with β₁ ≠ β₂ meet once, where
 /// (u − ln θ₁)/β₁ = (u − ln θ₂)/β₂, i.e. u* = (β₂ ln θ₁ − β₁ ln θ₂)/(β₂ − β₁);
 /// curves with equal β never cross. A meeting in a tail (both near 0 or 1)

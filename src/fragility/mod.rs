@@ -83,22 +83,20 @@ mod nrml;
 mod options;
 mod report;
 
-pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile, replicate_seed};
+pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile};
 pub use case::{BetaModel, CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
 pub use data::{CaseData, Outcomes, Trial, read_outcomes, read_outcomes_for};
 pub use files::{
     BOOTSTRAP_HEADER, BootstrapRow, CURVES_HEADER, CurveRow, FRAGILITY_HEADER, FragilityRow,
-    OutputPaths, bootstrap_rows, curve_rows, read_bootstrap_csv, read_curves_csv,
-    read_fragility_csv, write_bootstrap_csv, write_curves_csv, write_fragility_csv, write_outputs,
+    OutputPaths, read_bootstrap_csv, read_curves_csv, read_fragility_csv, write_outputs,
 };
 pub use fit::{
-    CROSSING_TOLERANCE, LognormalFit, Observation, Unfit, curves_cross, fit_common_beta,
+    LognormalFit, Observation, Unfit, curves_cross, fit_common_beta,
     fit_lognormal,
 };
 pub use nrml::{
-    ASSET_CATEGORY, LOSS_CATEGORY, NrmlEntry, NrmlFunction, OVERTURNING, lognormal_to_moments,
-    moments_to_lognormal, nrml_model_string, nrml_string, openquake_imt, overturning_entry,
-    write_nrml,
+    NrmlEntry, NrmlFunction, lognormal_to_moments, moments_to_lognormal, nrml_model_string,
+    nrml_string, write_nrml,
 };
 pub use options::{
     BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_LIMIT_STATES,

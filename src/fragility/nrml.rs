@@ -29,9 +29,9 @@ use crate::io_util::number;
 use crate::io_util::write_atomic;
 
 /// `assetCategory` of the model.
-pub const ASSET_CATEGORY: &str = "buildings";
+pub(crate) const ASSET_CATEGORY: &str = "buildings";
 /// `lossCategory` of the model: the blocks are a building's contents.
-pub const LOSS_CATEGORY: &str = "contents";
+pub(crate) const LOSS_CATEGORY: &str = "contents";
 
 /// (θ, β) → (mean, standard deviation) of the lognormal intensity, with
 /// `expm1` so that small β keeps full precision.
@@ -52,7 +52,7 @@ pub fn moments_to_lognormal(mean: f64, stddev: f64) -> (f64, f64) {
 /// its intensities to OpenQuake's unit for that type (PGA in g, PGV in cm/s);
 /// no factor for PGA/(g tan θc) of a case whose H/B is drawn (it has no
 /// single PGA equivalent).
-pub fn openquake_imt(im: IntensityMeasure, key: &Case) -> (&'static str, Option<f64>) {
+pub(crate) fn openquake_imt(im: IntensityMeasure, key: &Case) -> (&'static str, Option<f64>) {
     match im {
         IntensityMeasure::Pga => ("PGA", Some(1.0)),
         IntensityMeasure::Pgv => ("PGV", Some(100.0)),
@@ -61,7 +61,7 @@ pub fn openquake_imt(im: IntensityMeasure, key: &Case) -> (&'static str, Option<
 }
 
 /// The limit state rockfrag fits today.
-pub const OVERTURNING: &str = "overturning";
+pub(crate) const OVERTURNING: &str = "overturning";
 
 /// One fragility function of an NRML model: a case and its lognormal
 /// parameters for every limit state of the model, in the model's order.
@@ -92,30 +92,6 @@ pub enum NrmlEntry {
         /// Why it is left out.
         reason: String,
     },
-}
-
-/// The entry of one case for the single limit state [`OVERTURNING`]:
-/// θ and β converted to OpenQuake's unit and to (mean, stddev); `None` for a
-/// case without analyses (nothing to say about it).
-pub fn overturning_entry(f: &CaseFit) -> Option<NrmlEntry> {
-    let id = function_id(&f.key);
-    match (&f.fit, f.im_range) {
-        (Ok(fit), Some((lo, hi))) => {
-            let (imt, factor) = openquake_imt(f.im, &f.key);
-            let factor = factor?;
-            Some(NrmlEntry::Function(NrmlFunction {
-                id,
-                imt,
-                iml_range: (lo * factor, hi * factor),
-                params: vec![lognormal_to_moments(fit.median() * factor, fit.beta())],
-            }))
-        }
-        (Err(reason), _) => Some(NrmlEntry::Omitted {
-            id,
-            reason: format!("{}: {reason}", reason.status()),
-        }),
-        (Ok(_), None) => None,
-    }
 }
 
 /// The fragility model as NRML 0.5 text: every limit state of `fits`, in

@@ -97,7 +97,7 @@ pub struct FragilityOptions {
     /// What a replicate resamples (default: whole records, shared across stripes).
     pub unit: BootstrapUnit,
     /// Seed of the bootstrap; replicate r draws from a generator seeded with
-    /// [`replicate_seed`](super::replicate_seed)`(seed, r)` (default: 1).
+    /// `replicate_seed(seed, r)`, a splitmix of the two (default: 1).
     pub seed: u64,
     /// Two-sided confidence level of the intervals and bands, in (0, 1)
     /// (default: 0.9, i.e. the 5th and 95th percentiles).

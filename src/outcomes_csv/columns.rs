@@ -1,7 +1,7 @@
 //! The columns of `outcomes.csv`: their one definition.
 //!
 //! [`Column`] names every column the file can have; the lists below give
-//! their order. The writer ([`super::write`]) writes the columns of a
+//! their order. The writer ([`super::OutcomeRow::write_field`]) writes the columns of a
 //! [`Columns`] in the order of [`Columns::list`], and every reader finds
 //! them by [`Column::name`], so a column is added, renamed or moved here
 //! and nowhere else.

@@ -1,7 +1,8 @@
 //! `outcomes.csv`: the table of per-analysis outcomes that a study writes
 //! and the summary, the fragility fit, the figures, `merge` and Python read.
 //! One row per analysis, in the canonical order of units and cases (see
-//! [`crate::study::Unit`] and [`crate::study::plan::cases`]).
+//! [`crate::study::Unit`]; cases in the order of the study's grid lists,
+//! aspect, then width, then e, then friction).
 //!
 //! Columns, in order (the bracketed ones only when the study uses them):
 //!

@@ -249,7 +249,7 @@ fn mean_sd(v: &[f64]) -> (f64, f64) {
     (m, var.sqrt())
 }
 
-/// The scores of one reading (see the [module docs](self)).
+/// The scores of one reading (see the module docs of `paper::check`).
 #[derive(Clone, Debug)]
 pub struct Scores {
     /// Overturn totals per e, one entry per ensemble: `totals[e][j]`.

@@ -9,14 +9,14 @@
 //!
 //! - `summary.md`: the published values beside ours in every table, with
 //!   Fisher's test per cell and the trend of the paper's counts over e
-//!   ([`PaperTables`], a [`Reference`] of the generic summary);
+//!   (a [`Reference`] of the generic summary);
 //! - figures: the paper's values drawn beside ours in the friction-demand
 //!   and restitution figures, the paper's illustrative response history
 //!   (H/B 2, e 0.6, μs 0.6, μk 0.4 at 0.9 g), and `e_trend`, the trend of
 //!   overturning with e under our physics, under the paper's program rule
-//!   and in the paper's counts ([`figures`]);
+//!   and in the paper's counts;
 //! - `rockfrag paper`: the study over K ensembles under each reading of the
-//!   paper's section 4, scored against Tables 1–3 ([`check`]).
+//!   paper's section 4, scored against Tables 1–3 ([`check()`]).
 
 mod check;
 pub(crate) mod figures;
@@ -64,7 +64,7 @@ pub fn is_papers(study: &Study) -> bool {
 /// The paper's Tables 1–3 as the generic summary's [`Reference`]: counts of
 /// 25 runs per cell in the paper's convention, and the means of θmax/θc,
 /// μ_mot and (beside ours of eq. (5)) μ_imp.
-pub struct PaperTables;
+pub(crate) struct PaperTables;
 
 impl Reference for PaperTables {
     fn intro(&self) -> String {
@@ -100,12 +100,12 @@ impl Reference for PaperTables {
 
 /// The summary's reference for `study`: the paper's tables for the paper's
 /// study, none otherwise.
-pub fn reference(study: &Study) -> Option<&'static dyn Reference> {
+pub(crate) fn reference(study: &Study) -> Option<&'static dyn Reference> {
     is_papers(study).then_some(&PaperTables as &dyn Reference)
 }
 
 /// Draws the trend of overturning with e of `rockfrag paper`'s check
-/// ([`check`]) to `path` (SVG or PNG by its extension): the rad/s grid's
+/// ([`check()`]) to `path` (SVG or PNG by its extension): the rad/s grid's
 /// ensembles under the physics and under the paper's program rule, pooled,
 /// beside the paper's counts. Nothing is drawn (`Ok(false)`) when the
 /// check lacks either.
@@ -119,7 +119,7 @@ pub fn write_e_trend(results: &[ReadingResult], path: &Path) -> Result<bool> {
 /// The figures of `study`'s folder `dir`, drawn into `out`: the generic
 /// figures ([`crate::figures::study_figures`]), and for the paper's study
 /// this layer's ([`figures::draw`]).
-pub fn study_figures(
+pub(crate) fn study_figures(
     study: &Study,
     dir: &Path,
     out: &Path,

@@ -118,7 +118,7 @@ pub struct Reading {
 }
 
 /// The readings of section 4 that `rockfrag paper` compares: as written,
-/// the rad/s band and the whole rad/s grid (see [`crate::reproduce`]). The
+/// the rad/s band and the whole rad/s grid (see `paper::check`). The
 /// built-in study uses the rad/s grid.
 pub fn readings() -> Vec<Reading> {
     let two_pi = 2.0 * std::f64::consts::PI;

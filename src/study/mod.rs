@@ -31,7 +31,7 @@ pub mod files;
 mod lock;
 mod manifest;
 mod merge;
-pub mod plan;
+pub(crate) mod plan;
 mod progress;
 mod source;
 mod summary;

@@ -79,7 +79,7 @@ pub struct Tally {
 
 impl Tally {
     /// Reads `outcomes.csv` of `study` (shard `shard`) through
-    /// [`OutcomesReader`], checking that its header is the study's, that
+    /// [`OutcomesFile`], checking that its header is the study's, that
     /// every row is the analysis expected at its place (case, level,
     /// record), and the count.
     pub fn read(path: &Path, study: &Study, shard: Shard) -> Result<Tally> {
