@@ -34,6 +34,8 @@
 //! - [`fragility`]: lognormal overturning fragility curves (probit MLE, bootstrap);
 //! - [`risk`]: the annual rate of each limit state at a site, the fragility
 //!   integrated over a hazard curve (OpenQuake's or a plain table);
+//! - [`export`]: the fitted curves as an OpenQuake job and a pelicun
+//!   damage database that compute rockfrag's numbers;
 //! - [`figures`]: publication figures drawn with an embedded font;
 //! - [`paper`]: the seed paper as a layer on top (its Tables 1–3 beside a
 //!   study's results, its figures, `rockfrag paper`);
@@ -84,6 +86,7 @@ pub mod fragility;
 pub mod spec;
 pub mod study;
 pub mod risk;
+pub mod export;
 pub mod figures;
 pub mod paper;
 pub mod pipeline;

@@ -510,21 +510,23 @@ fn nrml_parses_with_the_expected_elements() {
         .collect();
     assert_eq!(functions.len(), 1);
     let f = functions[0];
-    assert_eq!(f.attribute("id"), Some("block-a4-w0p5-e0-inf"));
+    assert_eq!(f.attribute("id"), Some("a4_w0p5_e0_inf"));
     assert_eq!(f.attribute("format"), Some("continuous"));
     assert_eq!(f.attribute("shape"), Some("logncdf"));
     let imls = child(f, "imls");
     assert_eq!(imls.attribute("imt"), Some("PGA"));
     let num = |n: roxmltree::Node, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
-    assert_eq!(num(imls, "minIML"), 0.1);
-    assert_eq!(num(imls, "maxIML"), fixture::levels()[19]);
     let params = child(f, "params");
     assert_eq!(params.attribute("ls"), Some("overturning"));
     let (theta, beta) = moments_to_lognormal(num(params, "mean"), num(params, "stddev"));
     let fit = fitted.fit.as_ref().unwrap();
+    // Where the curve is 0 and 1 (θ e^(∓6β)), not the stripes' 0.1 to 1.05 g.
+    let (lo, hi) = (num(imls, "minIML"), num(imls, "maxIML"));
+    assert!((lo / (fit.median() * (-6.0 * fit.beta()).exp()) - 1.0).abs() < 1e-12);
+    assert!((hi / (fit.median() * (6.0 * fit.beta()).exp()) - 1.0).abs() < 1e-12);
     assert!((theta / fit.median() - 1.0).abs() < 1e-12);
     assert!((beta / fit.beta() - 1.0).abs() < 1e-12);
-    assert!(text.contains("<!-- block-a6-w0p5-e0-inf not fitted (none-overturned"));
+    assert!(text.contains("<!-- a6_w0p5_e0_inf not fitted (none-overturned"));
 
     // The same data against PGA·H/B (H/B = 4) and as PGV = PGA·1 m/s per g.
     let mut scaled = fixture::independent_case(THETA, BETA, 40, 5);
@@ -593,8 +595,8 @@ fn csv_outputs_have_the_documented_headers() {
     let header = lines.next().unwrap();
     assert_eq!(header, FRAGILITY_HEADER);
     assert!(header.starts_with(
-        "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,median,beta,median_lo,\
-         median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,status"
+        "case_id,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,median,beta,\
+         median_lo,median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,status"
     ));
     let cols: Vec<&str> = header.split(',').collect();
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();

@@ -292,8 +292,9 @@ fn fragility_command_pools_drawn_parameters_and_takes_limit_states() {
         text.lines()
             .skip(1)
             .map(|l| {
+                // case_id, aspect, width, restitution, …, limit_state
                 let f: Vec<&str> = l.split(',').collect();
-                (f[2].to_string(), f[6].to_string())
+                (f[3].to_string(), f[7].to_string())
             })
             .collect::<Vec<_>>()
     };

@@ -170,7 +170,11 @@ impl HistoryFigure {
     ///
     /// Errors: a case or stripe asked for that the study does not have, or
     /// a record or analysis that cannot be made.
-    pub(crate) fn from_study(dir: &Path, data: &StudyData, options: &HistorySource) -> Result<Self> {
+    pub(crate) fn from_study(
+        dir: &Path,
+        data: &StudyData,
+        options: &HistorySource,
+    ) -> Result<Self> {
         let (case_id, level) = match options.choice {
             HistoryChoice::Case(case) => {
                 return if options.record_files.is_empty() {

@@ -45,9 +45,7 @@ pub use data::{CurvePoint, PlotRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::FragilityFigure;
 pub use friction::FrictionDemandFigure;
-pub use history::{
-    HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, mode_colour,
-};
+pub use history::{HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, mode_colour};
 pub use motion::plot_record;
 pub use restitution::RestitutionFigure;
 pub(crate) use restitution::trend_text;

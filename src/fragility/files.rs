@@ -22,7 +22,9 @@ use crate::io_util::{number, write_atomic};
 use crate::table::{Row, Table};
 
 /// Header of `fragility.csv`, one row per case and limit state (a case's
-/// limit states together, in order of severity). `limit_state` names the
+/// limit states together, in order of severity). `case_id` is the case's id
+/// ([`Case::id`]: the NRML function id, the OpenQuake exposure taxonomy and
+/// the pelicun component of the exports, and `risk.csv`'s); `limit_state` names the
 /// limit state; `n_overturned` counts the analyses that overturned,
 /// `n_exceeded` those that exceeded the limit state (what was fitted);
 /// `beta_model` is `separate` (fitted alone) or `common` (one β shared with
@@ -35,7 +37,7 @@ use crate::table::{Row, Table};
 /// separated by spaces.
 /// A case column is empty when the parameter was drawn per analysis (the
 /// spec's `[uncertainty]`): the case pools the analyses over its draws.
-pub const FRAGILITY_HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
+pub const FRAGILITY_HEADER: &str = "case_id,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
 median,beta,median_lo,median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,\
 status,im_unit,n_analyses,n_overturned,n_failed,im_min,im_max,iterations,boot_replicates,\
 boot_fitted,boot_unfit,boot_unfit_reasons,boot_sd_median,boot_sd_beta,beta_model,n_exceeded";
@@ -170,6 +172,7 @@ impl FragilityRow {
     pub fn line(&self) -> String {
         let count = |x: Option<usize>| x.map_or(String::new(), |n| n.to_string());
         let fields = [
+            self.case.id(),
             self.case.fields(),
             self.limit_state.clone(),
             self.im.name().to_string(),

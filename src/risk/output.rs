@@ -8,8 +8,8 @@ use super::hazard::{HazardCurve, HazardSource};
 use crate::error::{Error, Result};
 use crate::io_util::{number, sig3, write_atomic};
 
-/// Header of `risk.csv`, one row per row of `fragility.csv` (same case
-/// columns and `limit_state`, same order). `median`, `beta` are the fit's
+/// Header of `risk.csv`, one row per row of `fragility.csv` (same
+/// `case_id`, case columns and `limit_state`, same order). `median`, `beta` are the fit's
 /// (unit of `im`, `im_unit`); `annual_rate` is λ_LS (1/yr) and
 /// `annual_rate_lo`, `annual_rate_hi` its bootstrap percentile band (empty
 /// without `fragility_bootstrap.csv`); `return_period` = 1/λ_LS (years);
@@ -18,7 +18,7 @@ use crate::io_util::{number, sig3, write_atomic};
 /// the fractions of λ_LS from beyond the hazard curve's lowest and highest
 /// levels; `boot_fitted` the replicates behind the band; `status` the fit's
 /// (`ok`, or why there is no curve and the numbers are empty).
-pub const RISK_HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
+pub const RISK_HEADER: &str = "case_id,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
 im_unit,median,beta,annual_rate,annual_rate_lo,annual_rate_hi,return_period,years,poe,peak_im,\
 share_below,share_above,boot_fitted,status";
 
@@ -31,6 +31,7 @@ pub fn write_risk_csv(path: &Path, rows: &[RiskRow], options: &RiskOptions) -> R
             let c = &r.curve;
             let shares = r.shares();
             let fields = [
+                c.key.id(),
                 c.key.fields(),
                 c.limit_state.clone(),
                 c.im.clone(),
