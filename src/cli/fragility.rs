@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::ValueEnum;
+use rockfrag::detmath as dm;
 use rockfrag::fragility::{
     BetaModel, BootstrapUnit, CaseFit, FragilityOptions, IntensityMeasure, Interval, LimitState,
     fit_cases, read_outcomes_for, write_outputs,
@@ -399,6 +400,6 @@ fn sig(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return x.to_string();
     }
-    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let digits = (2 - dm::log10(x.abs()).floor() as i32).clamp(0, 12) as usize;
     format!("{x:.digits$}")
 }

@@ -19,6 +19,7 @@
 //! blocks are the contents (equipment, artefacts) of the buildings of an
 //! OpenQuake exposure. OpenQuake's reader requires both attributes.
 
+use crate::detmath as dm;
 use std::path::Path;
 
 use super::case::CaseFit;
@@ -37,15 +38,15 @@ pub const LOSS_CATEGORY: &str = "contents";
 /// `expm1` so that small β keeps full precision.
 pub fn lognormal_to_moments(median: f64, beta: f64) -> (f64, f64) {
     let b2 = beta * beta;
-    let mean = median * (0.5 * b2).exp();
-    (mean, mean * b2.exp_m1().sqrt())
+    let mean = median * dm::exp(0.5 * b2);
+    (mean, mean * dm::exp_m1(b2).sqrt())
 }
 
 /// (mean, standard deviation) → (θ, β): the inverse of [`lognormal_to_moments`].
 pub fn moments_to_lognormal(mean: f64, stddev: f64) -> (f64, f64) {
-    let cv2 = (stddev / mean).powi(2);
-    let b2 = cv2.ln_1p();
-    (mean * (-0.5 * b2).exp(), b2.sqrt())
+    let cv2 = dm::powi(stddev / mean, 2);
+    let b2 = dm::ln_1p(cv2);
+    (mean * dm::exp(-0.5 * b2), b2.sqrt())
 }
 
 /// The OpenQuake intensity measure type of a fit and the factor converting

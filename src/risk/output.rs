@@ -1,6 +1,7 @@
 //! `risk.csv` and the `## Risk` section of `summary.md`, both written
 //! atomically.
 
+use crate::detmath as dm;
 use std::path::Path;
 
 use super::assess::{RiskOptions, RiskRow};
@@ -191,7 +192,7 @@ pub fn sig(x: f64) -> String {
     if !(1e-3..1e6).contains(&x.abs()) {
         return sci(x);
     }
-    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let digits = (2 - dm::log10(x.abs()).floor() as i32).clamp(0, 12) as usize;
     format!("{x:.digits$}")
 }
 

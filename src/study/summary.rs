@@ -14,6 +14,7 @@
 
 use super::paper;
 use super::plan::{self, Case, Shard};
+use crate::detmath as dm;
 use crate::error::Result;
 use crate::motion::G_STANDARD;
 use crate::outcomes_csv::param_text;
@@ -569,7 +570,7 @@ pub fn sig3(x: f64) -> String {
     if x.abs() < 1e-4 {
         return format!("{x:.2e}");
     }
-    let mag = x.abs().log10().floor() as i32;
+    let mag = dm::log10(x.abs()).floor() as i32;
     let decimals = (2 - mag).max(0) as usize;
     format!("{x:.decimals$}")
 }
