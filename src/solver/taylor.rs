@@ -204,15 +204,25 @@ impl RockSeries {
             return h_max;
         }
         // each term bounded separately: |c_j| h^j ≤ tol/2 and j|c_j| h^(j−1) ≤ tol/2
-        let mut h = h_max;
-        for j in [ORDER - 1, ORDER] {
-            let c = self.psi[j].abs();
+        // for j = K − 1, K (K = ORDER): h ≤ x^(1/(K−2)), x^(1/(K−1)) (two
+        // bounds: one root of the smaller x) and x^(1/K); three `root`s take
+        // a third of the time of four `powf`s
+        let bound = |tol: f64, c: f64| {
             if c > 0.0 {
-                let jf = j as f64;
-                h = h.min(dm::powf(0.5 * tol_psi / c, 1.0 / jf));
-                h = h.min(dm::powf(0.5 * tol_dpsi / (jf * c), 1.0 / (jf - 1.0)));
+                0.5 * tol / c
+            } else {
+                f64::INFINITY
             }
-        }
+        };
+        let (c1, c2) = (self.psi[ORDER - 1].abs(), self.psi[ORDER].abs());
+        let x_lo = bound(tol_dpsi, (ORDER - 1) as f64 * c1);
+        let x_mid = bound(tol_psi, c1).min(bound(tol_dpsi, ORDER as f64 * c2));
+        let x_hi = bound(tol_psi, c2);
+        let k = ORDER as u32;
+        let h = h_max
+            .min(dm::root(x_lo, k - 2))
+            .min(dm::root(x_mid, k - 1))
+            .min(dm::root(x_hi, k));
         0.9 * h
     }
 
