@@ -94,7 +94,7 @@ pub fn sig3(x: f64) -> String {
     if !(1e-3..1e6).contains(&x.abs()) {
         return format!("{x:.2e}");
     }
-    let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+    let decimals = (2 - crate::detmath::log10(x.abs()).floor() as i32).max(0) as usize;
     format!("{x:.decimals$}")
 }
 

@@ -17,6 +17,8 @@
 //! every stage's settings before the [`spec`] that reads them from TOML and
 //! the [`study`] that runs them.
 //!
+//! - [`detmath`]: the transcendental functions (sin, exp, ln, Φ, …), the
+//!   same bits on every platform (no call to the platform's math library);
 //! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
 //!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
@@ -72,6 +74,7 @@
 //!   using dynamic structural analysis. *Earthquake Spectra* 31(1), 579–599.
 
 // Each module uses only the modules declared above it (tests/architecture.rs).
+pub mod detmath;
 pub mod error;
 pub mod io_util;
 pub mod stats;

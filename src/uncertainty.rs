@@ -20,10 +20,10 @@
 //! truncated distribution maps `u` into `[F(min), F(max)]` first, so every
 //! draw lies within the bounds and none is rejected.
 
+use crate::detmath as dm;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
-use statrs::distribution::{ContinuousCDF, Normal};
 
 use crate::error::{Error, Result};
 
@@ -76,11 +76,6 @@ pub enum Distribution {
     },
 }
 
-/// The standard normal distribution.
-fn standard_normal() -> Normal {
-    Normal::standard()
-}
-
 impl Distribution {
     /// The smallest and largest values a draw can take (±∞ when unbounded).
     pub fn support(&self) -> (f64, f64) {
@@ -115,10 +110,10 @@ impl Distribution {
                 max,
             } => {
                 // ln x = ln median + β z, z truncated to the bounds' z-values.
-                let z = |m: f64| (m / median).ln() / beta;
+                let z = |m: f64| dm::ln(m / median) / beta;
                 let lo = min.map_or(f64::NEG_INFINITY, z);
                 let hi = max.map_or(f64::INFINITY, z);
-                let x = median * (beta * truncated_z(u, lo, hi)).exp();
+                let x = median * dm::exp(beta * truncated_z(u, lo, hi));
                 x.clamp(self.support().0, self.support().1)
             }
         }
@@ -247,14 +242,13 @@ fn truncation(field: &str, min: Option<f64>, max: Option<f64>) -> Result<()> {
 /// the upper tail's mirror when both bounds are above 0, so that far-tail
 /// truncations keep their digits.
 fn truncated_z(u: f64, lo: f64, hi: f64) -> f64 {
-    let n = standard_normal();
     if lo > 0.0 {
         // Mirror: z = −Φ⁻¹(Φ(−lo) − u (Φ(−lo) − Φ(−hi))).
-        let (a, b) = (n.cdf(-lo), n.cdf(-hi));
-        return -n.inverse_cdf((a - u * (a - b)).clamp(0.0, 1.0));
+        let (a, b) = (dm::norm_cdf(-lo), dm::norm_cdf(-hi));
+        return -dm::norm_inv_cdf((a - u * (a - b)).clamp(0.0, 1.0));
     }
-    let (a, b) = (n.cdf(lo), n.cdf(hi));
-    n.inverse_cdf((a + u * (b - a)).clamp(0.0, 1.0))
+    let (a, b) = (dm::norm_cdf(lo), dm::norm_cdf(hi));
+    dm::norm_inv_cdf((a + u * (b - a)).clamp(0.0, 1.0))
 }
 
 /// A block property that `[uncertainty]` can draw.

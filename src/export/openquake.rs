@@ -33,8 +33,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use statrs::distribution::{ContinuousCDF, Normal};
-
+use crate::detmath as dm;
 use crate::error::{Error, Result};
 use crate::fragility::{FragilityRow, IML_SIGMAS, IntensityMeasure, read_fragility_csv};
 use crate::io_util::{number, sig3, write_atomic};
@@ -129,8 +128,8 @@ pub fn export_openquake(
         .iter()
         .fold((f64::INFINITY, 0.0_f64), |(a, b), &(m, s)| {
             (
-                a.min(m * (-IML_SIGMAS * s).exp()),
-                b.max(m * (IML_SIGMAS * s).exp()),
+                a.min(m * dm::exp(-IML_SIGMAS * s)),
+                b.max(m * dm::exp(IML_SIGMAS * s)),
             )
         });
     let top = top_level(&curve, hi);
@@ -141,9 +140,9 @@ pub fn export_openquake(
     let per_decade = (DENSITY_MARGIN * LEVELS_PER_DECADE_PER_SLOPE * slope)
         .max(MIN_LEVELS_PER_DECADE)
         .ceil();
-    let n = ((top / lo).log10() * per_decade).ceil().max(1.0) as usize;
+    let n = (dm::log10(top / lo) * per_decade).ceil().max(1.0) as usize;
     let levels: Vec<f64> = (0..=n)
-        .map(|i| lo * (top / lo).powf(i as f64 / n as f64))
+        .map(|i| lo * dm::powf(top / lo, i as f64 / n as f64))
         .collect();
     let t = investigation_time(&curve, &curves, &levels);
 
@@ -177,7 +176,7 @@ pub fn export_openquake(
     let _ = write!(csv, "\n{lon:.5},{lat:.5},{depth:.5}");
     for &x in &levels {
         // poe = 1 − exp(−λT), OpenQuake's Poisson reading of a rate.
-        let _ = write!(csv, ",{:.6E}", -(-curve.rate_at(x) * t).exp_m1());
+        let _ = write!(csv, ",{:.6E}", -dm::exp_m1(-curve.rate_at(x) * t));
     }
     csv.push('\n');
     write_text(&out.join("hazard.csv"), &csv)?;
@@ -263,7 +262,7 @@ fn check_model(xml: &str, path: &Path, rows: &[FragilityRow], factor: f64) -> Re
     let lo = rows
         .iter()
         .filter_map(FragilityRow::fit)
-        .map(|(m, b)| m * factor * (-IML_SIGMAS * b).exp())
+        .map(|(m, b)| m * factor * dm::exp(-IML_SIGMAS * b))
         .fold(f64::INFINITY, f64::min);
     let attr = "minIML=\"";
     let written = xml.find(attr).map(|i| {
@@ -292,7 +291,7 @@ fn check_model(xml: &str, path: &Path, rows: &[FragilityRow], factor: f64) -> Re
 /// λ(hi) (at most 40 e-folds of IM past the curve's last level).
 fn top_level(curve: &HazardCurve, hi: f64) -> f64 {
     let target = TOP_RATE_FRACTION * curve.rate_at(hi);
-    let cap = curve.iml[curve.iml.len() - 1] * 40f64.exp();
+    let cap = curve.iml[curve.iml.len() - 1] * dm::exp(40.0);
     let mut x = hi;
     while curve.rate_at(x) > target && x < cap {
         x *= 1.05;
@@ -304,18 +303,17 @@ fn top_level(curve: &HazardCurve, hi: f64) -> f64 {
 /// over [lo, top] with the weight of the integrand P(LS | IM)·(−dλ/d ln IM)
 /// of the curve (θ, β).
 fn effective_slope(curve: &HazardCurve, theta: f64, beta: f64, lo: f64, top: f64) -> f64 {
-    let normal = Normal::standard();
     let n = 4000;
-    let (a, b) = (lo.ln(), top.ln());
+    let (a, b) = (dm::ln(lo), dm::ln(top));
     let h = (b - a) / n as f64;
-    let (mut sw, mut swk2) = (0.0, 0.0);
+    let (mut sw, mut swk2) = (0.0_f64, 0.0_f64);
     for i in 0..n {
         let (u0, u1) = (a + i as f64 * h, a + (i + 1) as f64 * h);
-        let (l0, l1) = (curve.rate_at(u0.exp()), curve.rate_at(u1.exp()));
+        let (l0, l1) = (curve.rate_at(dm::exp(u0)), curve.rate_at(dm::exp(u1)));
         // the slope of the piece, and the rate it sheds
-        let k = -(l1.ln() - l0.ln()) / h;
+        let k = -(dm::ln(l1) - dm::ln(l0)) / h;
         let shed = (l0 - l1).max(0.0);
-        let p = normal.cdf((0.5 * (u0 + u1) - theta.ln()) / beta);
+        let p = dm::norm_cdf((0.5 * (u0 + u1) - dm::ln(theta)) / beta);
         sw += p * shed;
         swk2 += p * shed * k * k;
     }
@@ -324,24 +322,23 @@ fn effective_slope(curve: &HazardCurve, theta: f64, beta: f64, lo: f64, top: f64
 
 /// The investigation time of `hazard.csv` (see the [module docs](self)).
 fn investigation_time(curve: &HazardCurve, curves: &[(f64, f64)], levels: &[f64]) -> f64 {
-    let normal = Normal::standard();
     let smallest = curves
         .iter()
         .map(|&(m, _)| curve.rate_at(m))
         .fold(f64::INFINITY, f64::min);
-    let mut j = (1e-3 / smallest).log10().ceil().max(0.0) as i32;
+    let mut j = dm::log10(1e-3 / smallest).ceil().max(0.0) as i32;
     let too_big = |t: f64| {
         levels.iter().any(|&x| {
             curves
                 .iter()
-                .any(|&(m, b)| normal.cdf((x / m).ln() / b) > 1e-6)
+                .any(|&(m, b)| dm::norm_cdf(dm::ln(x / m) / b) > 1e-6)
                 && curve.rate_at(x) * t > 15.0
         })
     };
-    while j > 0 && too_big(10f64.powi(j)) {
+    while j > 0 && too_big(dm::powi(10.0, j)) {
         j -= 1;
     }
-    10f64.powi(j)
+    dm::powi(10.0, j)
 }
 
 fn write_text(path: &Path, text: &str) -> Result<()> {

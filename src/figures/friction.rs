@@ -18,6 +18,7 @@
 //! For an `outcomes.csv` written before the eq. (5) column existed, panel
 //! (c) is left out.
 
+use crate::detmath as dm;
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
 use plotters::style::{BLACK, Color, RGBColor};
@@ -77,7 +78,7 @@ pub struct FrictionDemandFigure {
 /// The paper's eq. (8) as a function of B/H: the impulse ratio of a rock
 /// impact without slip, 3 cosθc sinθc/(1 + 3 cos²θc), θc = atan(B/H).
 pub fn eq8(b_over_h: f64) -> f64 {
-    let (s, c) = b_over_h.atan().sin_cos();
+    let (s, c) = dm::sin_cos(dm::atan(b_over_h));
     3.0 * c * s / (1.0 + 3.0 * c * c)
 }
 

@@ -32,6 +32,7 @@ use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
 use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
 use crate::case::{Case, Field, Param};
+use crate::detmath as dm;
 use crate::error::{Error, Result};
 use crate::io_util::sig3;
 use crate::motion::{Record, SynthesisSettings, Synthesizer};
@@ -543,7 +544,11 @@ fn choose_run(
             Some(m) if m > 0.0 => {
                 let s = *stripes
                     .iter()
-                    .min_by(|a, b| (a.ln() - m.ln()).abs().total_cmp(&(b.ln() - m.ln()).abs()))
+                    .min_by(|a, b| {
+                        (dm::ln(**a) - dm::ln(m))
+                            .abs()
+                            .total_cmp(&(dm::ln(**b) - dm::ln(m)).abs())
+                    })
                     .expect("the case has analyses");
                 (
                     s,

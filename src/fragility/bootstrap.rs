@@ -6,6 +6,7 @@
 //! number of threads. The same seed gives the same record draws in every case
 //! with the same records (common random numbers across cases).
 
+use crate::detmath as dm;
 use std::collections::BTreeMap;
 
 use rand::{RngExt, SeedableRng};
@@ -202,7 +203,7 @@ fn std_dev(v: &[f64]) -> Option<f64> {
     (v.len() >= 2).then(|| {
         let n = v.len() as f64;
         let mean = v.iter().sum::<f64>() / n;
-        (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+        (v.iter().map(|x| dm::powi(x - mean, 2)).sum::<f64>() / (n - 1.0)).sqrt()
     })
 }
 

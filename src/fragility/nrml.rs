@@ -49,6 +49,7 @@
 //! state is observed, not fitted, and why. A case with no fitted limit
 //! state is left out, with a comment saying why.
 
+use crate::detmath as dm;
 use std::path::Path;
 
 use super::case::CaseFit;
@@ -67,15 +68,15 @@ pub(crate) const LOSS_CATEGORY: &str = "contents";
 /// `expm1` so that small β keeps full precision.
 pub fn lognormal_to_moments(median: f64, beta: f64) -> (f64, f64) {
     let b2 = beta * beta;
-    let mean = median * (0.5 * b2).exp();
-    (mean, mean * b2.exp_m1().sqrt())
+    let mean = median * dm::exp(0.5 * b2);
+    (mean, mean * dm::exp_m1(b2).sqrt())
 }
 
 /// (mean, standard deviation) → (θ, β): the inverse of [`lognormal_to_moments`].
 pub fn moments_to_lognormal(mean: f64, stddev: f64) -> (f64, f64) {
-    let cv2 = (stddev / mean).powi(2);
-    let b2 = cv2.ln_1p();
-    (mean * (-0.5 * b2).exp(), b2.sqrt())
+    let cv2 = dm::powi(stddev / mean, 2);
+    let b2 = dm::ln_1p(cv2);
+    (mean * dm::exp(-0.5 * b2), b2.sqrt())
 }
 
 /// The OpenQuake intensity measure type of a fit and the factor converting
@@ -187,8 +188,8 @@ pub fn model_range(fits: &[CaseFit]) -> (f64, f64) {
             continue;
         };
         let (theta, beta) = (fit.median() * factor, fit.beta());
-        range.0 = range.0.min(theta * (-IML_SIGMAS * beta).exp());
-        range.1 = range.1.max(theta * (IML_SIGMAS * beta).exp());
+        range.0 = range.0.min(theta * dm::exp(-IML_SIGMAS * beta));
+        range.1 = range.1.max(theta * dm::exp(IML_SIGMAS * beta));
     }
     if range.0.is_finite() {
         return range;
@@ -270,11 +271,11 @@ fn case_entry(case: &[&CaseFit], limit_states: &[&str], range: (f64, f64)) -> Op
             hi = hi.max(b * factor);
         }
     }
-    let n = ((hi / lo).log10() * DISCRETE_LEVELS_PER_DECADE)
+    let n = (dm::log10(hi / lo) * DISCRETE_LEVELS_PER_DECADE)
         .ceil()
         .max(1.0) as usize;
     let imls: Vec<f64> = (0..=n)
-        .map(|i| lo * (hi / lo).powf(i as f64 / n as f64))
+        .map(|i| lo * dm::powf(hi / lo, i as f64 / n as f64))
         .collect();
     let mut poes: Vec<Vec<f64>> = fits
         .iter()
@@ -315,18 +316,18 @@ fn observed(obs: &[super::fit::Observation], levels: &[f64], factor: f64) -> Vec
     let mut points: Vec<(f64, f64)> = obs
         .iter()
         .filter(|o| o.trials > 0)
-        .map(|o| ((o.im * factor).ln(), o.overturned as f64 / o.trials as f64))
+        .map(|o| (dm::ln(o.im * factor), o.overturned as f64 / o.trials as f64))
         .collect();
     if let Some(&first) = levels.first() {
         points.insert(
             0,
-            (first.ln().min(points.first().map_or(0.0, |p| p.0)), 0.0),
+            (dm::ln(first).min(points.first().map_or(0.0, |p| p.0)), 0.0),
         );
     }
     levels
         .iter()
         .map(|&x| {
-            let l = x.ln();
+            let l = dm::ln(x);
             match points.iter().position(|p| p.0 >= l) {
                 None => points.last().map_or(0.0, |p| p.1),
                 Some(0) => points[0].1,

@@ -8,6 +8,7 @@
 //! Every parse error names the file and the 1-based line
 //! ([`Error::Parse`]).
 
+use crate::detmath as dm;
 use std::fs;
 use std::io::Write;
 use std::path::Path;
@@ -452,9 +453,9 @@ fn rounding_of(token: &str) -> f64 {
     match mantissa.find('.') {
         Some(i) => {
             let decimals = (mantissa.len() - i - 1) as i32;
-            0.5 * 10f64.powi(exponent - decimals)
+            0.5 * dm::powi(10.0, exponent - decimals)
         }
-        None if exponent != 0 => 0.5 * 10f64.powi(exponent),
+        None if exponent != 0 => 0.5 * dm::powi(10.0, exponent),
         None => 0.0,
     }
 }

@@ -26,6 +26,7 @@
 //! in increasing frequency order. Nothing depends on thread count or on
 //! which records were generated before.
 
+use crate::detmath as dm;
 use std::sync::Arc;
 
 use rand::{RngExt, SeedableRng};
@@ -163,7 +164,7 @@ impl SynthesisSettings {
         };
         let round: Vec<f64> = [1.0, 2.0, 2.5, 4.0, 5.0, 8.0]
             .iter()
-            .flat_map(|m| (-4..=0).map(move |e| m * 10f64.powi(e)))
+            .flat_map(|m| (-4..=0).map(move |e| m * dm::powi(10.0, e)))
             .filter(|&d| fits(d))
             .collect();
         let below = round
@@ -548,7 +549,7 @@ mod tests {
         for n in [0, 1, 17, 500, 999] {
             let t = n as f64 * settings.dt;
             let direct: f64 = (0..amps.len())
-                .map(|i| amps[i] * (std::f64::consts::TAU * freqs[i] * t + phases[i]).cos())
+                .map(|i| amps[i] * dm::cos(std::f64::consts::TAU * freqs[i] * t + phases[i]))
                 .sum();
             assert!(
                 (x[n] - direct).abs() < 1e-12 * scale,
@@ -566,7 +567,7 @@ mod tests {
             let u = i as f64 / 100_000.0 + if i % 2 == 0 { 0.0 } else { 1.3e-7 };
             let u = u.min(1.0);
             let (s, c) = sin_cos_turns(u);
-            let (s0, c0) = (std::f64::consts::TAU * u).sin_cos();
+            let (s0, c0) = dm::sin_cos(std::f64::consts::TAU * u);
             worst = worst.max((s - s0).abs()).max((c - c0).abs());
         }
         // std's reference rounds 2πu first, an argument error of up to
@@ -578,7 +579,7 @@ mod tests {
             let lo = 0.125 * i as f64 / 10_000.0;
             for (u, x) in [(lo, lo), (0.875 + lo, 0.875 + lo - 1.0)] {
                 let (s, c) = sin_cos_turns(u);
-                let (s0, c0) = (std::f64::consts::TAU * x).sin_cos();
+                let (s0, c0) = dm::sin_cos(std::f64::consts::TAU * x);
                 assert!((s - s0).abs() < 3e-16 && (c - c0).abs() < 3e-16, "u={u}");
             }
         }
