@@ -684,7 +684,11 @@ fn cli_rejects_bad_values_in_one_line_naming_the_flag() {
         &["motion", "--seed", "1", "--pga", "0.5", "--dt", "0.03"],
         dir.path(),
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// A CSV whose times are rounded as written by `%.6f` (or 6 significant

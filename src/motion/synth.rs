@@ -230,9 +230,7 @@ impl SynthesisSettings {
     fn components(&self) -> Result<(usize, usize)> {
         let n = self.period_len()?;
         let df = self.frequency_step();
-        let k_min = ((self.f_min / df) * (1.0 - INTEGER_TOL))
-            .ceil()
-            .max(1.0) as usize;
+        let k_min = ((self.f_min / df) * (1.0 - INTEGER_TOL)).ceil().max(1.0) as usize;
         let k_top = ((self.f_max / df) * (1.0 + INTEGER_TOL)).floor() as usize;
         let k_max = k_top.min((n - 1) / 2);
         if k_min > k_max {
