@@ -38,7 +38,7 @@ mod summary;
 mod tally;
 
 pub use lock::RunLock;
-pub use manifest::Manifest;
+pub use manifest::{Finished, Manifest};
 pub use merge::merge;
 pub use plan::{Shard, Unit};
 pub use source::Source;
@@ -118,6 +118,9 @@ pub struct RunReport {
     pub wall_seconds: f64,
     /// Worker threads used.
     pub threads: usize,
+    /// The folder held a finished run of the same analyses: no analysis
+    /// was run, `outcomes.csv` was kept and the manifest took this spec.
+    pub already_finished: bool,
     /// The statistics of the whole `outcomes.csv`, for `summary.md` (`None`
     /// unless complete).
     pub tally: Option<Tally>,
@@ -128,6 +131,9 @@ pub struct RunReport {
 struct Checkpoint {
     study: String,
     spec_hash: String,
+    /// [`Study::analyses_hash`] (absent in checkpoints of older versions).
+    #[serde(default)]
+    analyses_hash: Option<String>,
     records_hash: Option<String>,
     shard: Shard,
     units_done: usize,
@@ -175,6 +181,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let fresh = Checkpoint {
         study: study.name.clone(),
         spec_hash: manifest.spec_hash.clone(),
+        analyses_hash: Some(manifest.analyses_hash.clone()),
         records_hash: manifest.records_hash.clone(),
         shard: opts.shard,
         units_done: 0,
@@ -183,17 +190,25 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     };
     let (mut ckpt, mut file) = match read_checkpoint(&ckpt_path)? {
         Some(old) => {
-            if old.spec_hash != fresh.spec_hash || old.records_hash != fresh.records_hash {
+            // Only what decides the analyses must match: a change to the
+            // post-processing ([fragility], output.summary, ...) resumes.
+            let same_analyses = match &old.analyses_hash {
+                Some(h) => Some(h) == fresh.analyses_hash.as_ref(),
+                None => old.spec_hash == fresh.spec_hash,
+            };
+            if !same_analyses || old.records_hash != fresh.records_hash {
                 return Err(Error::Conflict {
                     path: dir.clone(),
                     message: format!(
-                        "holds an unfinished run of study '{}' with spec hash {} (records {}), \
-                         but this spec's hash is {} (records {}): refusing to resume it; \
-                         pass another --out, or delete {} to start over",
+                        "holds an unfinished run of study '{}' with analyses hash {} (records {}), \
+                         but this spec's analyses hash is {} (records {}): a field other than \
+                         name, description, [fragility], output.summary or output.figures \
+                         changed, so the analyses done so far are not this spec's; refusing to \
+                         resume; pass another --out, or delete {} to start over",
                         old.study,
-                        old.spec_hash,
+                        old.analyses_hash.as_deref().unwrap_or(&old.spec_hash),
                         old.records_hash.as_deref().unwrap_or("synthetic"),
-                        fresh.spec_hash,
+                        manifest.analyses_hash,
                         fresh.records_hash.as_deref().unwrap_or("synthetic"),
                         ckpt_path.display()
                     ),
@@ -213,10 +228,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
                 .map(|f| (old.clone(), f))
                 .map_or_else(|| start(&cols, fresh.clone(), &partial_path), Ok)?
         }
-        None => {
-            manifest::check_finished(dir, &manifest, opts.force)?;
-            start(&cols, fresh.clone(), &partial_path)?
-        }
+        None => match manifest::check_finished(dir, &manifest, opts.force)? {
+            Finished::No => start(&cols, fresh.clone(), &partial_path)?,
+            Finished::Same(old) => {
+                return reuse_finished(study, dir, opts, manifest, *old, threads, t0);
+            }
+        },
     };
     let resumed_at_unit = ckpt.units_done;
 
@@ -266,6 +283,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         wall_seconds: 0.0,
         threads,
         tally: None,
+        already_finished: false,
     };
     if ckpt.units_done < units.len() {
         report.wall_seconds = t0.elapsed().as_secs_f64();
@@ -290,6 +308,44 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     report.counts = tally.counts();
     report.tally = Some(tally);
     Ok(report)
+}
+
+/// The report of a run into `dir` that found a finished run of the same
+/// analyses (`old`, its manifest): `outcomes.csv` is read back and checked
+/// against the plan, and the manifest takes this spec (its post-processing
+/// fields may differ) while keeping the run's times and counts.
+fn reuse_finished(
+    study: &Study,
+    dir: &Path,
+    opts: &RunOptions,
+    mut manifest: Manifest,
+    old: Manifest,
+    threads: usize,
+    t0: Instant,
+) -> Result<RunReport> {
+    let tally = Tally::read(&dir.join(files::OUTCOMES), study, opts.shard)?;
+    manifest.threads = old.threads;
+    manifest.started_unix = old.started_unix;
+    manifest.started_utc = old.started_utc;
+    manifest.finished_unix = old.finished_unix;
+    manifest.finished_utc = old.finished_utc;
+    manifest.resumed_at_unit = old.resumed_at_unit;
+    manifest.analyses_run = old.analyses_run;
+    manifest.wall_seconds = old.wall_seconds;
+    manifest.merged_from = old.merged_from;
+    manifest.counts = tally.counts();
+    manifest.write(&dir.join(files::MANIFEST))?;
+    Ok(RunReport {
+        out_dir: dir.to_path_buf(),
+        complete: true,
+        counts: tally.counts(),
+        resumed_at_unit: 0,
+        analyses_run: 0,
+        wall_seconds: t0.elapsed().as_secs_f64(),
+        threads,
+        tally: Some(tally),
+        already_finished: true,
+    })
 }
 
 /// Writes `dir/summary.md` of `study` (shard `shard`) from `tally` (read
