@@ -55,6 +55,7 @@ use crate::spec::{Motions, Study, fnv1a64};
 use plan::columns;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
 use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -258,9 +259,37 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         .stop_after_units
         .map_or(units.len(), |n| (ckpt.units_done + n).min(units.len()));
     let mut analyses_run = 0u64;
+    // The pilot: one unit per intensity level, solved first and kept for
+    // its chunk, so the estimate and the ETA weigh each level by its own
+    // cost (the first chunk, the lowest level, is the cheapest).
+    let level_of = |u: usize| plan::unit(study, u).level;
+    let mut ahead = HashMap::new();
+    if opts.progress {
+        let left = &units[ckpt.units_done..limit];
+        let pilot = progress::pilot_units(left, level_of, study.intensity.levels().len());
+        if !pilot.is_empty() {
+            let t = Instant::now();
+            let solved = pool.install(|| solve_units(study, &cases, &cols, &source, &pilot));
+            let mut left_per_level = vec![0u64; study.intensity.levels().len()];
+            for &u in left {
+                left_per_level[level_of(u)] += 1;
+            }
+            let mut forecast = progress::Forecast::new(left_per_level);
+            for (&u, (_, seconds)) in pilot.iter().zip(&solved) {
+                forecast.solved(level_of(u), *seconds);
+            }
+            bar.pilot(forecast, pilot.len() * cases.len(), t.elapsed());
+            ahead.extend(
+                pilot
+                    .into_iter()
+                    .zip(solved.into_iter().map(|(text, _)| text)),
+            );
+        }
+    }
     while ckpt.units_done < limit {
         let chunk = &units[ckpt.units_done..(ckpt.units_done + chunk_units).min(limit)];
-        let text = pool.install(|| run_chunk(study, &cases, &cols, &source, chunk));
+        let (text, solved_here) =
+            pool.install(|| run_chunk(study, &cases, &cols, &source, chunk, &mut ahead));
         file.write_all(text.as_bytes())
             .map_err(Error::io(&partial_path))?;
         file.sync_data().map_err(Error::io(&partial_path))?;
@@ -269,7 +298,11 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         write_checkpoint(&ckpt_path, &ckpt)?;
         let n = (chunk.len() * cases.len()) as u64;
         analyses_run += n;
-        bar.inc(n);
+        let solved: Vec<(usize, f64)> = solved_here
+            .iter()
+            .map(|&(u, seconds)| (level_of(u), seconds))
+            .collect();
+        bar.inc(n, &solved);
     }
     bar.finish();
     drop(file);
@@ -384,35 +417,73 @@ pub fn write_summary(
     crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(Error::io(&path))
 }
 
-/// Solves one chunk of units and returns its rows, in canonical order.
+/// The rows of one chunk of units, in canonical order: the units solved
+/// ahead by the pilot are taken from `ahead`, the others solved here.
+/// Returns the text and the units solved here with their thread seconds.
 fn run_chunk(
     study: &Study,
     cases: &[Case],
     cols: &Columns,
     source: &Source,
     chunk: &[usize],
-) -> String {
+    ahead: &mut HashMap<usize, String>,
+) -> (String, Vec<(usize, f64)>) {
+    let todo: Vec<usize> = chunk
+        .iter()
+        .copied()
+        .filter(|u| !ahead.contains_key(u))
+        .collect();
+    let solved = solve_units(study, cases, cols, source, &todo);
+    let seconds = todo
+        .iter()
+        .zip(&solved)
+        .map(|(&u, (_, t))| (u, *t))
+        .collect();
+    let mut solved = solved.into_iter();
+    let text = chunk
+        .iter()
+        .map(|u| match ahead.remove(u) {
+            Some(rows) => rows,
+            None => solved.next().expect("one solved unit per unit to do").0,
+        })
+        .collect();
+    (text, seconds)
+}
+
+/// Solves `units` (every case of each) and returns, per unit, its rows in
+/// canonical order and the thread time its record and analyses took, s.
+fn solve_units(
+    study: &Study,
+    cases: &[Case],
+    cols: &Columns,
+    source: &Source,
+    chunk: &[usize],
+) -> Vec<(String, f64)> {
     let levels = study.intensity.levels();
-    let records: Vec<std::result::Result<Record, String>> = chunk
+    let (records, record_seconds): (Vec<std::result::Result<Record, String>>, Vec<f64>) = chunk
         .par_iter()
         .map_init(
             || source.clone(),
             |src, &u| {
+                let t0 = Instant::now();
                 let unit = plan::unit(study, u);
-                src.record(&study.intensity, levels[unit.level], unit.record, study.g)
-                    .map_err(|e| e.to_string())
+                let record = src
+                    .record(&study.intensity, levels[unit.level], unit.record, study.g)
+                    .map_err(|e| e.to_string());
+                (record, t0.elapsed().as_secs_f64())
             },
         )
-        .collect();
+        .unzip();
     let file_names: Vec<Option<&str>> = (0..study.records())
         .map(|i| match &study.motions {
             Motions::Files(f) => Some(f[i].given.as_str()),
             Motions::Synthetic { .. } => None,
         })
         .collect();
-    let rows: Vec<String> = (0..chunk.len() * cases.len())
+    let rows: Vec<(String, f64)> = (0..chunk.len() * cases.len())
         .into_par_iter()
         .map(|k| {
+            let t0 = Instant::now();
             let (ui, ci) = (k / cases.len(), k % cases.len());
             let unit = plan::unit(study, chunk[ui]);
             let case = &cases[ci];
@@ -432,10 +503,16 @@ fn run_chunk(
             };
             let mut row = String::with_capacity(256);
             cols.write_row(&mut row, &cols.row(own, &info, result));
-            row
+            (row, t0.elapsed().as_secs_f64())
         })
         .collect();
-    rows.concat()
+    rows.chunks(cases.len().max(1))
+        .zip(record_seconds)
+        .map(|(unit, record)| {
+            let text = unit.iter().map(|(r, _)| r.as_str()).collect();
+            (text, record + unit.iter().map(|(_, t)| t).sum::<f64>())
+        })
+        .collect()
 }
 
 /// One analysis; a solver error or panic becomes a message.
