@@ -115,13 +115,15 @@ fn finished_folder_of_another_spec_needs_force() {
     let out_s = out.to_str().unwrap();
     assert!(rockfrag(&["run", SMALL, "--out", out_s]).status.success());
     let before = std::fs::read(out.join("outcomes.csv")).unwrap();
-    // The same spec again is simply run again.
-    assert!(rockfrag(&["run", SMALL, "--out", out_s]).status.success());
+    // The same spec again keeps the finished run's analyses.
+    let o = rockfrag(&["run", SMALL, "--out", out_s]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("already finished"), "{}", stderr(&o));
     let o = rockfrag(&["run", &other, "--out", out_s]);
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
     assert!(
-        err.contains("finished run of another spec") && err.contains("--force"),
+        err.contains("finished run of other analyses") && err.contains("--force"),
         "{err}"
     );
     assert_eq!(std::fs::read(out.join("outcomes.csv")).unwrap(), before);
@@ -130,9 +132,10 @@ fn finished_folder_of_another_spec_needs_force() {
     assert_ne!(std::fs::read(out.join("outcomes.csv")).unwrap(), before);
 }
 
-/// Before it starts, a run says how many analyses it will run, and after
-/// the first chunk how long it expects to take (off a terminal too, as in a
-/// batch log). Before, nothing was printed until the end.
+/// Before it starts, a run says how many analyses it will run, and after a
+/// pilot (one record per intensity level) how long it expects to take (off
+/// a terminal too, as in a batch log). Before, nothing was printed until
+/// the end.
 #[test]
 fn run_announces_its_size_and_an_estimate() {
     let tmp = tempfile::tempdir().unwrap();
@@ -148,9 +151,8 @@ fn run_announces_its_size_and_an_estimate() {
     let err = stderr(&o);
     let first = err.lines().next().unwrap_or("");
     assert_eq!(first, "running 24 analyses on 1 thread", "{err}");
-    // 24 analyses in chunks of 128 per thread: one chunk, nothing left to
-    // estimate. With 400 records (800 units of 4 analyses, chunks of 32
-    // units) an estimate follows the first chunk.
+    // With 100 records (200 units of 4 analyses over 2 levels) the pilot
+    // solves one unit per level: 8 analyses.
     let spec = spec_with(tmp.path(), "bigger", "");
     let text = std::fs::read_to_string(&spec)
         .unwrap()
@@ -168,7 +170,8 @@ fn run_announces_its_size_and_an_estimate() {
     let lines: Vec<&str> = err.lines().collect();
     assert_eq!(lines[0], "running 800 analyses on 1 thread", "{err}");
     assert!(
-        lines[1].starts_with("estimate: ") && lines[1].contains("analyses/s over the first 128"),
+        lines[1].starts_with("estimate: ")
+            && lines[1].contains("from a pilot of 8 analyses, one record per intensity level"),
         "{err}"
     );
 }

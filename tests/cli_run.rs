@@ -2,7 +2,7 @@
 //! write, and one-line errors that name the file and the field.
 
 mod common;
-use common::{rockfrag, run_spec, stderr, stdout};
+use common::{rockfrag, run_spec, stderr};
 use std::path::Path;
 
 const SMALL: &str = concat!(
@@ -244,8 +244,8 @@ fn run_fits_fragility_and_draws_figures_when_the_spec_asks() {
     );
     assert!(fit < counts, "{after}");
     assert!(
-        stdout(&o).contains("summary.md (## Fragility)"),
+        stderr(&o).contains("summary.md (## Fragility)"),
         "{}",
-        stdout(&o)
+        stderr(&o)
     );
 }

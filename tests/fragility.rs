@@ -710,13 +710,19 @@ fn cli_fits_a_generated_study() {
 
     let o = rockfrag(&["fragility", d, "--bootstrap", "200", "--seed", "3"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let out = stdout(&o);
-    eprintln!("{out}");
+    // The table is data (stdout); the notes and the files written are
+    // status (stderr).
+    let (out, err) = (stdout(&o), stderr(&o));
     assert!(
-        out.contains("not fitted: no analysis exceeded the limit state"),
-        "{out}"
+        format!("{out}{err}").contains("not fitted: no analysis exceeded the limit state"),
+        "{out}{err}"
     );
-    assert!(out.contains("1 failed analyses skipped"), "{out}");
+    assert!(err.contains("1 failed analyses skipped"), "{err}");
+    assert!(
+        err.contains("wrote") && !out.contains("wrote"),
+        "{out}\n{err}"
+    );
+    assert!(out.contains("median"), "{out}");
     let csv = std::fs::read_to_string(dir.path().join("fragility.csv")).unwrap();
     assert_eq!(csv.lines().count(), 3);
     assert!(csv.lines().nth(1).unwrap().contains(",ok,"));

@@ -430,8 +430,24 @@ fn cli_writes_risk_csv_summary_and_figure() {
     for _ in 0..2 {
         let o = rockfrag(&args);
         assert!(o.status.success(), "{}", stderr(&o));
-        assert!(stdout(&o).contains("risk.csv"), "{}", stdout(&o));
+        // The table on stdout, what was written on stderr.
+        assert!(stderr(&o).contains("risk.csv"), "{}", stderr(&o));
+        assert!(stdout(&o).contains("annual rate"), "{}", stdout(&o));
     }
+    // --out takes a folder, like every other command: risk.csv and
+    // figures/risk.svg go into it and the study's summary.md is left alone;
+    // a file name is refused, naming it.
+    let other = d.join("elsewhere");
+    let o = rockfrag(&[&args[..], &["--out", other.to_str().unwrap()]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(other.join("risk.csv").exists() && other.join("figures/risk.svg").exists());
+    let o = rockfrag(&[&args[..], &["--out", "risk-here.csv"]].concat());
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("risk-here.csv") && stderr(&o).contains("folder"),
+        "{}",
+        stderr(&o)
+    );
     let csv = std::fs::read_to_string(d.join("risk.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(lines.next().unwrap(), RISK_HEADER);

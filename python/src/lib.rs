@@ -311,11 +311,15 @@ fn motion<'py>(
     duration: Option<f64>,
     highpass: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    if !(pga.is_finite() && pga > 0.0) {
+    if !(pga.is_finite() && pga > 0.0 && pga <= rockfrag::spec::MAX_PGA_G) {
+        // 300 meant in cm/s² is refused, as by the spec and the CLI.
         return Err(py_err(rockfrag::Error::invalid(
             "pga",
             pga,
-            "a positive peak ground acceleration in g",
+            &format!(
+                "a peak ground acceleration in g, in (0, {}]",
+                rockfrag::spec::MAX_PGA_G
+            ),
         )));
     }
     let mut settings = SynthesisSettings::default();

@@ -139,11 +139,11 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     let options = args.options()?;
     let out = args.out.as_ref().unwrap_or(&args.dir);
     let report = rockfrag::pipeline::refit(&args.dir, out, &options)?;
-    let mut text = report.table.clone();
-    text.push_str(&report.notes(args.verbose));
-    text.push_str(&report.wrote);
+    // The table is the data (stdout); the notes and the files written are
+    // status (stderr), as for every subcommand.
+    eprint!("{}{}", report.notes(args.verbose), report.wrote);
     let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()) {
+    match stdout.write_all(report.table.as_bytes()) {
         // A closed pipe (`rockfrag fragility … | head`) is not an error.
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         other => other.context("writing to standard output"),

@@ -125,12 +125,41 @@ fn one_line(err: &clap::Error) -> String {
                 .to_string()
         }
     };
-    if let Some(v) = valid {
+    if let Some(v) = valid.filter(|_| !matches!(err.kind(), ErrorKind::InvalidSubcommand)) {
         line.push_str(&format!(" (accepted: {v})"));
     }
     if let Some(reason) = std::error::Error::source(err).filter(|_| value.is_some()) {
         line.push_str(&format!(": {reason}"));
     }
-    line.push_str("; see 'rockfrag --help'");
+    let suggested =
+        text(ContextKind::SuggestedSubcommand).or_else(|| text(ContextKind::SuggestedArg));
+    if let Some(s) = suggested {
+        line.push_str(&format!(" (did you mean '{s}'?)"));
+    }
+    line.push_str(&format!(
+        "; see '{} --help'",
+        command_path(std::env::args().skip(1))
+    ));
     line
+}
+
+/// `rockfrag` followed by the subcommands named on the command line `args`
+/// (`rockfrag export openquake`), so an error points to the help of the
+/// command it is about.
+fn command_path(args: impl Iterator<Item = String>) -> String {
+    use clap::CommandFactory;
+    let mut cmd = Cli::command();
+    let mut path = String::from("rockfrag");
+    for arg in args {
+        if arg.starts_with('-') {
+            continue;
+        }
+        let Some(sub) = cmd.find_subcommand(&arg).cloned() else {
+            break;
+        };
+        path.push(' ');
+        path.push_str(sub.get_name());
+        cmd = sub;
+    }
+    path
 }

@@ -29,7 +29,7 @@ pub struct MotionArgs {
     /// record (acceleration in g); CSV on standard output if absent.
     #[arg(long, value_name = "FILE.csv|FILE.AT2")]
     pub out: Option<PathBuf>,
-    /// Sample interval, s [default: 0.02]; 1/(0.05·dt) must be an integer.
+    /// Sample interval, s [default: 0.02].
     #[arg(long, value_name = "S", value_parser = positive, allow_negative_numbers = true)]
     pub dt: Option<f64>,
     /// Record duration, s [default: 30].

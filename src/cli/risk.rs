@@ -30,9 +30,9 @@ pub struct RiskArgs {
     /// Site of an OpenQuake file: its 0-based data row [default: 0].
     #[arg(long, value_name = "K")]
     pub site: Option<usize>,
-    /// Where to write risk.csv [default: DIR/risk.csv]; the figure goes to
-    /// figures/risk.svg beside it; summary.md is updated only without --out.
-    #[arg(long, value_name = "FILE")]
+    /// Folder to write risk.csv and figures/risk.svg into [default: DIR];
+    /// DIR's summary.md gets its `## Risk` section only when they go to DIR.
+    #[arg(long, value_name = "OUT_DIR")]
     pub out: Option<PathBuf>,
 }
 
@@ -47,27 +47,33 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     let hazard = read_hazard(&args.hazard, args.site)?.in_unit_of(fragility.im())?;
     let rows = assess(&fragility, &hazard, &options)?;
 
-    let csv = args
-        .out
-        .clone()
-        .unwrap_or_else(|| args.dir.join("risk.csv"));
-    write_risk_csv(&csv, &rows, &options)?;
-    let figure = csv
-        .parent()
-        .map_or_else(|| PathBuf::from("figures"), |p| p.join("figures"))
-        .join("risk.svg");
-    if let Some(parent) = figure.parent() {
-        std::fs::create_dir_all(parent).with_context(|| parent.display().to_string())?;
+    let out = args.out.clone().unwrap_or_else(|| args.dir.clone());
+    if out.extension().is_some_and(|e| e == "csv") {
+        anyhow::bail!(
+            "--out {}: expected a folder (risk.csv and figures/risk.svg go into it), not a file",
+            out.display()
+        );
     }
+    let figures = out.join("figures");
+    std::fs::create_dir_all(&figures).with_context(|| figures.display().to_string())?;
+    let csv = out.join("risk.csv");
+    write_risk_csv(&csv, &rows, &options)?;
+    let figure = figures.join("risk.svg");
     save(&RiskFigure::new(&rows, &hazard), &figure)?;
+    let same = match (out.canonicalize(), args.dir.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => out == args.dir,
+    };
     let summary = args.dir.join("summary.md");
-    let summary = (args.out.is_none() && summary.exists()).then_some(summary);
+    let summary = (same && summary.exists()).then_some(summary);
     if let Some(path) = &summary {
         let section = summary_section(&rows, &hazard, &options);
         rockfrag::io_util::replace_section(path, "## Risk", &section, &[])
             .with_context(|| path.display().to_string())?;
     }
 
+    // The table is the data (stdout); what was read and written is status
+    // (stderr), as for every subcommand.
     let mut text = format!("hazard: {}\n", describe_hazard(&hazard).replace('`', ""));
     if hazard.source == HazardSource::Plain {
         text.push_str(&format!(
@@ -89,7 +95,6 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
              fragility DIR with --bootstrap N)\n",
         );
     }
-    text.push_str(&table(&rows, &options));
     text.push_str(&format!(
         "wrote {}, {}{}\n",
         csv.display(),
@@ -112,8 +117,9 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
             );
         }
     }
+    eprint!("{text}");
     let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()) {
+    match stdout.write_all(table(&rows, &options).as_bytes()) {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         other => other.context("writing to standard output"),
     }

@@ -86,7 +86,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     } else {
         eprintln!(
             "study {}{}: {} analyses ({} overturned, {} uplifted, {} failed); {} run in {:.1} s, \
-         {:.1} analyses/s on {} thread{}; wrote {}",
+         {:.0} analyses/s on {} thread{}; wrote {}",
             study.name,
             if opts.shard == Shard::WHOLE {
                 String::new()

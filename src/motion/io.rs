@@ -504,6 +504,26 @@ fn uniform_step(path: &Path, t: &[f64], times: &[&str], lines: &[usize]) -> Resu
         let expected = t[0] + k as f64 * dt;
         let off = t[k] - expected;
         if off.abs() > bound(k) {
+            // Name the gap where it is: the first step that differs from the
+            // typical (median) step by more than two times' rounding.
+            let mut steps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+            steps.sort_by(f64::total_cmp);
+            let typical = steps[steps.len() / 2];
+            let odd =
+                (1..n).find(|&j| ((t[j] - t[j - 1]) - typical).abs() > bound(j) + bound(j - 1));
+            if let Some(j) = odd {
+                return Err(parse_err(
+                    path,
+                    lines[j],
+                    format!(
+                        "non-uniform time step: t = {} follows {} (step {:e} s, but the typical \
+                         step is {typical:e} s): a gap, an extra sample or jitter in the time column",
+                        times[j],
+                        times[j - 1],
+                        t[j] - t[j - 1]
+                    ),
+                ));
+            }
             return Err(parse_err(
                 path,
                 lines[k],

@@ -23,7 +23,8 @@ pub fn require_finished(dir: &Path) -> Result<()> {
         return Ok(());
     }
     let message = if !dir.is_dir() {
-        "no such folder: expected the output folder of `rockfrag run`".to_string()
+        "no such folder: expected the output folder of a `rockfrag run` (with its outcomes.csv)"
+            .to_string()
     } else if dir.join(CHECKPOINT).exists() || dir.join(PARTIAL).exists() {
         let done = std::fs::read_to_string(dir.join(CHECKPOINT))
             .ok()

@@ -157,8 +157,15 @@ impl Progress {
         let bar = (show && tty).then(|| {
             let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
             if let Ok(style) = ProgressStyle::with_template(
-                "{elapsed_precise} [{wide_bar}] {human_pos}/{human_len} analyses, {per_sec}, ETA {eta}",
+                "{elapsed_precise} [{wide_bar}] {human_pos}/{human_len} analyses, {rate}, ETA {eta}",
             ) {
+                // indicatif's own {per_sec} prints `3,028.4567/s`.
+                let style = style.with_key(
+                    "rate",
+                    |state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                        let _ = write!(w, "{:.0} analyses/s", state.per_sec());
+                    },
+                );
                 bar.set_style(style.progress_chars("=> "));
             }
             bar.set_position(done);
