@@ -511,3 +511,151 @@ fn the_binary_writes_the_figures_and_reports_them() {
         common::stderr(&o)
     );
 }
+
+/// Writes `fragility.csv` and `fragility_curves.csv` of lognormal fits for
+/// the fixture's cases, θ = `theta(aspect, e, friction)`, β = `beta`, the
+/// curves sampled as the fragility command samples them (IM_POINTS points,
+/// 0.05 g apart, up to 1.5 g: short of the top of the stockier blocks').
+fn write_lognormal_fits(dir: &Path, theta: &dyn Fn(f64, f64, &str) -> f64, beta: f64) {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    let phi = Normal::standard();
+    let mut fits = String::from(
+        "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,median,beta,status,im_unit\n",
+    );
+    let mut curves = format!("{}\n", rockfrag::fragility::CURVES_HEADER);
+    let mut case = 0;
+    for &aspect in &ASPECTS {
+        for &e in &RESTITUTIONS {
+            for friction in FRICTIONS {
+                let (mu_s, mu_k) = if friction == "inf" {
+                    ("", "")
+                } else {
+                    ("0.7", "0.6")
+                };
+                let median = theta(aspect, e, friction);
+                writeln!(
+                    fits,
+                    "{aspect},0.5,{e},{friction},{mu_s},{mu_k},overturning,pga,{median},{beta},ok,g"
+                )
+                .unwrap();
+                for k in 1..=IM_POINTS {
+                    let im = 0.05 * k as f64;
+                    let p = phi.cdf((im / median).ln() / beta);
+                    writeln!(
+                        curves,
+                        "{case},{aspect},0.5,{e},{friction},{mu_s},{mu_k},overturning,pga,{im},{p},{},{}",
+                        0.9 * p,
+                        (1.1 * p).min(1.0)
+                    )
+                    .unwrap();
+                }
+                case += 1;
+            }
+        }
+    }
+    fs::write(dir.join("fragility.csv"), fits).unwrap();
+    fs::write(dir.join("fragility_curves.csv"), curves).unwrap();
+}
+
+/// Issue 29: the fragility axis stopped at the last stripe, cutting the
+/// H/B 2 curves off at P ≈ 0.6. With θ and β in `fragility.csv`, the axis
+/// runs on to where every curve reaches P = 0.95, and each curve is drawn on
+/// to it (one polyline per curve, the file's points then the extension);
+/// the bands stop at the last stripe. When a curve would need more than 3×
+/// the last stripe, the axis stops there and the title says how many
+/// curves are still below 0.95.
+#[test]
+fn the_fragility_axis_reaches_where_every_curve_is_at_0_95() {
+    use rockfrag::figures::{FragilityFigure, ShortCurves};
+    let z95 = 1.6448536269514722;
+    let study = tempfile::tempdir().unwrap();
+    write_study(study.path(), true, false);
+    let (beta, theta) = (0.3, |aspect: f64, _: f64, _: &str| 2.4 / aspect);
+    write_lognormal_fits(study.path(), &theta, beta);
+    let fig = FragilityFigure::from_study(&StudyData::load(study.path()).unwrap());
+    // H/B 2: θ = 1.2 g reaches 0.95 at 1.2·e^(1.645·0.3) ≈ 1.97 g
+    let needed = 1.2 * (z95 * beta).exp();
+    assert!(
+        fig.x_max >= needed && fig.x_max < 1.1 * needed,
+        "{}",
+        fig.x_max
+    );
+    assert_eq!(fig.short_of_reach, ShortCurves::default());
+    assert!(!fig.title.contains("below P"), "{}", fig.title);
+    let n_ext = fig.panels[0].series[0].extension[0].len();
+    assert!(n_ext >= 2, "{n_ext}");
+    for s in fig.panels.iter().flat_map(|p| &p.series) {
+        let end = s.extension[0].last().expect("extended to the axis end");
+        assert!(end.1 >= 0.95, "curve ends at P = {}", end.1);
+        assert_eq!(s.extension[0].len(), n_ext);
+    }
+    let out = study.path().join("figures");
+    study_figures(study.path(), &out, &quick()).unwrap();
+    let f = marks(&svg(&out, "fragility"));
+    let series = ASPECTS.len() * RESTITUTIONS.len();
+    assert_eq!(f.solid(IM_POINTS + n_ext), series, "solid curves, extended");
+    assert_eq!(f.polygons, 2 * series, "bands, to the last stripe");
+    assert!(f.has_text("to the last stripe"), "{:?}", f.texts);
+
+    // β = 1: θ·e^(1.645) ≈ 6.2 g for H/B 2, beyond 3 × 1.5 g
+    write_lognormal_fits(study.path(), &theta, 1.0);
+    let fig = FragilityFigure::from_study(&StudyData::load(study.path()).unwrap());
+    assert!((fig.x_max - 1.03 * 3.0 * 1.5).abs() < 1e-9, "{}", fig.x_max);
+    let capped = fig.short_of_reach.capped;
+    assert!(capped > 0 && fig.short_of_reach.unextended == 0);
+    assert!(
+        fig.title.contains(&format!(
+            "{capped} curves below P = 0.95 at the axis end (3 × the last stripe)"
+        )),
+        "{}",
+        fig.title
+    );
+    // the fixture's own curves (no fragility.csv) stop short for H/B 2
+    fs::remove_file(study.path().join("fragility.csv")).unwrap();
+    write_study(study.path(), true, false);
+    let fig = FragilityFigure::from_study(&StudyData::load(study.path()).unwrap());
+    assert_eq!(fig.short_of_reach.unextended, 2 * RESTITUTIONS.len());
+    assert!(
+        fig.title
+            .contains("8 curves end below P = 0.95 (no θ, β in fragility.csv)"),
+        "{}",
+        fig.title
+    );
+}
+
+/// Issue 29: a friction model that changes no outcome draws its dashed
+/// curve exactly on the solid one, where it cannot be seen. When every
+/// Coulomb curve is its μ = ∞ twin, the legend says `(as μ = ∞)`; when only
+/// some are, each panel names the e values at its top left and the legend
+/// does not.
+#[test]
+fn fragility_names_friction_curves_hidden_under_the_solid_ones() {
+    let study = tempfile::tempdir().unwrap();
+    write_study(study.path(), true, false);
+    let out = study.path().join("figures");
+    // the fixture's outcomes and curves do not depend on friction
+    write_lognormal_fits(study.path(), &|a, _, _| 2.4 / a, 0.3);
+    study_figures(study.path(), &out, &quick()).unwrap();
+    let f = marks(&svg(&out, "fragility"));
+    assert!(f.has_text("μₛ = 0.7, μₖ = 0.6 (as μ = ∞)"), "{:?}", f.texts);
+    assert!(!f.has_text("dashed = solid"), "{:?}", f.texts);
+
+    // now the Coulomb fit at e = 0.9 differs
+    let theta = |a: f64, e: f64, f: &str| {
+        if f == "coulomb" && e == 0.9 {
+            3.0 / a
+        } else {
+            2.4 / a
+        }
+    };
+    write_lognormal_fits(study.path(), &theta, 0.3);
+    study_figures(study.path(), &out, &quick()).unwrap();
+    let f = marks(&svg(&out, "fragility"));
+    assert!(!f.has_text("(as μ = ∞)"), "{:?}", f.texts);
+    let notes = f
+        .texts
+        .iter()
+        .filter(|t| t.as_str() == "dashed = solid: e = 0, 0.3, 0.6")
+        .count();
+    assert_eq!(notes, ASPECTS.len(), "{:?}", f.texts);
+}

@@ -431,6 +431,7 @@ mod tests {
         let with = StudyData {
             outcomes: vec![row(0.0, Some(0.185)), row(0.9, Some(250.0))],
             curves: None,
+            lognormal: Vec::new(),
         };
         let f = FrictionDemandFigure::from_study(&with).unwrap();
         assert_eq!(f.eq5.len(), 2);
@@ -440,6 +441,7 @@ mod tests {
         let without = StudyData {
             outcomes: vec![row(0.0, None), row(0.9, None)],
             curves: None,
+            lognormal: Vec::new(),
         };
         let f = FrictionDemandFigure::from_study(&without).unwrap();
         assert!(f.eq5.is_empty());

@@ -41,9 +41,9 @@ mod spectrum;
 pub mod style;
 
 pub use batch::{FigureOptions, FiguresReport, StudyFigures, study_figures, study_of_folder};
-pub use data::{CurvePoint, PlotRow, StudyData};
+pub use data::{CurvePoint, LognormalCurve, PlotRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
-pub use fragility::FragilityFigure;
+pub use fragility::{FragilityFigure, ShortCurves};
 pub use friction::FrictionDemandFigure;
 pub use history::{HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, mode_colour};
 pub use motion::plot_record;
