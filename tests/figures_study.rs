@@ -335,6 +335,16 @@ fn every_figure_parses_and_has_its_curves() {
     for t in ["B/H", "eq. (8)", "0.75·B/H", "(log scale)"] {
         assert!(d.has_text(t), "friction demand lacks {t:?}");
     }
+    // each panel its own y label and its own legend (issue 29: (a) had no
+    // y label, and its PGA entries shared rows with (b)'s e entries)
+    for t in [
+        "Mean μₘₒₜ = max |F|/N",
+        "Mean max |Pₜ/Pₙ|",
+        "PGA (g):",
+        "e:",
+    ] {
+        assert!(d.has_text(t), "friction demand lacks {t:?}: {:?}", d.texts);
+    }
     // The generic figures know nothing of the seed paper: no published
     // values beside a study that is not the paper's (this fixture has no
     // manifest), though it shares the paper's grid values.

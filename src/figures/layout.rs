@@ -227,12 +227,16 @@ pub fn title_band<DB: DrawingBackend>(
     let lines: Vec<&str> = if fits(title) {
         vec![title]
     } else {
-        let breaks = title
-            .match_indices("; ")
-            .chain(title.match_indices(", "))
-            .map(|(i, _)| i)
-            .filter(|&i| fits(&title[..i + 1]));
-        match breaks.max() {
+        // after the last "; " that leaves two lines that fit, else after
+        // the last "; " or ", " that lets the first line fit
+        let at = |sep: &'static str| {
+            title
+                .match_indices(sep)
+                .map(|(i, _)| i)
+                .filter(|&i| fits(&title[..i + 1]))
+        };
+        let clause = at("; ").filter(|&i| fits(&title[i + 2..])).max();
+        match clause.or_else(|| at("; ").chain(at(", ")).max()) {
             Some(i) => vec![&title[..i + 1], &title[i + 2..]],
             None => vec![title],
         }
@@ -501,19 +505,110 @@ where
         .y_label_formatter(&|v| tick_label(*v));
 }
 
-/// Formats a tick on a log axis: only powers of ten and their 2× and 5×
-/// multiples are labelled (`1`, `2`, `5`, `10`, …), as compact numbers.
-pub fn log_tick_label(v: f64) -> String {
+/// Ticks and labels of a logarithmic axis over [lo, hi], chosen by how many
+/// decades it spans (d):
+///
+/// - d ≤ 1.5: 1, 2 and 5 × 10ᵏ;
+/// - d ≤ 3: 1 and 3 × 10ᵏ;
+/// - d ≤ 8: the powers of ten;
+/// - more: every n-th power of ten, so that at most 8 are labelled.
+///
+/// Ticks are labelled as plain numbers (`0.05`, `300`) while the axis spans
+/// 3 decades or less and every tick lies in [10⁻³, 10⁴]; otherwise as powers
+/// of ten with superscripts (`10⁻⁵`, `2×10⁻⁵`), which stay short and never
+/// lose a digit to a clipped margin.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LogAxis {
+    /// Tick positions, ascending, inside [lo, hi].
+    pub ticks: Vec<f64>,
+    /// Whether the labels are powers of ten.
+    pub powers: bool,
+}
+
+impl LogAxis {
+    /// The ticks of an axis over [lo, hi] (0 < lo < hi).
+    pub fn new(lo: f64, hi: f64) -> LogAxis {
+        let decades = dm::log10(hi / lo);
+        let (multiples, every): (&[f64], i32) = if decades <= 1.5 {
+            (&[1.0, 2.0, 5.0], 1)
+        } else if decades <= 3.0 {
+            (&[1.0, 3.0], 1)
+        } else {
+            (&[1.0], (decades / 8.0).ceil().max(1.0) as i32)
+        };
+        let first = dm::log10(lo).floor() as i32;
+        let last = dm::log10(hi).ceil() as i32;
+        let mut ticks = Vec::new();
+        for k in first..=last {
+            if k.rem_euclid(every) != 0 {
+                continue;
+            }
+            let decade = dm::powf(10.0, k as f64);
+            for m in multiples {
+                let t = m * decade;
+                // a tick computed at the end of the range may sit an ulp
+                // outside it
+                if t >= lo * (1.0 - 1e-9) && t <= hi * (1.0 + 1e-9) {
+                    ticks.push(t);
+                }
+            }
+        }
+        let powers = decades > 3.0 || ticks.iter().any(|&t| !(1e-3..=1e4).contains(&t));
+        LogAxis { ticks, powers }
+    }
+
+    /// The label of tick `v`.
+    pub fn label(&self, v: f64) -> String {
+        if self.powers {
+            power_label(v)
+        } else {
+            tick_label(v)
+        }
+    }
+}
+
+/// `v` as a power of ten with a superscript exponent: `10⁻⁵`, `1` → `10⁰`,
+/// `2e-5` → `2×10⁻⁵`; an empty label for v ≤ 0 or NaN.
+pub fn power_label(v: f64) -> String {
     if v.is_nan() || v <= 0.0 {
         return String::new();
     }
-    let e = dm::log10(v).floor();
-    let m = v / dm::powf(10.0, e);
-    if [1.0, 2.0, 5.0].iter().any(|k| (m - k).abs() < 1e-6) {
-        tick_label(v)
-    } else {
-        String::new()
+    let mut k = dm::log10(v).floor();
+    let mut m = v / dm::powf(10.0, k);
+    // 0.001 may come out as 9.99…×10⁻⁴
+    if m >= 9.999_999 {
+        k += 1.0;
+        m /= 10.0;
     }
+    let exponent: String = format!("{}", k as i64)
+        .chars()
+        .map(|c| match c {
+            '-' => '⁻',
+            d => SUPERSCRIPT_DIGITS[d.to_digit(10).expect("a digit") as usize],
+        })
+        .collect();
+    if (m - 1.0).abs() < 1e-6 {
+        format!("10{exponent}")
+    } else {
+        format!("{}×10{exponent}", tick_label((m * 1e4).round() / 1e4))
+    }
+}
+
+/// ⁰ to ⁹.
+const SUPERSCRIPT_DIGITS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+
+/// Width in pixels of the widest of `labels` in the tick font.
+pub fn widest<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    labels: impl IntoIterator<Item = String>,
+) -> u32 {
+    let font = style.tick_font();
+    labels
+        .into_iter()
+        .map(|l| area.estimate_text_size(&l, &font).map_or(0, |(w, _)| w))
+        .max()
+        .unwrap_or(0)
 }
 
 /// A lighter tint of `c`: `amount` = 0 gives `c`, 1 gives white.
@@ -666,13 +761,31 @@ mod tests {
     }
 
     #[test]
-    fn log_ticks_label_only_one_two_five_decades() {
-        // A log axis labels 1, 2, 5 × 10^k and leaves the other ticks blank.
-        assert_eq!(log_tick_label(0.1), "0.1");
-        assert_eq!(log_tick_label(2000.0), "2000");
-        assert_eq!(log_tick_label(0.05), "0.05");
-        assert_eq!(log_tick_label(3.0), "");
-        assert_eq!(log_tick_label(0.0), "");
+    fn log_axes_label_decades_as_powers_of_ten_when_they_span_many() {
+        // A spectrum's y axis over 7 decades: a tick per decade, labelled
+        // 10⁻⁶ … 10⁰, every label different (a plain "0.000001" loses
+        // digits to the margin and reads like "0.00001").
+        let axis = LogAxis::new(5e-7, 3.0);
+        assert!(axis.powers);
+        let labels: Vec<String> = axis.ticks.iter().map(|&t| axis.label(t)).collect();
+        assert_eq!(
+            labels,
+            ["10⁻⁶", "10⁻⁵", "10⁻⁴", "10⁻³", "10⁻²", "10⁻¹", "10⁰"]
+        );
+        assert_ne!(axis.label(1e-5), axis.label(1e-6));
+        // Two decades inside [10⁻³, 10⁴]: 1 and 3 × 10ᵏ as plain numbers.
+        let axis = LogAxis::new(0.025, 5.0);
+        assert!(!axis.powers);
+        let labels: Vec<String> = axis.ticks.iter().map(|&t| axis.label(t)).collect();
+        assert_eq!(labels, ["0.03", "0.1", "0.3", "1", "3"]);
+        // Under a decade and a half: 1, 2, 5.
+        assert_eq!(LogAxis::new(0.07, 0.6).ticks, [0.1, 0.2, 0.5]);
+        // Twenty decades: at most 8 labelled.
+        assert!(LogAxis::new(1e-20, 1.0).ticks.len() <= 8);
+        assert_eq!(power_label(2e-5), "2×10⁻⁵");
+        assert_eq!(power_label(1e4), "10⁴");
+        assert_eq!(power_label(0.001), "10⁻³");
+        assert_eq!(power_label(0.0), "");
     }
 
     #[test]
