@@ -49,6 +49,6 @@ pub use history::{HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, mode_
 pub use motion::plot_record;
 pub use restitution::RestitutionFigure;
 pub(crate) use restitution::trend_text;
-pub use risk::{RiskFigure, RiskPanel, RiskSeries};
+pub use risk::{RiskCase, RiskFigure, RiskSeries};
 pub use spectrum::SpectrumFigure;
 pub use style::Style;
