@@ -35,6 +35,7 @@ mod friction;
 mod history;
 pub(crate) mod layout;
 mod motion;
+mod raster;
 mod restitution;
 mod risk;
 mod spectrum;
