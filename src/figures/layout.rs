@@ -211,8 +211,8 @@ impl<DB: DrawingBackend> Frame<DB> {
 }
 
 /// Splits a title band off the top of `area`, writes `title` centred in it
-/// and returns the rest. A title wider than the area is broken after its
-/// last `; ` or `, ` that lets the first line fit, into a band of two lines.
+/// and returns the rest. A title wider than the area is broken into lines
+/// that fit (see [`wrap_title`]), the band growing by a line for each.
 pub fn title_band<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     style: &Style,
@@ -224,23 +224,7 @@ pub fn title_band<DB: DrawingBackend>(
         area.estimate_text_size(t, &font)
             .map_or(true, |(w, _)| w + style.ipx(4.0) <= width)
     };
-    let lines: Vec<&str> = if fits(title) {
-        vec![title]
-    } else {
-        // after the last "; " that leaves two lines that fit, else after
-        // the last "; " or ", " that lets the first line fit
-        let at = |sep: &'static str| {
-            title
-                .match_indices(sep)
-                .map(|(i, _)| i)
-                .filter(|&i| fits(&title[..i + 1]))
-        };
-        let clause = at("; ").filter(|&i| fits(&title[i + 2..])).max();
-        match clause.or_else(|| at("; ").chain(at(", ")).max()) {
-            Some(i) => vec![&title[..i + 1], &title[i + 2..]],
-            None => vec![title],
-        }
-    };
+    let lines = wrap_title(title, &fits);
     let line_h = style.px(TITLE_BAND_PT - 4.0);
     let band_h = style.px(TITLE_BAND_PT) + line_h * (lines.len() - 1) as f64;
     let (band, body) = area.split_vertically(band_h.round() as u32);
@@ -250,6 +234,37 @@ pub fn title_band<DB: DrawingBackend>(
         band.draw_text(line, &centred, ((width / 2) as i32, y.round() as i32))?;
     }
     Ok(body)
+}
+
+/// `title` in lines for which `fits` holds: the whole title if it fits;
+/// else broken after the last `; ` that leaves two lines that fit (a title's
+/// clauses), else after the last `; ` or `, ` that lets the first line fit,
+/// else after the last space that does, and the rest wrapped the same way.
+/// A word too long for a line is left whole on its own.
+pub fn wrap_title<'t>(title: &'t str, fits: &dyn Fn(&str) -> bool) -> Vec<&'t str> {
+    if fits(title) {
+        return vec![title];
+    }
+    let at = |sep: &'static str| {
+        title
+            .match_indices(sep)
+            .map(|(i, _)| i)
+            .filter(|&i| fits(&title[..i + sep.len() - 1]))
+    };
+    let clause = at("; ").filter(|&i| fits(&title[i + 2..])).max();
+    let split = clause
+        .or_else(|| at("; ").chain(at(", ")).max())
+        .map(|i| (&title[..i + 1], &title[i + 2..]))
+        .or_else(|| at(" ").max().map(|i| (&title[..i], &title[i + 1..])))
+        .or_else(|| title.split_once(' '));
+    match split {
+        Some((first, rest)) if !rest.is_empty() => {
+            let mut lines = vec![first];
+            lines.extend(wrap_title(rest, fits));
+            lines
+        }
+        _ => vec![title],
+    }
 }
 
 /// Number of legend rows `entries` need across `width` pixels.
@@ -758,6 +773,44 @@ mod tests {
         assert_eq!(x.start, 83);
         assert_eq!(x.end, 700 - 28);
         assert_eq!(y_bare.end - y.end, 72);
+    }
+
+    #[test]
+    fn a_long_title_is_wrapped_into_as_many_lines_as_fit() {
+        // The museum study's history title: two lines were not enough, and
+        // the second ran off both sides of the figure (issue 29, item 10).
+        crate::figures::font::register().unwrap();
+        let title = "H/B = 5.00, 2B = 0.380 m, e = 0.231, μₛ = 0.634, μₖ = 0.560: record \
+                     22 of seed 77 at 0.5 g (largest θmax/θc not overturned, stripe nearest \
+                     its median 0.519 g)";
+        // a full page wide, 7 in at 200 px/in
+        let (w, h) = (1400_u32, 400_u32);
+        let mut svg = String::new();
+        let body_h = {
+            let root =
+                plotters::prelude::SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+            let body = title_band(&root, &Style::SVG, title).unwrap();
+            root.present().unwrap();
+            body.dim_in_pixel().1
+        };
+        let lines: Vec<&str> = svg
+            .split("<text")
+            .skip(1)
+            .map(|t| t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()].trim())
+            .collect();
+        assert_eq!(lines.len(), 3, "{lines:?}");
+        // the band: 16 pt for the first line and 12 pt for each other one
+        let band = (Style::SVG.px(16.0) + 2.0 * Style::SVG.px(12.0)).round() as u32;
+        assert_eq!(body_h, h - band);
+        let mut buffer = vec![0u8; (w * h * 3) as usize];
+        let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
+        for line in &lines {
+            let (lw, _) = root
+                .estimate_text_size(line, &Style::SVG.title_font())
+                .unwrap();
+            assert!(lw < w, "{line:?} is {lw} px wide, the figure {w}");
+        }
+        assert_eq!(lines.join(" "), title);
     }
 
     #[test]
