@@ -672,3 +672,145 @@ fn fragility_names_friction_curves_hidden_under_the_solid_ones() {
         .count();
     assert_eq!(notes, ASPECTS.len(), "{:?}", f.texts);
 }
+
+/// The shipped example hazard curve (OpenQuake CSV, PGA).
+fn example_hazard() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/hazard/hazard_curve-mean-PGA_example.csv")
+}
+
+/// Issue 29, items 9 and 10: `rockfrag figures` draws the risk figure once
+/// `rockfrag risk` has run, in SVG (the same bytes `risk` wrote) and in PNG,
+/// from the hazard curve `risk` kept beside `risk.csv`; every limit state is
+/// in the legend, one without a fit said on its row. Without that curve,
+/// or when the fit has changed since, it says why there is no risk figure
+/// instead of drawing one that disagrees with `risk.csv`.
+#[test]
+fn figures_draw_the_risk_figure_once_risk_has_run() {
+    let study = tempfile::tempdir().unwrap();
+    let d = study.path();
+    write_study(d, true, false);
+    write_lognormal_fits(d, &|a, _, _| 2.4 / a, 0.3);
+    // a second limit state for the first two cases: fitted for the first,
+    // not for the second
+    let fits = fs::read_to_string(d.join("fragility.csv")).unwrap();
+    let mut lines: Vec<&str> = fits.lines().collect();
+    lines.insert(2, "2,0.5,0,inf,,,uplift,pga,0.4,0.3,ok,g");
+    lines.insert(4, "2,0.5,0,coulomb,0.7,0.6,uplift,pga,,,separated,g");
+    fs::write(d.join("fragility.csv"), lines.join("\n") + "\n").unwrap();
+    let dir = d.to_str().unwrap();
+    let figures = |extra: &[&str]| {
+        let mut args = vec!["figures", dir];
+        args.extend_from_slice(extra);
+        let o = common::rockfrag(&args);
+        assert!(o.status.success(), "{}", common::stderr(&o));
+        (common::stdout(&o), common::stderr(&o))
+    };
+
+    // no risk.csv: no risk figure, and nothing to say about it
+    let (listed, notes) = figures(&[]);
+    assert!(!listed.contains("risk"), "{listed}");
+    assert!(!notes.contains("risk"), "{notes}");
+
+    let hazard = example_hazard();
+    let o = common::rockfrag(&["risk", dir, "--hazard", hazard.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    assert!(d.join("risk_hazard.csv").is_file());
+    let drawn_by_risk = fs::read(d.join("figures/risk.svg")).unwrap();
+
+    let (listed, _) = figures(&[]);
+    assert!(listed.contains("risk.svg"), "{listed}");
+    assert_eq!(fs::read(d.join("figures/risk.svg")).unwrap(), drawn_by_risk);
+    let r = marks(&d.join("figures/risk.svg"));
+    for t in [
+        "overturning",
+        "uplift",
+        "uplift: no fit (separated)",
+        "site 0 of hazard_curve-mean-PGA_example.csv",
+    ] {
+        assert!(r.has_text(t), "risk lacks {t:?}: {:?}", r.texts);
+    }
+
+    let png = d.join("png");
+    let (listed, _) = figures(&["--format", "png", "--out", png.to_str().unwrap()]);
+    assert!(listed.contains("risk.png"), "{listed}");
+    assert!(
+        fs::read(png.join("risk.png"))
+            .unwrap()
+            .starts_with(b"\x89PNG")
+    );
+
+    // refitted since: the rates no longer those of risk.csv
+    let refit = fs::read_to_string(d.join("fragility.csv"))
+        .unwrap()
+        .replace(",overturning,pga,1.2,", ",overturning,pga,1.3,");
+    fs::write(d.join("fragility.csv"), refit).unwrap();
+    fs::remove_file(d.join("figures/risk.svg")).unwrap();
+    let (listed, notes) = figures(&[]);
+    assert!(!listed.contains("risk"), "{listed}");
+    assert!(
+        notes.contains("does not hold the rates of the fit"),
+        "{notes}"
+    );
+
+    // a risk.csv without the hazard it was computed over
+    fs::remove_file(d.join("risk_hazard.csv")).unwrap();
+    let (listed, notes) = figures(&[]);
+    assert!(!listed.contains("risk"), "{listed}");
+    assert!(
+        notes.contains("no risk_hazard.csv") && notes.contains("rerun `rockfrag risk"),
+        "{notes}"
+    );
+}
+
+/// Issue 29, item 10: the deaggregation curves of the risk figure were
+/// sawtooths, the log–log interpolated hazard's slope jumping at each of its
+/// levels. Drawn with the slope smoothed, as the peak is located, each
+/// rises to one maximum, at its peak mark, and falls; the legend names the
+/// hazard's extrapolation only where it is drawn.
+#[test]
+fn risk_deaggregation_curves_are_smooth_and_peak_at_their_marks() {
+    use rockfrag::figures::RiskFigure;
+    use rockfrag::risk::{RiskOptions, assess, read_fragility, read_hazard};
+    let study = tempfile::tempdir().unwrap();
+    let d = study.path();
+    write_lognormal_fits(d, &|a, e, _| 2.4 / a + 0.1 * e, 0.3);
+    let fragility = read_fragility(d).unwrap();
+    let hazard = read_hazard(&example_hazard(), None)
+        .unwrap()
+        .in_unit_of("pga")
+        .unwrap();
+    let rows = assess(&fragility, &hazard, &RiskOptions::default()).unwrap();
+    let figure = RiskFigure::new(&rows, &hazard);
+    let series: Vec<_> = figure.cases.iter().flat_map(|c| &c.series).collect();
+    assert_eq!(series.len(), rows.len());
+    for s in series {
+        let y: Vec<f64> = s.integrand.iter().map(|p| p.1).collect();
+        let maxima = (1..y.len() - 1)
+            .filter(|&i| y[i] > y[i - 1] && y[i] >= y[i + 1])
+            .count();
+        assert_eq!(maxima, 1, "one maximum, not a sawtooth: {y:?}");
+        let top = (0..y.len()).max_by(|&i, &j| y[i].total_cmp(&y[j])).unwrap();
+        let step = (s.integrand[1].0 / s.integrand[0].0).ln();
+        assert!(
+            (s.integrand[top].0 / s.peak_im).ln().abs() <= step,
+            "the curve peaks at {} and its mark is at {}",
+            s.integrand[top].0,
+            s.peak_im
+        );
+    }
+    let out = d.join("risk.svg");
+    rockfrag::figures::save(&figure, &out).unwrap();
+    let svg = marks(&out);
+    assert!(!svg.has_text("extrapolated"), "{:?}", svg.texts);
+    // a hazard curve that stops short of the fits: its extension drawn and named
+    let short = rockfrag::risk::HazardCurve::from_rates(
+        Path::new("short.csv"),
+        &[0.3, 0.6, 0.9],
+        &[3e-3, 8e-4, 2e-4],
+    )
+    .unwrap();
+    let rows = assess(&fragility, &short, &RiskOptions::default()).unwrap();
+    rockfrag::figures::save(&RiskFigure::new(&rows, &short), &out).unwrap();
+    let svg = marks(&out);
+    assert!(svg.has_text("extrapolated"), "{:?}", svg.texts);
+}

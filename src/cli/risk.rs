@@ -8,8 +8,8 @@ use anyhow::Context;
 use rockfrag::figures::{RiskFigure, save};
 use rockfrag::io_util::sig3;
 use rockfrag::risk::{
-    HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, assess, describe_hazard,
-    read_fragility, read_hazard, summary_section, write_risk_csv,
+    HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, USED_HAZARD, assess, describe_hazard,
+    read_fragility, read_hazard, summary_section, write_risk_csv, write_used_hazard,
 };
 
 /// Flags of `rockfrag risk`.
@@ -30,8 +30,10 @@ pub struct RiskArgs {
     /// Site of an OpenQuake file: its 0-based data row [default: 0].
     #[arg(long, value_name = "K")]
     pub site: Option<usize>,
-    /// Where to write risk.csv [default: DIR/risk.csv]; the figure goes to
-    /// figures/risk.svg beside it; summary.md is updated only without --out.
+    /// Where to write risk.csv [default: DIR/risk.csv]; the hazard as
+    /// integrated goes to risk_hazard.csv and the figure to figures/risk.svg
+    /// beside it (`rockfrag figures` redraws it from them, also as PNG);
+    /// summary.md is updated only without --out.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
@@ -52,6 +54,9 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| args.dir.join("risk.csv"));
     write_risk_csv(&csv, &rows, &options)?;
+    // the hazard as integrated, for `rockfrag figures` to redraw the figure
+    let used = csv.with_file_name(USED_HAZARD);
+    write_used_hazard(&used, &hazard)?;
     let figure = csv
         .parent()
         .map_or_else(|| PathBuf::from("figures"), |p| p.join("figures"))
@@ -91,8 +96,9 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     }
     text.push_str(&table(&rows, &options));
     text.push_str(&format!(
-        "wrote {}, {}{}\n",
+        "wrote {}, {}, {}{}\n",
         csv.display(),
+        used.display(),
         figure.display(),
         summary.map_or(String::new(), |p| format!(", {} (## Risk)", p.display()))
     ));

@@ -7,9 +7,12 @@
 //!   integral extrapolates it) and, on the same logarithmic IM axis, the
 //!   integrand P(LS | im)·|dλ/d ln im| of every fitted case and limit state
 //!   (right axis, each scaled to peak at 1, a thin line in the limit state's
-//!   colour): where each rate comes from. The ticks along the top mark each
-//!   integrand's peak, located with the hazard's slope smoothed between
-//!   levels (see [`crate::risk`]). The cases' curves are drawn as one bundle
+//!   colour): where each rate comes from. The integrands are drawn with the
+//!   hazard's log-slope smoothed between its levels
+//!   ([`crate::risk::deaggregation_smoothed`]), as each peak is located:
+//!   with the log–log interpolant's slope, which jumps at every level, each
+//!   was a sawtooth. The ticks along the top mark the peaks (see
+//!   [`crate::risk`]). The cases' curves are drawn as one bundle
 //!   per limit state: cases that differ little overlap, and their spread is
 //!   the information.
 //! - **(b) Annual rate per case.** One row per case (in `risk.csv`'s order),
@@ -26,7 +29,8 @@
 //!
 //! Logarithmic axes are labelled by [`LogAxis`] (powers of ten with
 //! superscripts on the rate axes), and the legend is one short row: the
-//! hazard, its extrapolation and one entry per limit state.
+//! hazard, its extrapolation (when the IM axis reaches beyond the hazard's
+//! levels, the only time it is drawn) and one entry per limit state.
 
 use crate::detmath as dm;
 use plotters::coord::Shift;
@@ -42,7 +46,7 @@ use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, LogAxis, Margins, Marker, Sample, curve};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style};
 use crate::case::Case;
-use crate::risk::{HazardCurve, RiskOptions, RiskRow, deaggregation};
+use crate::risk::{HazardCurve, RiskOptions, RiskRow, deaggregation_smoothed};
 
 /// Most cases drawn as rows of panel (b); `risk.csv` has them all.
 pub const MAX_ROWS: usize = 40;
@@ -184,8 +188,8 @@ impl RiskFigure {
                 case.unfitted.push((ls, "rate 0".to_string()));
                 continue;
             }
-            let density = deaggregation(hazard, m, b, &ims);
-            let top = deaggregation(hazard, m, b, &[integral.peak_im])[0]
+            let density = deaggregation_smoothed(hazard, m, b, &ims);
+            let top = deaggregation_smoothed(hazard, m, b, &[integral.peak_im])[0]
                 .max(density.iter().copied().fold(0.0, f64::max));
             case.series.push(RiskSeries {
                 limit_state: ls,
@@ -215,7 +219,7 @@ impl RiskFigure {
         };
         let pct = (RiskOptions::default().confidence * 100.0).round();
         RiskFigure {
-            title: format!("Annual rate of each limit state at {}", site_label(hazard)),
+            title: format!("Annual rate of each limit state at {}", hazard.site()),
             im_label,
             limit_states,
             im_range: (lo, hi),
@@ -267,10 +271,14 @@ impl RiskFigure {
     }
 
     fn legend(&self) -> Vec<Entry> {
-        let mut entries = vec![
-            Entry::new(Sample::Line(BLACK, Dash::Solid), "hazard λ"),
-            Entry::new(Sample::Line(BLACK, Dash::Dashed), "extrapolated"),
-        ];
+        let mut entries = vec![Entry::new(Sample::Line(BLACK, Dash::Solid), "hazard λ")];
+        // only when the IM axis reaches beyond the hazard's levels
+        if self.hazard_extended.iter().any(|p| p.len() > 1) {
+            entries.push(Entry::new(
+                Sample::Line(BLACK, Dash::Dashed),
+                "extrapolated",
+            ));
+        }
         for (i, ls) in self.limit_states.iter().enumerate() {
             entries.push(Entry::new(
                 Sample::LinePoint(colour(i), Dash::Solid, Marker::Circle, true),
@@ -337,18 +345,6 @@ fn compact_friction(label: &str) -> String {
                 .collect();
             format!("μₛ/μₖ {}", values.join("/"))
         }
-    }
-}
-
-/// `site K of FILE` for an OpenQuake curve, else the file name.
-fn site_label(hazard: &HazardCurve) -> String {
-    let name = hazard
-        .path
-        .file_name()
-        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    match &hazard.source {
-        crate::risk::HazardSource::OpenQuake { site, .. } => format!("site {site} of {name}"),
-        crate::risk::HazardSource::Plain => name,
     }
 }
 
