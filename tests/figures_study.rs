@@ -335,6 +335,16 @@ fn every_figure_parses_and_has_its_curves() {
     for t in ["B/H", "eq. (8)", "0.75·B/H", "(log scale)"] {
         assert!(d.has_text(t), "friction demand lacks {t:?}");
     }
+    // each panel its own y label and its own legend (issue 29: (a) had no
+    // y label, and its PGA entries shared rows with (b)'s e entries)
+    for t in [
+        "Mean μₘₒₜ = max |F|/N",
+        "Mean max |Pₜ/Pₙ|",
+        "PGA (g):",
+        "e:",
+    ] {
+        assert!(d.has_text(t), "friction demand lacks {t:?}: {:?}", d.texts);
+    }
     // The generic figures know nothing of the seed paper: no published
     // values beside a study that is not the paper's (this fixture has no
     // manifest), though it shares the paper's grid values.
@@ -361,6 +371,9 @@ fn every_figure_parses_and_has_its_curves() {
         "Coefficient of restitution e",
         "Mean θmax/θc",
         "5 records per point",
+        // the fixture's Coulomb runs are its μ = ∞ runs: said, as the
+        // dashed lines lie hidden under the solid ones
+        "μₛ = 0.7, μₖ = 0.6 (as μ = ∞)",
     ] {
         assert!(r.has_text(t), "restitution lacks {t:?}: {:?}", r.texts);
     }
@@ -510,4 +523,294 @@ fn the_binary_writes_the_figures_and_reports_them() {
         "{}",
         common::stderr(&o)
     );
+}
+
+/// Writes `fragility.csv` and `fragility_curves.csv` of lognormal fits for
+/// the fixture's cases, θ = `theta(aspect, e, friction)`, β = `beta`, the
+/// curves sampled as the fragility command samples them (IM_POINTS points,
+/// 0.05 g apart, up to 1.5 g: short of the top of the stockier blocks').
+fn write_lognormal_fits(dir: &Path, theta: &dyn Fn(f64, f64, &str) -> f64, beta: f64) {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    let phi = Normal::standard();
+    let mut fits = String::from(
+        "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,median,beta,status,im_unit\n",
+    );
+    let mut curves = format!("{}\n", rockfrag::fragility::CURVES_HEADER);
+    let mut case = 0;
+    for &aspect in &ASPECTS {
+        for &e in &RESTITUTIONS {
+            for friction in FRICTIONS {
+                let (mu_s, mu_k) = if friction == "inf" {
+                    ("", "")
+                } else {
+                    ("0.7", "0.6")
+                };
+                let median = theta(aspect, e, friction);
+                writeln!(
+                    fits,
+                    "{aspect},0.5,{e},{friction},{mu_s},{mu_k},overturning,pga,{median},{beta},ok,g"
+                )
+                .unwrap();
+                for k in 1..=IM_POINTS {
+                    let im = 0.05 * k as f64;
+                    let p = phi.cdf((im / median).ln() / beta);
+                    writeln!(
+                        curves,
+                        "{case},{aspect},0.5,{e},{friction},{mu_s},{mu_k},overturning,pga,{im},{p},{},{}",
+                        0.9 * p,
+                        (1.1 * p).min(1.0)
+                    )
+                    .unwrap();
+                }
+                case += 1;
+            }
+        }
+    }
+    fs::write(dir.join("fragility.csv"), fits).unwrap();
+    fs::write(dir.join("fragility_curves.csv"), curves).unwrap();
+}
+
+/// Issue 29: the fragility axis stopped at the last stripe, cutting the
+/// H/B 2 curves off at P ≈ 0.6. With θ and β in `fragility.csv`, the axis
+/// runs on to where every curve reaches P = 0.95, and each curve is drawn on
+/// to it (one polyline per curve, the file's points then the extension);
+/// the bands stop at the last stripe. When a curve would need more than 3×
+/// the last stripe, the axis stops there and the title says how many
+/// curves are still below 0.95.
+#[test]
+fn the_fragility_axis_reaches_where_every_curve_is_at_0_95() {
+    use rockfrag::figures::{FragilityFigure, ShortCurves};
+    let z95 = 1.6448536269514722;
+    let study = tempfile::tempdir().unwrap();
+    write_study(study.path(), true, false);
+    let (beta, theta) = (0.3, |aspect: f64, _: f64, _: &str| 2.4 / aspect);
+    write_lognormal_fits(study.path(), &theta, beta);
+    let fig = FragilityFigure::from_study(&StudyData::load(study.path()).unwrap());
+    // H/B 2: θ = 1.2 g reaches 0.95 at 1.2·e^(1.645·0.3) ≈ 1.97 g
+    let needed = 1.2 * (z95 * beta).exp();
+    assert!(
+        fig.x_max >= needed && fig.x_max < 1.1 * needed,
+        "{}",
+        fig.x_max
+    );
+    assert_eq!(fig.short_of_reach, ShortCurves::default());
+    assert!(!fig.title.contains("below P"), "{}", fig.title);
+    let n_ext = fig.panels[0].series[0].extension[0].len();
+    assert!(n_ext >= 2, "{n_ext}");
+    for s in fig.panels.iter().flat_map(|p| &p.series) {
+        let end = s.extension[0].last().expect("extended to the axis end");
+        assert!(end.1 >= 0.95, "curve ends at P = {}", end.1);
+        assert_eq!(s.extension[0].len(), n_ext);
+    }
+    let out = study.path().join("figures");
+    study_figures(study.path(), &out, &quick()).unwrap();
+    let f = marks(&svg(&out, "fragility"));
+    let series = ASPECTS.len() * RESTITUTIONS.len();
+    assert_eq!(f.solid(IM_POINTS + n_ext), series, "solid curves, extended");
+    assert_eq!(f.polygons, 2 * series, "bands, to the last stripe");
+    assert!(f.has_text("to the last stripe"), "{:?}", f.texts);
+
+    // β = 1: θ·e^(1.645) ≈ 6.2 g for H/B 2, beyond 3 × 1.5 g
+    write_lognormal_fits(study.path(), &theta, 1.0);
+    let fig = FragilityFigure::from_study(&StudyData::load(study.path()).unwrap());
+    assert!((fig.x_max - 1.03 * 3.0 * 1.5).abs() < 1e-9, "{}", fig.x_max);
+    let capped = fig.short_of_reach.capped;
+    assert!(capped > 0 && fig.short_of_reach.unextended == 0);
+    assert!(
+        fig.title.contains(&format!(
+            "{capped} curves below P = 0.95 at the axis end (3 × the last stripe)"
+        )),
+        "{}",
+        fig.title
+    );
+    // the fixture's own curves (no fragility.csv) stop short for H/B 2
+    fs::remove_file(study.path().join("fragility.csv")).unwrap();
+    write_study(study.path(), true, false);
+    let fig = FragilityFigure::from_study(&StudyData::load(study.path()).unwrap());
+    assert_eq!(fig.short_of_reach.unextended, 2 * RESTITUTIONS.len());
+    assert!(
+        fig.title
+            .contains("8 curves end below P = 0.95 (no θ, β in fragility.csv)"),
+        "{}",
+        fig.title
+    );
+}
+
+/// Issue 29: a friction model that changes no outcome draws its dashed
+/// curve exactly on the solid one, where it cannot be seen. When every
+/// Coulomb curve is its μ = ∞ twin, the legend says `(as μ = ∞)`; when only
+/// some are, each panel names the e values at its top left and the legend
+/// does not.
+#[test]
+fn fragility_names_friction_curves_hidden_under_the_solid_ones() {
+    let study = tempfile::tempdir().unwrap();
+    write_study(study.path(), true, false);
+    let out = study.path().join("figures");
+    // the fixture's outcomes and curves do not depend on friction
+    write_lognormal_fits(study.path(), &|a, _, _| 2.4 / a, 0.3);
+    study_figures(study.path(), &out, &quick()).unwrap();
+    let f = marks(&svg(&out, "fragility"));
+    assert!(f.has_text("μₛ = 0.7, μₖ = 0.6 (as μ = ∞)"), "{:?}", f.texts);
+    assert!(!f.has_text("dashed = solid"), "{:?}", f.texts);
+
+    // now the Coulomb fit at e = 0.9 differs
+    let theta = |a: f64, e: f64, f: &str| {
+        if f == "coulomb" && e == 0.9 {
+            3.0 / a
+        } else {
+            2.4 / a
+        }
+    };
+    write_lognormal_fits(study.path(), &theta, 0.3);
+    study_figures(study.path(), &out, &quick()).unwrap();
+    let f = marks(&svg(&out, "fragility"));
+    assert!(!f.has_text("(as μ = ∞)"), "{:?}", f.texts);
+    let notes = f
+        .texts
+        .iter()
+        .filter(|t| t.as_str() == "dashed = solid: e = 0, 0.3, 0.6")
+        .count();
+    assert_eq!(notes, ASPECTS.len(), "{:?}", f.texts);
+}
+
+/// The shipped example hazard curve (OpenQuake CSV, PGA).
+fn example_hazard() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/hazard/hazard_curve-mean-PGA_example.csv")
+}
+
+/// Issue 29, items 9 and 10: `rockfrag figures` draws the risk figure once
+/// `rockfrag risk` has run, in SVG (the same bytes `risk` wrote) and in PNG,
+/// from the hazard curve `risk` kept beside `risk.csv`; every limit state is
+/// in the legend, one without a fit said on its row. Without that curve,
+/// or when the fit has changed since, it says why there is no risk figure
+/// instead of drawing one that disagrees with `risk.csv`.
+#[test]
+fn figures_draw_the_risk_figure_once_risk_has_run() {
+    let study = tempfile::tempdir().unwrap();
+    let d = study.path();
+    write_study(d, true, false);
+    write_lognormal_fits(d, &|a, _, _| 2.4 / a, 0.3);
+    // a second limit state for the first two cases: fitted for the first,
+    // not for the second
+    let fits = fs::read_to_string(d.join("fragility.csv")).unwrap();
+    let mut lines: Vec<&str> = fits.lines().collect();
+    lines.insert(2, "2,0.5,0,inf,,,uplift,pga,0.4,0.3,ok,g");
+    lines.insert(4, "2,0.5,0,coulomb,0.7,0.6,uplift,pga,,,separated,g");
+    fs::write(d.join("fragility.csv"), lines.join("\n") + "\n").unwrap();
+    let dir = d.to_str().unwrap();
+    let figures = |extra: &[&str]| {
+        let mut args = vec!["figures", dir];
+        args.extend_from_slice(extra);
+        let o = common::rockfrag(&args);
+        assert!(o.status.success(), "{}", common::stderr(&o));
+        (common::stdout(&o), common::stderr(&o))
+    };
+
+    // no risk.csv: no risk figure, and nothing to say about it
+    let (listed, notes) = figures(&[]);
+    assert!(!listed.contains("risk"), "{listed}");
+    assert!(!notes.contains("risk"), "{notes}");
+
+    let hazard = example_hazard();
+    let o = common::rockfrag(&["risk", dir, "--hazard", hazard.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    assert!(d.join("risk_hazard.csv").is_file());
+    let drawn_by_risk = fs::read(d.join("figures/risk.svg")).unwrap();
+
+    let (listed, _) = figures(&[]);
+    assert!(listed.contains("risk.svg"), "{listed}");
+    assert_eq!(fs::read(d.join("figures/risk.svg")).unwrap(), drawn_by_risk);
+    let r = marks(&d.join("figures/risk.svg"));
+    for t in [
+        "overturning",
+        "uplift",
+        "uplift: no fit (separated)",
+        "site 0 of hazard_curve-mean-PGA_example.csv",
+    ] {
+        assert!(r.has_text(t), "risk lacks {t:?}: {:?}", r.texts);
+    }
+
+    let png = d.join("png");
+    let (listed, _) = figures(&["--format", "png", "--out", png.to_str().unwrap()]);
+    assert!(listed.contains("risk.png"), "{listed}");
+    assert!(
+        fs::read(png.join("risk.png"))
+            .unwrap()
+            .starts_with(b"\x89PNG")
+    );
+
+    // refitted since: the rates no longer those of risk.csv
+    let refit = fs::read_to_string(d.join("fragility.csv"))
+        .unwrap()
+        .replace(",overturning,pga,1.2,", ",overturning,pga,1.3,");
+    fs::write(d.join("fragility.csv"), refit).unwrap();
+    fs::remove_file(d.join("figures/risk.svg")).unwrap();
+    let (listed, notes) = figures(&[]);
+    assert!(!listed.contains("risk"), "{listed}");
+    assert!(
+        notes.contains("does not hold the rates of the fit"),
+        "{notes}"
+    );
+
+    // a risk.csv without the hazard it was computed over
+    fs::remove_file(d.join("risk_hazard.csv")).unwrap();
+    let (listed, notes) = figures(&[]);
+    assert!(!listed.contains("risk"), "{listed}");
+    assert!(
+        notes.contains("no risk_hazard.csv") && notes.contains("rerun `rockfrag risk"),
+        "{notes}"
+    );
+}
+
+/// Issue 29, item 10: the deaggregation curves of the risk figure were
+/// sawtooths, the log–log interpolated hazard's slope jumping at each of its
+/// levels. Drawn with the slope smoothed, as the peak is located, each
+/// rises to one maximum, at its peak mark, and falls; the legend names the
+/// hazard's extrapolation only where it is drawn.
+#[test]
+fn risk_deaggregation_curves_are_smooth_and_peak_at_their_marks() {
+    use rockfrag::figures::RiskFigure;
+    use rockfrag::risk::{RiskOptions, assess, read_fragility, read_hazard};
+    let study = tempfile::tempdir().unwrap();
+    let d = study.path();
+    write_lognormal_fits(d, &|a, e, _| 2.4 / a + 0.1 * e, 0.3);
+    let fragility = read_fragility(d).unwrap();
+    let hazard = read_hazard(&example_hazard(), None)
+        .unwrap()
+        .in_unit_of("pga")
+        .unwrap();
+    let rows = assess(&fragility, &hazard, &RiskOptions::default()).unwrap();
+    let figure = RiskFigure::new(&rows, &hazard);
+    let series: Vec<_> = figure.cases.iter().flat_map(|c| &c.series).collect();
+    assert_eq!(series.len(), rows.len());
+    for s in series {
+        let y: Vec<f64> = s.integrand.iter().map(|p| p.1).collect();
+        let maxima = (1..y.len() - 1)
+            .filter(|&i| y[i] > y[i - 1] && y[i] >= y[i + 1])
+            .count();
+        assert_eq!(maxima, 1, "one maximum, not a sawtooth: {y:?}");
+        let top = (0..y.len()).max_by(|&i, &j| y[i].total_cmp(&y[j])).unwrap();
+        let step = (s.integrand[1].0 / s.integrand[0].0).ln();
+        assert!(
+            (s.integrand[top].0 / s.peak_im).ln().abs() <= step,
+            "the curve peaks at {} and its mark is at {}",
+            s.integrand[top].0,
+            s.peak_im
+        );
+    }
+    let out = d.join("risk.svg");
+    rockfrag::figures::save(&figure, &out).unwrap();
+    let svg = marks(&out);
+    assert!(!svg.has_text("extrapolated"), "{:?}", svg.texts);
+    // a hazard curve that stops short of the fits: its extension drawn and named
+    let short = rockfrag::risk::HazardCurve::from_rates(
+        Path::new("short.csv"),
+        &[0.3, 0.6, 0.9],
+        &[3e-3, 8e-4, 2e-4],
+    )
+    .unwrap();
+    let rows = assess(&fragility, &short, &RiskOptions::default()).unwrap();
+    rockfrag::figures::save(&RiskFigure::new(&rows, &short), &out).unwrap();
+    let svg = marks(&out);
+    assert!(svg.has_text("extrapolated"), "{:?}", svg.texts);
 }

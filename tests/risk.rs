@@ -504,9 +504,10 @@ fn cli_writes_risk_csv_summary_and_figure() {
     assert!(stderr(&o).contains("imt='PGV'"), "{}", stderr(&o));
 }
 
-/// The figure: one panel per case, drawn as SVG and PNG.
+/// The figure: one row per case in panel (b), a limit state without a fit
+/// kept and said in words on its row, drawn as SVG and PNG.
 #[test]
-fn the_figure_has_one_panel_per_case() {
+fn the_figure_has_one_row_per_case_and_names_unfitted_limit_states() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     std::fs::write(
@@ -524,11 +525,20 @@ fn the_figure_has_one_panel_per_case() {
     let h = read_hazard(&path, None).unwrap().in_unit_of("pga").unwrap();
     let rows = assess(&fragility, &h, &RiskOptions::default()).unwrap();
     let figure = RiskFigure::new(&rows, &h);
-    assert_eq!(figure.panels.len(), 3);
-    assert_eq!(figure.panels[2].series.len(), 0);
-    for s in figure.panels.iter().flat_map(|p| &p.series) {
+    assert_eq!(figure.cases.len(), 3);
+    assert_eq!(figure.cases[2].series.len(), 0);
+    assert_eq!(
+        figure.notes(),
+        ["", "", "overturning: no fit (separated)"],
+        "the unfitted limit state is named on its row"
+    );
+    // rows are labelled by what varies; the shared parameters go to the title
+    assert_eq!(figure.cases[0].label, "H/B 4");
+    assert!(figure.common.contains("2B = 0.5 m"), "{}", figure.common);
+    for s in figure.cases.iter().flat_map(|p| &p.series) {
         let peak = s.integrand.iter().map(|p| p.1).fold(0.0, f64::max);
         assert!(peak > 0.9 && peak <= 1.0 + 1e-12, "{peak}");
+        assert!(s.rate > 0.0);
     }
     for name in ["risk.svg", "risk.png"] {
         let out = d.join(name);
@@ -536,4 +546,8 @@ fn the_figure_has_one_panel_per_case() {
         save(&figure, &out).unwrap();
         assert!(std::fs::metadata(&out).unwrap().len() > 1000);
     }
+    // the SVG says it in words, and its rate axis reads as powers of ten
+    let svg = std::fs::read_to_string(d.join("risk.svg")).unwrap();
+    assert!(svg.contains("overturning: no fit (separated)"));
+    assert!(svg.contains("10⁻³") && !svg.contains("1e-3"));
 }

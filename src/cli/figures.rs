@@ -18,7 +18,9 @@ pub enum FormatArg {
 #[derive(Debug, clap::Args)]
 pub struct FiguresArgs {
     /// Study folder holding outcomes.csv (and optionally fragility_curves.csv
-    /// and manifest.json); default: the built-in study's folder.
+    /// and manifest.json; once `rockfrag risk` has run, risk.csv and
+    /// risk_hazard.csv for the risk figure); default: the built-in study's
+    /// folder.
     #[arg(value_name = "DIR", default_value = "results/shenton-jones")]
     pub dir: PathBuf,
     /// Folder the figures are written to (created if missing) [default:

@@ -8,8 +8,8 @@ use anyhow::Context;
 use rockfrag::figures::{RiskFigure, save};
 use rockfrag::io_util::sig3;
 use rockfrag::risk::{
-    HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, assess, describe_hazard,
-    read_fragility, read_hazard, summary_section, write_risk_csv,
+    HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, USED_HAZARD, assess, describe_hazard,
+    read_fragility, read_hazard, summary_section, write_risk_csv, write_used_hazard,
 };
 
 /// Flags of `rockfrag risk`.
@@ -30,8 +30,10 @@ pub struct RiskArgs {
     /// Site of an OpenQuake file: its 0-based data row [default: 0].
     #[arg(long, value_name = "K")]
     pub site: Option<usize>,
-    /// Folder to write risk.csv and figures/risk.svg into [default: DIR];
-    /// DIR's summary.md gets its `## Risk` section only when they go to DIR.
+    /// Folder to write risk.csv, risk_hazard.csv (the hazard as
+    /// integrated) and figures/risk.svg into [default: DIR] (`rockfrag
+    /// figures` redraws the figure from them, also as PNG); DIR's summary.md
+    /// gets its `## Risk` section only when they go to DIR.
     #[arg(long, value_name = "OUT_DIR")]
     pub out: Option<PathBuf>,
 }
@@ -58,6 +60,9 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&figures).with_context(|| figures.display().to_string())?;
     let csv = out.join("risk.csv");
     write_risk_csv(&csv, &rows, &options)?;
+    // the hazard as integrated, for `rockfrag figures` to redraw the figure
+    let used = out.join(USED_HAZARD);
+    write_used_hazard(&used, &hazard)?;
     let figure = figures.join("risk.svg");
     save(&RiskFigure::new(&rows, &hazard), &figure)?;
     let same = match (out.canonicalize(), args.dir.canonicalize()) {
@@ -96,8 +101,9 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
         );
     }
     text.push_str(&format!(
-        "wrote {}, {}{}\n",
+        "wrote {}, {}, {}{}\n",
         csv.display(),
+        used.display(),
         figure.display(),
         summary.map_or(String::new(), |p| format!(", {} (## Risk)", p.display()))
     ));

@@ -9,6 +9,7 @@
 //! | `fragility` | fragility curves and observed fractions ([`super::fragility`]) |
 //! | `friction_demand` | mean μ_mot and μ_imp against B/H ([`super::friction`]) |
 //! | `restitution` | overturning and θmax/θc against e ([`super::restitution`]) |
+//! | `risk` | annual rate of each limit state at a site ([`super::risk`]), once `rockfrag risk` has run |
 //!
 //! The sample record and the spectrum come from the study's own motions
 //! (see [`FigureOptions::for_folder`]): for a synthetic study, its generator
@@ -16,7 +17,12 @@
 //! first record as recorded and the mean spectrum of its records. The
 //! history re-solves one of the study's analyses with its time history
 //! (see `figures::history`). The last three are drawn from
-//! `DIR/outcomes.csv` and, if present, `DIR/fragility_curves.csv`. Nothing
+//! `DIR/outcomes.csv` and, if present, `DIR/fragility_curves.csv`. The risk
+//! figure is drawn when `rockfrag risk` has written `DIR/risk.csv`: from
+//! the fit (`DIR/fragility.csv`, `DIR/fragility_bootstrap.csv`) and the
+//! hazard curve it integrated over (`DIR/risk_hazard.csv`), the same figure
+//! `rockfrag risk` drew, in either format; a folder whose `risk.csv` lacks
+//! that curve or no longer matches the fit gets a note instead. Nothing
 //! depends on the clock or on the order of the rows, so running twice gives
 //! byte-identical files.
 //!
@@ -33,10 +39,13 @@ use super::friction::FrictionDemandFigure;
 use super::history::{HistoryChoice, HistoryFigure, HistorySource};
 use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
+use super::risk::RiskFigure;
 use super::spectrum::SpectrumFigure;
 use crate::case::Field;
 use crate::error::{Error, Result};
+use crate::io_util::number;
 use crate::motion::{Record, SynthesisSettings, Synthesizer, read_record};
+use crate::risk::{RiskOptions, USED_HAZARD, assess, read_fragility, read_hazard};
 use crate::spec::{Motions, Study};
 use crate::study::Manifest;
 use crate::study::files::MANIFEST;
@@ -179,6 +188,8 @@ pub struct StudyFigures {
     pub friction_demand: Option<FrictionDemandFigure>,
     /// The trend with restitution (studies over fixed e and H/B).
     pub restitution: Option<RestitutionFigure>,
+    /// The risk at a site (folders where `rockfrag risk` has run).
+    pub risk: Option<RiskFigure>,
     /// The study's data, for a layer that adds figures of its own.
     pub data: StudyData,
     /// Figures drawn in reduced form or skipped, and why.
@@ -276,6 +287,7 @@ impl StudyFigures {
         } else {
             Some(RestitutionFigure::from_study(&data))
         };
+        let risk = risk_figure(dir, &mut notes);
         Ok(StudyFigures {
             motion,
             spectrum,
@@ -283,6 +295,7 @@ impl StudyFigures {
             fragility,
             friction_demand,
             restitution,
+            risk,
             data,
             notes,
         })
@@ -315,6 +328,9 @@ impl StudyFigures {
         if let Some(f) = &self.restitution {
             write(f, file("restitution"), &mut report)?;
         }
+        if let Some(f) = &self.risk {
+            write(f, file("risk"), &mut report)?;
+        }
         Ok(report)
     }
 }
@@ -327,6 +343,87 @@ impl StudyFigures {
 /// written, [`Error::Parse`] for malformed CSV.
 pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<FiguresReport> {
     StudyFigures::compute(dir, options)?.write(out, options.format)
+}
+
+/// The risk figure of the folder `dir`, as `rockfrag risk` drew it: `None`
+/// without `risk.csv`; `None` and a note when the hazard curve it used
+/// (`risk_hazard.csv`) is missing or unreadable, or when the fit gives
+/// other rates than `risk.csv` holds (refitted since), so that a figure
+/// never disagrees with `risk.csv`.
+fn risk_figure(dir: &Path, notes: &mut Vec<String>) -> Option<RiskFigure> {
+    let csv = dir.join("risk.csv");
+    if !csv.is_file() {
+        return None;
+    }
+    let rerun = format!("rerun `rockfrag risk {} --hazard FILE`", dir.display());
+    let used = dir.join(USED_HAZARD);
+    if !used.is_file() {
+        notes.push(format!(
+            "risk: skipped, {} has no {USED_HAZARD} beside it (the hazard curve it was \
+             computed over, written by rockfrag risk from this version on): {rerun}",
+            csv.display()
+        ));
+        return None;
+    }
+    let computed = (|| -> Result<_> {
+        let fragility = read_fragility(dir)?;
+        let hazard = read_hazard(&used, None)?;
+        let rows = assess(&fragility, &hazard, &RiskOptions::default())?;
+        Ok((rows, hazard))
+    })();
+    let (rows, hazard) = match computed {
+        Ok(r) => r,
+        Err(e) => {
+            notes.push(format!("risk: skipped, {e}"));
+            return None;
+        }
+    };
+    let now: Vec<[String; 3]> = rows
+        .iter()
+        .map(|r| {
+            [
+                r.curve.key.id(),
+                r.curve.limit_state.clone(),
+                r.rate()
+                    .filter(|v| v.is_finite())
+                    .map_or(String::new(), number),
+            ]
+        })
+        .collect();
+    if risk_csv_rates(&csv).as_ref() != Some(&now) {
+        notes.push(format!(
+            "risk: skipped, {} does not hold the rates of the fit in {} (refitted since \
+             rockfrag risk ran?): {rerun}",
+            csv.display(),
+            dir.join("fragility.csv").display()
+        ));
+        return None;
+    }
+    Some(RiskFigure::new(&rows, &hazard))
+}
+
+/// (case_id, limit_state, annual_rate) of each row of a `risk.csv`, as
+/// written; `None` if it cannot be read.
+fn risk_csv_rates(path: &Path) -> Option<Vec<[String; 3]>> {
+    let mut reader = csv::Reader::from_path(path).ok()?;
+    let header = reader.headers().ok()?.clone();
+    let column = |name: &str| header.iter().position(|h| h == name);
+    let (id, ls, rate) = (
+        column("case_id")?,
+        column("limit_state")?,
+        column("annual_rate")?,
+    );
+    reader
+        .records()
+        .map(|r| {
+            let r = r.ok()?;
+            Some([
+                r.get(id)?.to_string(),
+                r.get(ls)?.to_string(),
+                r.get(rate)?.to_string(),
+            ])
+        })
+        .collect()
 }
 
 /// The sample record and spectrum of a study of recorded motions: the first

@@ -1,8 +1,11 @@
 //! The study results the figures read: `outcomes.csv` (one row per analysis)
-//! and, optionally, `fragility_curves.csv` (fitted curves with their band).
+//! and, optionally, `fragility_curves.csv` (fitted curves with their band)
+//! and `fragility.csv` (each fit's θ and β, so that a figure can draw a
+//! fitted curve beyond the intensities `fragility_curves.csv` samples).
 //!
-//! Both are read through their stage files' row types
-//! ([`OutcomesFile`], [`read_curves_csv`]) and kept in the compact form
+//! They are read through their stage files' row types
+//! ([`OutcomesFile`], [`read_curves_csv`], [`read_fragility_csv`]) and kept
+//! in the compact form
 //! the figures plot; failed analyses are skipped, having no outcome. Rows
 //! are sorted once after reading, so every figure sees the same order
 //! whatever order the study (or a merge of its shards) wrote them in, and
@@ -12,7 +15,7 @@ use std::path::Path;
 
 use crate::case::{Case, Field, Param, cmp_friction};
 use crate::error::{Error, Result};
-use crate::fragility::{IntensityMeasure, read_curves_csv};
+use crate::fragility::{IntensityMeasure, read_curves_csv, read_fragility_csv};
 use crate::outcomes_csv::{Column, OutcomesFile};
 use crate::solver::Friction;
 
@@ -62,6 +65,20 @@ pub struct CurvePoint {
     pub p_hi: f64,
 }
 
+/// A fitted lognormal fragility curve, P(im) = Φ(ln(im/θ)/β), from
+/// `fragility.csv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LognormalCurve {
+    /// The case.
+    pub case: Case,
+    /// The limit state.
+    pub limit_state: String,
+    /// Median θ (g).
+    pub median: f64,
+    /// Logarithmic standard deviation β.
+    pub beta: f64,
+}
+
 /// A friction model for legends: `μ = ∞` or `μₛ = 0.7, μₖ = 0.6` (`μₛ, μₖ
 /// drawn` when drawn per analysis).
 pub fn friction_label(f: &Param<Friction>) -> String {
@@ -92,6 +109,9 @@ pub struct StudyData {
     /// Fitted fragility curves, sorted by case and IM; `None` when the folder
     /// has no `fragility_curves.csv`.
     pub curves: Option<Vec<CurvePoint>>,
+    /// The fitted curves' θ and β (against PGA), from `fragility.csv`;
+    /// empty when the folder has none.
+    pub lognormal: Vec<LognormalCurve>,
 }
 
 impl StudyData {
@@ -116,7 +136,17 @@ impl StudyData {
         } else {
             None
         };
-        Ok(StudyData { outcomes, curves })
+        let fits_path = dir.join("fragility.csv");
+        let lognormal = if fits_path.exists() {
+            read_lognormal(&fits_path)?
+        } else {
+            Vec::new()
+        };
+        Ok(StudyData {
+            outcomes,
+            curves,
+            lognormal,
+        })
     }
 }
 
@@ -211,6 +241,24 @@ pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
             .then(a.im.total_cmp(&b.im))
     });
     Ok(points)
+}
+
+/// Reads the fitted θ and β of `fragility.csv` ([`read_fragility_csv`]):
+/// the cases and limit states fitted against PGA, in the file's order.
+pub fn read_lognormal(path: &Path) -> Result<Vec<LognormalCurve>> {
+    Ok(read_fragility_csv(path)?
+        .into_iter()
+        .filter(|r| r.im == IntensityMeasure::Pga)
+        .filter_map(|r| match (r.median, r.beta) {
+            (Some(median), Some(beta)) if median > 0.0 && beta > 0.0 => Some(LognormalCurve {
+                case: r.case,
+                limit_state: r.limit_state,
+                median,
+                beta,
+            }),
+            _ => None,
+        })
+        .collect())
 }
 
 /// The distinct values of `values`, sorted (drawn last, once).

@@ -11,6 +11,7 @@ use plotters::prelude::{
 };
 
 use super::font;
+use super::raster::Raster;
 use super::style::Style;
 use crate::error::{Error, Result};
 
@@ -86,7 +87,9 @@ impl Format {
 }
 
 /// Draws `figure` and writes it to `path` in the format its extension names
-/// (see [`Format::from_path`]), atomically: the figure is written to a
+/// (see [`Format::from_path`]; a PNG through the bitmap backend with its
+/// wide polylines split at sharp turns, which plotters alone spikes),
+/// atomically: the figure is written to a
 /// temporary file in the same directory and renamed over `path` only once
 /// complete.
 ///
@@ -119,7 +122,8 @@ pub fn save<F: Figure + ?Sized>(figure: &F, path: &Path) -> Result<()> {
             // permission problem as the I/O error it is; the backend then
             // overwrites it.
             fs::File::create(tmp)?;
-            let root = BitMapBackend::new(tmp, size).into_drawing_area();
+            // wide polylines split at sharp turns (see `raster`)
+            let root = Raster(BitMapBackend::new(tmp, size)).into_drawing_area();
             figure.draw(&root, &style).map_err(drawing_error)?;
             root.present().map_err(drawing_error)
         }

@@ -14,7 +14,30 @@
 //!
 //! A parameter drawn per analysis (`[uncertainty]`) reads `drawn` in the
 //! legend or heading: its case pools every draw.
+//!
+//! **The IM axis reaches the top of every curve.** `fragility_curves.csv`
+//! samples each fit from 0 to the case's last stripe only, where a curve of
+//! a stocky block may still be at P ≈ 0.6. The axis runs on to where every
+//! fitted curve reaches P = 0.95 (θ·e^(1.645β)), but no further than
+//! [`CAP_STRIPES`] × the last stripe; the title says how many curves are
+//! still below 0.95 there ([`ShortCurves`]). Beyond the last stripe the
+//! figure evaluates the fitted lognormal itself, from the θ and β of
+//! `fragility.csv` (read with [`crate::fragility::read_fragility_csv`]), so
+//! the curve files keep their grid (and every other reader of them its
+//! numbers); the bootstrap band stops at the last stripe, where the data
+//! stop (its legend entry says so). Without `fragility.csv` the curves end
+//! where their file does, and the title counts those that stop below 0.95.
+//!
+//! **Friction that changes nothing is said, not hidden.** When a finite
+//! friction model gives the same outcomes as μ = ∞ (a stocky block on a
+//! grippy floor never slides), its dashed curve lies exactly on the solid
+//! one and cannot be seen. A curve counts as the same when its observed
+//! fractions are equal and its fitted curves differ by less than
+//! [`SAME_CURVE_TOL`] everywhere: if that holds for every case, the legend
+//! entry of the model says `(as μ = ∞)`; otherwise each panel names, at its
+//! top left, the e values whose dashed curve is the solid one.
 
+use crate::detmath as dm;
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
 use plotters::style::{BLACK, Color};
@@ -34,6 +57,15 @@ const HEIGHT_IN: f64 = 2.9;
 const MARGINS: Margins = Margins::new(24.0, 8.0);
 /// Opacity of the confidence bands.
 const BAND_ALPHA: f64 = 0.14;
+/// The probability every fitted curve should reach inside the IM axis.
+pub const P_REACHED: f64 = 0.95;
+/// The IM axis ends at most this many times the last stripe.
+pub const CAP_STRIPES: f64 = 3.0;
+/// Most points of a fitted curve's extension beyond the last stripe (it
+/// is sampled at the spacing of the curve's file, `fragility_curves.csv`).
+pub const EXTENSION_POINTS: usize = 100;
+/// Largest difference in P between two fitted curves drawn as one.
+pub const SAME_CURVE_TOL: f64 = 0.005;
 
 /// One curve: a case's fit (if any) and its observed stripe fractions.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,6 +80,16 @@ pub struct FragilitySeries {
     pub fits: Vec<Vec<(f64, f64, f64, f64)>>,
     /// Observed stripes (pga, fraction overturned, analyses).
     pub observed: Vec<(f64, f64, usize)>,
+    /// Each fit's θ and β (g), from `fragility.csv`, in the order of
+    /// [`FragilitySeries::fits`] (`None` where the file has none).
+    pub lognormal: Vec<Option<(f64, f64)>>,
+    /// Each fit of [`FragilitySeries::fits`] continued beyond its last
+    /// point to the axis end, (im, p) from its θ and β (empty where
+    /// `fragility.csv` has none, or the fit already reaches the end).
+    pub extension: Vec<Vec<(f64, f64)>>,
+    /// Whether the series is a finite-friction one whose outcomes and fits
+    /// are those of μ = ∞ with the same e (see the module docs).
+    pub as_infinite: bool,
 }
 
 /// One panel: one block.
@@ -72,8 +114,17 @@ pub struct FragilityFigure {
     pub fitted: bool,
     /// Panels, by aspect ratio then width.
     pub panels: Vec<FragilityPanel>,
-    /// Largest PGA or IM shown (g).
+    /// Largest PGA or IM of the data: the last stripe, or the end of the
+    /// curves' file (g).
     pub im_max: f64,
+    /// End of the IM axis (g): where every fitted curve reaches
+    /// [`P_REACHED`], at most [`CAP_STRIPES`] × `im_max`.
+    pub x_max: f64,
+    /// Fitted curves still below [`P_REACHED`] at their end.
+    pub short_of_reach: ShortCurves,
+    /// For each friction model: whether every one of its series is drawn
+    /// as μ = ∞ (its legend entry says so).
+    pub as_infinite: Vec<bool>,
     /// The limit states with fitted curves, in order of severity (as
     /// `fragility_curves.csv` lists them); `["overturning"]` without fits.
     pub limit_states: Vec<String>,
@@ -145,11 +196,25 @@ impl FragilityFigure {
                         .map(|p| p.0)
                         .chain(observed.iter().map(|o| o.0))
                         .fold(im_max, f64::max);
+                    let lognormal = limit_states
+                        .iter()
+                        .zip(&fits)
+                        .map(|(ls, fit)| {
+                            let l = data
+                                .lognormal
+                                .iter()
+                                .find(|l| l.case == case && &l.limit_state == ls);
+                            l.filter(|_| !fit.is_empty()).map(|l| (l.median, l.beta))
+                        })
+                        .collect();
                     series.push(FragilitySeries {
                         restitution: ie,
                         friction: jf,
+                        extension: vec![Vec::new(); fits.len()],
                         fits,
                         observed,
+                        lognormal,
+                        as_infinite: false,
                     });
                 }
             }
@@ -163,6 +228,8 @@ impl FragilityFigure {
             panels.push(FragilityPanel { label, series });
         }
         let fitted = data.curves.is_some();
+        let (x_max, short_of_reach) = extend(&mut panels, im_max);
+        let as_infinite = mark_as_infinite(&mut panels, frictions.len());
         let title = if fitted && limit_states.len() > 1 {
             format!(
                 "Fragility: {} (light to dark) with 90 % bands; observed overturning (points)",
@@ -175,6 +242,10 @@ impl FragilityFigure {
             "Observed overturning fractions per PGA stripe (no fragility_curves.csv: no fits)"
                 .to_string()
         };
+        let title = std::iter::once(title)
+            .chain(short_of_reach.clauses())
+            .collect::<Vec<_>>()
+            .join("; ");
         FragilityFigure {
             title,
             restitutions,
@@ -182,8 +253,37 @@ impl FragilityFigure {
             fitted,
             panels,
             im_max,
+            x_max,
+            short_of_reach,
+            as_infinite,
             limit_states,
         }
+    }
+
+    /// Notes at the top left of panel `k`: the e values whose
+    /// finite-friction curve is drawn on the μ = ∞ one, by line pattern,
+    /// for the friction models whose legend entry does not already say so.
+    pub fn panel_notes(&self, k: usize) -> Vec<String> {
+        let Some(panel) = self.panels.get(k) else {
+            return Vec::new();
+        };
+        (1..self.frictions.len())
+            .filter(|&j| !self.as_infinite[j])
+            .filter_map(|j| {
+                let es: Vec<String> = panel
+                    .series
+                    .iter()
+                    .filter(|s| s.friction == j && s.as_infinite)
+                    .map(|s| param_label(self.restitutions[s.restitution]))
+                    .collect();
+                let pattern = match Dash::nth(j) {
+                    Dash::Solid => "solid",
+                    Dash::Dashed => "dashed",
+                    Dash::Short => "short-dashed",
+                };
+                (!es.is_empty()).then(|| format!("{pattern} = solid: e = {}", es.join(", ")))
+            })
+            .collect()
     }
 
     /// The legend: colours for e, patterns and markers for friction.
@@ -209,19 +309,192 @@ impl FragilityFigure {
             }
         }
         for (j, f) in self.frictions.iter().enumerate() {
+            let mut label = friction_label(f);
+            if self.as_infinite.get(j).copied().unwrap_or(false) {
+                label.push_str(" (as μ = ∞)");
+            }
             entries.push(Entry::new(
                 Sample::LinePoint(BLACK, Dash::nth(j), Marker::Circle, j == 0),
-                friction_label(f),
+                label,
             ));
         }
         if self.fitted {
+            let extended = self
+                .panels
+                .iter()
+                .flat_map(|p| &p.series)
+                .any(|s| s.extension.iter().any(|e| !e.is_empty()));
             entries.push(Entry::new(
                 Sample::Block(layout::tint(BLACK, 1.0 - 1.5 * BAND_ALPHA)),
-                "90 % band",
+                if extended {
+                    "90 % band, to the last stripe"
+                } else {
+                    "90 % band"
+                },
             ));
         }
         entries
     }
+}
+
+/// Sets the axis end and continues the fitted curves to it: the axis ends
+/// where every fitted curve reaches [`P_REACHED`] (by its θ and β, or else
+/// by its sampled points), at least at `im_max` and at most
+/// [`CAP_STRIPES`] × `im_max`; each curve with a θ and β is continued from
+/// its last point to that end. Returns the end and the number of fitted
+/// curves below [`P_REACHED`] at its end: those that would need more than
+/// the cap, and those without a θ and β whose points stop short.
+fn extend(panels: &mut [FragilityPanel], im_max: f64) -> (f64, ShortCurves) {
+    let mut short = ShortCurves::default();
+    if im_max <= 0.0 {
+        return (1.0, short);
+    }
+    let cap = CAP_STRIPES * im_max;
+    let mut reach = im_max;
+    for s in panels.iter().flat_map(|p| &p.series) {
+        for (fit, params) in s.fits.iter().zip(&s.lognormal) {
+            if fit.is_empty() {
+                continue;
+            }
+            let at = match params {
+                Some(params) => Some(lognormal_intensity(*params, P_REACHED)),
+                None => fit.iter().find(|p| p.1 >= P_REACHED).map(|p| p.0),
+            };
+            match at {
+                Some(x) if x <= cap => reach = reach.max(x),
+                Some(_) => {
+                    reach = cap;
+                    short.capped += 1;
+                }
+                None => short.unextended += 1,
+            }
+        }
+    }
+    let x_max = reach * 1.03;
+    for s in panels.iter_mut().flat_map(|p| &mut p.series) {
+        for k in 0..s.fits.len() {
+            let (Some(last), Some(params)) = (s.fits[k].last(), s.lognormal[k]) else {
+                continue;
+            };
+            let from = last.0;
+            if from >= x_max {
+                continue;
+            }
+            // at the spacing of the file's grid (points far closer than a
+            // pixel draw as a saw), at most EXTENSION_POINTS
+            let fit = &s.fits[k];
+            let step = match fit.len() {
+                n if n >= 2 => fit[n - 1].0 - fit[n - 2].0,
+                _ => 0.0,
+            };
+            let n = if step > 0.0 {
+                ((x_max - from) / step)
+                    .ceil()
+                    .clamp(2.0, EXTENSION_POINTS as f64) as usize
+            } else {
+                EXTENSION_POINTS
+            };
+            s.extension[k] = (1..=n)
+                .map(|i| {
+                    let x = from + (x_max - from) * i as f64 / n as f64;
+                    (x, lognormal_probability(params, x))
+                })
+                .collect();
+        }
+    }
+    (x_max, short)
+}
+
+/// Fitted curves that end below [`P_REACHED`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ShortCurves {
+    /// Would reach it beyond [`CAP_STRIPES`] × the last stripe, where the
+    /// axis stops.
+    pub capped: usize,
+    /// Have no θ and β in `fragility.csv` to be continued with, and stop
+    /// below it where `fragility_curves.csv` stops.
+    pub unextended: usize,
+}
+
+impl ShortCurves {
+    /// The clauses the title adds, e.g. `2 curves below P = 0.95 at the
+    /// axis end (3 × the last stripe)`.
+    fn clauses(self) -> Vec<String> {
+        let curves = |n: usize| format!("{n} curve{}", if n == 1 { "" } else { "s" });
+        let mut v = Vec::new();
+        if self.capped > 0 {
+            v.push(format!(
+                "{} below P = {P_REACHED} at the axis end ({CAP_STRIPES} × the last stripe)",
+                curves(self.capped)
+            ));
+        }
+        if self.unextended > 0 {
+            v.push(format!(
+                "{} end below P = {P_REACHED} (no θ, β in fragility.csv)",
+                curves(self.unextended)
+            ));
+        }
+        v
+    }
+}
+
+/// P(im) = Φ(ln(im/θ)/β) of the lognormal curve (θ, β); 0 at im ≤ 0.
+pub fn lognormal_probability((median, beta): (f64, f64), im: f64) -> f64 {
+    if im <= 0.0 {
+        0.0
+    } else {
+        dm::norm_cdf(dm::ln(im / median) / beta)
+    }
+}
+
+/// The intensity at which the lognormal curve (θ, β) reaches P = `p`:
+/// θ·exp(β·Φ⁻¹(p)).
+pub fn lognormal_intensity((median, beta): (f64, f64), p: f64) -> f64 {
+    median * dm::exp(beta * dm::norm_inv_cdf(p))
+}
+
+/// Marks the finite-friction series drawn on their μ = ∞ twin (same
+/// panel and e): equal observed fractions and fitted curves within
+/// [`SAME_CURVE_TOL`]. Returns, per friction model, whether all its series
+/// are (false for μ = ∞ itself and for a model without series).
+fn mark_as_infinite(panels: &mut [FragilityPanel], n_frictions: usize) -> Vec<bool> {
+    let same_fit = |a: &[(f64, f64, f64, f64)], b: &[(f64, f64, f64, f64)]| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(p, q)| p.0 == q.0 && (p.1 - q.1).abs() <= SAME_CURVE_TOL)
+    };
+    // μ = ∞ (index 0) is never "as μ = ∞"
+    let mut all: Vec<bool> = (0..n_frictions).map(|j| j > 0).collect();
+    let mut any = vec![false; n_frictions];
+    for panel in panels.iter_mut() {
+        let twins: Vec<bool> = panel
+            .series
+            .iter()
+            .map(|s| {
+                s.friction > 0
+                    && panel.series.iter().any(|t| {
+                        t.friction == 0
+                            && t.restitution == s.restitution
+                            && t.observed.len() == s.observed.len()
+                            && t.observed
+                                .iter()
+                                .zip(&s.observed)
+                                .all(|(a, b)| a.0 == b.0 && a.1 == b.1)
+                            && t.fits.len() == s.fits.len()
+                            && t.fits.iter().zip(&s.fits).all(|(a, b)| same_fit(a, b))
+                    })
+            })
+            .collect();
+        for (s, twin) in panel.series.iter_mut().zip(twins) {
+            s.as_infinite = twin;
+            if s.friction > 0 {
+                any[s.friction] = true;
+                all[s.friction] &= twin;
+            }
+        }
+    }
+    all.iter().zip(&any).map(|(a, b)| *a && *b).collect()
 }
 
 /// How much lighter than its case's colour limit state `k` of `n` (in order
@@ -271,12 +544,12 @@ impl Figure for FragilityFigure {
             frame.x_area,
         )?;
         let areas = body.split_evenly((1, n));
-        let x_max = if self.im_max > 0.0 { self.im_max } else { 1.0 };
-        for (panel, area) in self.panels.iter().zip(&areas) {
+        let x_max = if self.x_max > 0.0 { self.x_max } else { 1.0 };
+        for (k_panel, (panel, area)) in self.panels.iter().zip(&areas).enumerate() {
             frame.heading(area, &panel.label)?;
             let mut chart = frame
                 .chart(area, true)
-                .build_cartesian_2d(0.0..x_max * 1.03, 0.0..1.0)?;
+                .build_cartesian_2d(0.0..x_max, 0.0..1.0)?;
             let mut mesh = layout::mesh(&mut chart, style);
             mesh.x_labels(6).y_labels(6).x_desc("PGA (g)").draw()?;
 
@@ -296,12 +569,12 @@ impl Figure for FragilityFigure {
                     )))?;
                 }
             }
-            if self.fitted
+            let unfitted = self.fitted
                 && panel
                     .series
                     .iter()
-                    .all(|s| s.fits.iter().all(Vec::is_empty))
-            {
+                    .all(|s| s.fits.iter().all(Vec::is_empty));
+            if unfitted {
                 // a block none of whose cases could be fitted (all or none
                 // overturned, or stripes separated): say so in the panel
                 let font = style.tick_font();
@@ -326,7 +599,11 @@ impl Figure for FragilityFigure {
                     for (k, fit) in s.fits.iter().enumerate() {
                         let colour =
                             layout::tint(restitution_colour(s.restitution), severity_tint(k, n_ls));
-                        let points: Vec<(f64, f64)> = fit.iter().map(|p| (p.0, p.1)).collect();
+                        let points: Vec<(f64, f64)> = fit
+                            .iter()
+                            .map(|p| (p.0, p.1))
+                            .chain(s.extension[k].iter().copied())
+                            .collect();
                         if !points.is_empty() {
                             let line = colour.stroke_width(line_pt);
                             curve!(chart, points, line, Dash::nth(s.friction), style);
@@ -350,6 +627,17 @@ impl Figure for FragilityFigure {
                     s.friction == 0,
                     style
                 );
+            }
+            // which curves hide under the solid ones, at the top left (below
+            // the no-fit lines, if any)
+            let font = style.tick_font();
+            let below = if unfitted { 2 } else { 0 };
+            for (k, line) in self.panel_notes(k_panel).iter().enumerate() {
+                chart.draw_series(std::iter::once(Text::new(
+                    line.clone(),
+                    (0.04 * x_max, 0.93 - 0.09 * (k + below) as f64),
+                    font.clone(),
+                )))?;
             }
         }
         Ok(())

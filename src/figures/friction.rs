@@ -17,17 +17,23 @@
 //! legend): the paper layer puts its Tables 1–3 there for the paper's study.
 //! For an `outcomes.csv` written before the eq. (5) column existed, panel
 //! (c) is left out.
+//!
+//! What is shared (the reference curves, this study's markers, the
+//! published values) is in the legend at the top; what belongs to one panel
+//! (its PGA or e colours) is in a box under that panel's heading, as wide as
+//! its column, so that no legend row reads across two panels. Each panel
+//! carries its quantity as a y-axis label.
 
 use crate::detmath as dm;
 use plotters::coord::Shift;
-use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
+use plotters::prelude::{BindKeyPoints, DrawingArea, DrawingBackend, IntoLogRange, Rectangle};
 use plotters::style::{BLACK, Color, RGBColor};
 
 use super::data::{PlotRow, StudyData, distinct, distinct_fixed, distinct_numbers, param_label};
 use super::figure::{DrawResult, Figure};
 use super::fragility::restitution_colour;
-use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
-use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
+use super::layout::{self, Dash, Entry, Frame, LogAxis, Margins, Marker, Sample, curve, markers};
+use super::style::{AXIS_PT, LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
 use crate::case::Param;
 use crate::solver::Friction;
 
@@ -39,6 +45,15 @@ const MARGINS: Margins = Margins::new(30.0, 10.0);
 pub const REFERENCE_DODGE: f64 = 0.02;
 /// Points on each reference curve.
 const REFERENCE_POINTS: usize = 120;
+/// Room inside a panel legend's box above and below its rows (pt).
+const LEGEND_PAD_PT: f64 = 1.5;
+/// Room inside a panel legend's box left and right of its rows (pt).
+const LEGEND_SIDE_PT: f64 = 3.0;
+/// Gap between a panel legend's box and the plot below it, and between
+/// the boxes of neighbouring panels (pt).
+const LEGEND_GAP_PT: f64 = 6.0;
+/// Edge of a panel legend's box.
+const LEGEND_EDGE: RGBColor = RGBColor(0xAA, 0xAA, 0xAA);
 
 /// One line of a panel.
 #[derive(Clone, Debug, PartialEq)]
@@ -283,12 +298,13 @@ impl Figure for FrictionDemandFigure {
             ));
         }
         let frame = Frame::new(root, style, &self.title, &shared, MARGINS)?;
-        let mut panels: Vec<(&str, &Vec<DemandSeries>)> = vec![
-            ("(a) Mean μₘₒₜ, during rocking", &self.motion),
-            ("(b) Mean |Pₜ/Pₙ| (log scale)", &self.impact),
+        // (heading, y-axis label, series)
+        let mut panels: Vec<(&str, &str, &Vec<DemandSeries>)> = vec![
+            ("(a) During rocking", "Mean μₘₒₜ = max |F|/N", &self.motion),
+            ("(b) Impacts (log scale)", "Mean max |Pₜ/Pₙ|", &self.impact),
         ];
         if !self.eq5.is_empty() {
-            panels.push(("(c) Mean eq. (5) (log scale)", &self.eq5));
+            panels.push(("(c) Eq. (5) (log scale)", "Mean max of eq. (5)", &self.eq5));
         }
         let areas = frame.body.split_evenly((1, panels.len()));
         let x_max = self.b_over_h_max * 1.12;
@@ -304,48 +320,89 @@ impl Figure for FrictionDemandFigure {
         let ref_style = BLACK.stroke_width(style.ipx(LINE_PT));
         let three_quarters = |x: f64| 0.75 * x;
 
+        // Each panel's own legend, boxed under its heading and as wide as
+        // its plot, so that it cannot be read as a row of its neighbour's.
         let legends: Vec<Vec<Entry>> = panels
             .iter()
             .enumerate()
-            .map(|(k, (_, series))| {
+            .map(|(k, (_, _, series))| {
                 let mut entries = Vec::new();
                 match k {
-                    0 => entries.push(Entry::new(Sample::Text, "PGA:")),
+                    0 => entries.push(Entry::new(Sample::Text, "PGA (g):")),
                     // (c) has the colours of (b)
                     2 => {
-                        entries.push(Entry::new(Sample::Text, "e as in (b)"));
+                        entries.push(Entry::new(Sample::Text, "e: as in (b)"));
                         return entries;
                     }
-                    _ => {}
+                    _ => entries.push(Entry::new(Sample::Text, "e:")),
                 }
-                entries.extend(
-                    series
-                        .iter()
-                        .map(|s| Entry::new(Sample::Line(s.colour, Dash::Solid), s.label.clone())),
-                );
+                entries.extend(series.iter().map(|s| {
+                    Entry::new(
+                        Sample::Line(s.colour, Dash::Solid),
+                        s.label
+                            .trim_start_matches("e = ")
+                            .trim_end_matches(" g")
+                            .to_string(),
+                    )
+                }));
                 entries
             })
             .collect();
-        let rows = areas
+        let columns: Vec<_> = areas
+            .iter()
+            .zip(&panels)
+            .map(|(area, (_, label, _))| {
+                layout::side_label(area, style, label, frame.top, frame.x_area)
+            })
+            .collect::<Result<_, _>>()?;
+        // The box spans the panel's column, side label included, less a gap
+        // to the next column.
+        let legend_area = |area: &DrawingArea<DB, Shift>, rows: usize| {
+            let (w, _) = area.dim_in_pixel();
+            let pad = style.ipx(LEGEND_PAD_PT);
+            let h = (style.px(layout::LEGEND_ROW_PT) * rows as f64).round() as u32 + 2 * pad;
+            let x0 = style.ipx(2.0);
+            let width = w.saturating_sub(x0 + style.ipx(LEGEND_GAP_PT));
+            (x0, frame.top, width, h)
+        };
+        let own_rows: Vec<usize> = areas
             .iter()
             .zip(&legends)
-            .map(|(area, entries)| layout::legend_rows(area, style, entries))
-            .max()
-            .unwrap_or(1);
+            .map(|(area, entries)| {
+                let (x0, y0, w, h) = legend_area(area, 1);
+                let side = style.ipx(LEGEND_SIDE_PT);
+                let inner = area.clone().shrink((x0 + side, y0), (w - 2 * side, h));
+                layout::legend_rows(&inner, style, entries)
+            })
+            .collect();
+        // the plots start below the tallest box, level with each other
+        let rows = own_rows.iter().copied().max().unwrap_or(1);
         // (b) and (c) share their log axis, so that they compare at a glance
         let (lo, hi) = panels[1..]
             .iter()
-            .flat_map(|(_, series)| series.iter())
+            .flat_map(|(_, _, series)| series.iter())
             .flat_map(|s| s.means.iter().chain(&s.reference))
             .map(|p| p.1)
             .filter(|v| *v > 0.0 && v.is_finite())
             .fold((f64::INFINITY, 0.0_f64), |(l, h), v| (l.min(v), h.max(v)));
         let (lo, hi) = if hi > 0.0 { (lo, hi) } else { (0.1, 1.0) };
-        for (k, ((area, (heading, series)), entries)) in
-            areas.iter().zip(&panels).zip(&legends).enumerate()
+        for (k, ((area, (heading, _, series)), entries)) in
+            columns.iter().zip(&panels).zip(&legends).enumerate()
         {
-            let area = layout::legend_in_rows(area, style, entries, rows)?;
-            frame.heading(&area, heading)?;
+            frame.heading(area, heading)?;
+            let column = &areas[k];
+            let (x0, y0, w, h) = legend_area(column, own_rows[k]);
+            let pad = style.ipx(LEGEND_PAD_PT);
+            column.draw(&Rectangle::new(
+                [(x0 as i32, y0 as i32), ((x0 + w) as i32, (y0 + h) as i32)],
+                LEGEND_EDGE.stroke_width(style.ipx(AXIS_PT)),
+            ))?;
+            let side = style.ipx(LEGEND_SIDE_PT);
+            let inner = column
+                .clone()
+                .shrink((x0 + side, y0 + pad), (w - 2 * side, h - 2 * pad));
+            layout::legend(&inner, style, entries)?;
+            let top = y0 + legend_area(column, rows).3 + style.ipx(LEGEND_GAP_PT);
             if k == 0 {
                 let hi = series
                     .iter()
@@ -354,7 +411,8 @@ impl Figure for FrictionDemandFigure {
                     .fold(0.0_f64, f64::max);
                 let y_hi = hi.max(0.75 * x_max) * 1.08;
                 let mut chart = frame
-                    .chart(&area, true)
+                    .chart(area, true)
+                    .margin_top(top)
                     .build_cartesian_2d(0.0..x_max, 0.0..y_hi)?;
                 let mut mesh = layout::mesh(&mut chart, style);
                 mesh.x_labels(7).y_labels(7).x_desc("B/H").draw()?;
@@ -369,12 +427,16 @@ impl Figure for FrictionDemandFigure {
                 draw_series_set!(chart, series, style, x_max * REFERENCE_DODGE);
             } else {
                 let y_lo = lo.min(eq8(self.b_over_h_max)) * 0.6;
-                let mut chart = frame
-                    .chart(&area, true)
-                    .build_cartesian_2d(0.0..x_max, (y_lo..hi * 1.6).log_scale())?;
+                let y_axis = LogAxis::new(y_lo, hi * 1.6);
+                let mut chart = frame.chart(area, true).margin_top(top).build_cartesian_2d(
+                    0.0..x_max,
+                    (y_lo..hi * 1.6)
+                        .log_scale()
+                        .with_key_points(y_axis.ticks.clone()),
+                )?;
                 let mut mesh = layout::mesh(&mut chart, style);
                 mesh.x_labels(7)
-                    .y_label_formatter(&|v| layout::log_tick_label(*v))
+                    .y_label_formatter(&|v| y_axis.label(*v))
                     .x_desc("B/H")
                     .draw()?;
                 curve!(chart, reference(&eq8, y_lo), ref_style, Dash::Solid, style);
@@ -431,6 +493,7 @@ mod tests {
         let with = StudyData {
             outcomes: vec![row(0.0, Some(0.185)), row(0.9, Some(250.0))],
             curves: None,
+            lognormal: Vec::new(),
         };
         let f = FrictionDemandFigure::from_study(&with).unwrap();
         assert_eq!(f.eq5.len(), 2);
@@ -440,6 +503,7 @@ mod tests {
         let without = StudyData {
             outcomes: vec![row(0.0, None), row(0.9, None)],
             curves: None,
+            lognormal: Vec::new(),
         };
         let f = FrictionDemandFigure::from_study(&without).unwrap();
         assert!(f.eq5.is_empty());

@@ -211,8 +211,8 @@ impl<DB: DrawingBackend> Frame<DB> {
 }
 
 /// Splits a title band off the top of `area`, writes `title` centred in it
-/// and returns the rest. A title wider than the area is broken after its
-/// last `; ` or `, ` that lets the first line fit, into a band of two lines.
+/// and returns the rest. A title wider than the area is broken into lines
+/// that fit (see [`wrap_title`]), the band growing by a line for each.
 pub fn title_band<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     style: &Style,
@@ -224,19 +224,7 @@ pub fn title_band<DB: DrawingBackend>(
         area.estimate_text_size(t, &font)
             .map_or(true, |(w, _)| w + style.ipx(4.0) <= width)
     };
-    let lines: Vec<&str> = if fits(title) {
-        vec![title]
-    } else {
-        let breaks = title
-            .match_indices("; ")
-            .chain(title.match_indices(", "))
-            .map(|(i, _)| i)
-            .filter(|&i| fits(&title[..i + 1]));
-        match breaks.max() {
-            Some(i) => vec![&title[..i + 1], &title[i + 2..]],
-            None => vec![title],
-        }
-    };
+    let lines = wrap_title(title, &fits);
     let line_h = style.px(TITLE_BAND_PT - 4.0);
     let band_h = style.px(TITLE_BAND_PT) + line_h * (lines.len() - 1) as f64;
     let (band, body) = area.split_vertically(band_h.round() as u32);
@@ -246,6 +234,37 @@ pub fn title_band<DB: DrawingBackend>(
         band.draw_text(line, &centred, ((width / 2) as i32, y.round() as i32))?;
     }
     Ok(body)
+}
+
+/// `title` in lines for which `fits` holds: the whole title if it fits;
+/// else broken after the last `; ` that leaves two lines that fit (a title's
+/// clauses), else after the last `; ` or `, ` that lets the first line fit,
+/// else after the last space that does, and the rest wrapped the same way.
+/// A word too long for a line is left whole on its own.
+pub fn wrap_title<'t>(title: &'t str, fits: &dyn Fn(&str) -> bool) -> Vec<&'t str> {
+    if fits(title) {
+        return vec![title];
+    }
+    let at = |sep: &'static str| {
+        title
+            .match_indices(sep)
+            .map(|(i, _)| i)
+            .filter(|&i| fits(&title[..i + sep.len() - 1]))
+    };
+    let clause = at("; ").filter(|&i| fits(&title[i + 2..])).max();
+    let split = clause
+        .or_else(|| at("; ").chain(at(", ")).max())
+        .map(|i| (&title[..i + 1], &title[i + 2..]))
+        .or_else(|| at(" ").max().map(|i| (&title[..i], &title[i + 1..])))
+        .or_else(|| title.split_once(' '));
+    match split {
+        Some((first, rest)) if !rest.is_empty() => {
+            let mut lines = vec![first];
+            lines.extend(wrap_title(rest, fits));
+            lines
+        }
+        _ => vec![title],
+    }
 }
 
 /// Number of legend rows `entries` need across `width` pixels.
@@ -501,19 +520,110 @@ where
         .y_label_formatter(&|v| tick_label(*v));
 }
 
-/// Formats a tick on a log axis: only powers of ten and their 2× and 5×
-/// multiples are labelled (`1`, `2`, `5`, `10`, …), as compact numbers.
-pub fn log_tick_label(v: f64) -> String {
+/// Ticks and labels of a logarithmic axis over [lo, hi], chosen by how many
+/// decades it spans (d):
+///
+/// - d ≤ 1.5: 1, 2 and 5 × 10ᵏ;
+/// - d ≤ 3: 1 and 3 × 10ᵏ;
+/// - d ≤ 8: the powers of ten;
+/// - more: every n-th power of ten, so that at most 8 are labelled.
+///
+/// Ticks are labelled as plain numbers (`0.05`, `300`) while the axis spans
+/// 3 decades or less and every tick lies in [10⁻³, 10⁴]; otherwise as powers
+/// of ten with superscripts (`10⁻⁵`, `2×10⁻⁵`), which stay short and never
+/// lose a digit to a clipped margin.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LogAxis {
+    /// Tick positions, ascending, inside [lo, hi].
+    pub ticks: Vec<f64>,
+    /// Whether the labels are powers of ten.
+    pub powers: bool,
+}
+
+impl LogAxis {
+    /// The ticks of an axis over [lo, hi] (0 < lo < hi).
+    pub fn new(lo: f64, hi: f64) -> LogAxis {
+        let decades = dm::log10(hi / lo);
+        let (multiples, every): (&[f64], i32) = if decades <= 1.5 {
+            (&[1.0, 2.0, 5.0], 1)
+        } else if decades <= 3.0 {
+            (&[1.0, 3.0], 1)
+        } else {
+            (&[1.0], (decades / 8.0).ceil().max(1.0) as i32)
+        };
+        let first = dm::log10(lo).floor() as i32;
+        let last = dm::log10(hi).ceil() as i32;
+        let mut ticks = Vec::new();
+        for k in first..=last {
+            if k.rem_euclid(every) != 0 {
+                continue;
+            }
+            let decade = dm::powf(10.0, k as f64);
+            for m in multiples {
+                let t = m * decade;
+                // a tick computed at the end of the range may sit an ulp
+                // outside it
+                if t >= lo * (1.0 - 1e-9) && t <= hi * (1.0 + 1e-9) {
+                    ticks.push(t);
+                }
+            }
+        }
+        let powers = decades > 3.0 || ticks.iter().any(|&t| !(1e-3..=1e4).contains(&t));
+        LogAxis { ticks, powers }
+    }
+
+    /// The label of tick `v`.
+    pub fn label(&self, v: f64) -> String {
+        if self.powers {
+            power_label(v)
+        } else {
+            tick_label(v)
+        }
+    }
+}
+
+/// `v` as a power of ten with a superscript exponent: `10⁻⁵`, `1` → `10⁰`,
+/// `2e-5` → `2×10⁻⁵`; an empty label for v ≤ 0 or NaN.
+pub fn power_label(v: f64) -> String {
     if v.is_nan() || v <= 0.0 {
         return String::new();
     }
-    let e = dm::log10(v).floor();
-    let m = v / dm::powf(10.0, e);
-    if [1.0, 2.0, 5.0].iter().any(|k| (m - k).abs() < 1e-6) {
-        tick_label(v)
-    } else {
-        String::new()
+    let mut k = dm::log10(v).floor();
+    let mut m = v / dm::powf(10.0, k);
+    // 0.001 may come out as 9.99…×10⁻⁴
+    if m >= 9.999_999 {
+        k += 1.0;
+        m /= 10.0;
     }
+    let exponent: String = format!("{}", k as i64)
+        .chars()
+        .map(|c| match c {
+            '-' => '⁻',
+            d => SUPERSCRIPT_DIGITS[d.to_digit(10).expect("a digit") as usize],
+        })
+        .collect();
+    if (m - 1.0).abs() < 1e-6 {
+        format!("10{exponent}")
+    } else {
+        format!("{}×10{exponent}", tick_label((m * 1e4).round() / 1e4))
+    }
+}
+
+/// ⁰ to ⁹.
+const SUPERSCRIPT_DIGITS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+
+/// Width in pixels of the widest of `labels` in the tick font.
+pub fn widest<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    style: &Style,
+    labels: impl IntoIterator<Item = String>,
+) -> u32 {
+    let font = style.tick_font();
+    labels
+        .into_iter()
+        .map(|l| area.estimate_text_size(&l, &font).map_or(0, |(w, _)| w))
+        .max()
+        .unwrap_or(0)
 }
 
 /// A lighter tint of `c`: `amount` = 0 gives `c`, 1 gives white.
@@ -666,13 +776,69 @@ mod tests {
     }
 
     #[test]
-    fn log_ticks_label_only_one_two_five_decades() {
-        // A log axis labels 1, 2, 5 × 10^k and leaves the other ticks blank.
-        assert_eq!(log_tick_label(0.1), "0.1");
-        assert_eq!(log_tick_label(2000.0), "2000");
-        assert_eq!(log_tick_label(0.05), "0.05");
-        assert_eq!(log_tick_label(3.0), "");
-        assert_eq!(log_tick_label(0.0), "");
+    fn a_long_title_is_wrapped_into_as_many_lines_as_fit() {
+        // The museum study's history title: two lines were not enough, and
+        // the second ran off both sides of the figure (issue 29, item 10).
+        crate::figures::font::register().unwrap();
+        let title = "H/B = 5.00, 2B = 0.380 m, e = 0.231, μₛ = 0.634, μₖ = 0.560: record \
+                     22 of seed 77 at 0.5 g (largest θmax/θc not overturned, stripe nearest \
+                     its median 0.519 g)";
+        // a full page wide, 7 in at 200 px/in
+        let (w, h) = (1400_u32, 400_u32);
+        let mut svg = String::new();
+        let body_h = {
+            let root =
+                plotters::prelude::SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+            let body = title_band(&root, &Style::SVG, title).unwrap();
+            root.present().unwrap();
+            body.dim_in_pixel().1
+        };
+        let lines: Vec<&str> = svg
+            .split("<text")
+            .skip(1)
+            .map(|t| t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()].trim())
+            .collect();
+        assert_eq!(lines.len(), 3, "{lines:?}");
+        // the band: 16 pt for the first line and 12 pt for each other one
+        let band = (Style::SVG.px(16.0) + 2.0 * Style::SVG.px(12.0)).round() as u32;
+        assert_eq!(body_h, h - band);
+        let mut buffer = vec![0u8; (w * h * 3) as usize];
+        let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
+        for line in &lines {
+            let (lw, _) = root
+                .estimate_text_size(line, &Style::SVG.title_font())
+                .unwrap();
+            assert!(lw < w, "{line:?} is {lw} px wide, the figure {w}");
+        }
+        assert_eq!(lines.join(" "), title);
+    }
+
+    #[test]
+    fn log_axes_label_decades_as_powers_of_ten_when_they_span_many() {
+        // A spectrum's y axis over 7 decades: a tick per decade, labelled
+        // 10⁻⁶ … 10⁰, every label different (a plain "0.000001" loses
+        // digits to the margin and reads like "0.00001").
+        let axis = LogAxis::new(5e-7, 3.0);
+        assert!(axis.powers);
+        let labels: Vec<String> = axis.ticks.iter().map(|&t| axis.label(t)).collect();
+        assert_eq!(
+            labels,
+            ["10⁻⁶", "10⁻⁵", "10⁻⁴", "10⁻³", "10⁻²", "10⁻¹", "10⁰"]
+        );
+        assert_ne!(axis.label(1e-5), axis.label(1e-6));
+        // Two decades inside [10⁻³, 10⁴]: 1 and 3 × 10ᵏ as plain numbers.
+        let axis = LogAxis::new(0.025, 5.0);
+        assert!(!axis.powers);
+        let labels: Vec<String> = axis.ticks.iter().map(|&t| axis.label(t)).collect();
+        assert_eq!(labels, ["0.03", "0.1", "0.3", "1", "3"]);
+        // Under a decade and a half: 1, 2, 5.
+        assert_eq!(LogAxis::new(0.07, 0.6).ticks, [0.1, 0.2, 0.5]);
+        // Twenty decades: at most 8 labelled.
+        assert!(LogAxis::new(1e-20, 1.0).ticks.len() <= 8);
+        assert_eq!(power_label(2e-5), "2×10⁻⁵");
+        assert_eq!(power_label(1e4), "10⁴");
+        assert_eq!(power_label(0.001), "10⁻³");
+        assert_eq!(power_label(0.0), "");
     }
 
     #[test]

@@ -14,8 +14,6 @@ use crate::motion::{G_STANDARD, Record};
 
 /// Height of the record figure (in).
 const RECORD_HEIGHT_IN: f64 = 3.8;
-/// Band at the top for the title (pt).
-const TITLE_PT_BAND: f64 = 16.0;
 /// Room above each panel for its label (pt).
 const HEADING_PT: f64 = 14.0;
 /// Room below the bottom panel for time tick labels and the time label (pt).
@@ -63,15 +61,10 @@ impl Figure for RecordFigure<'_> {
     ) -> DrawResult<DB> {
         let r = self.record;
         root.fill(&WHITE)?;
-        // The title gets a band of its own: plotters' `titled` pads by at
-        // most 5 px, which clips the title at print resolution.
-        let (title_band, body) = root.split_vertically(style.ipx(TITLE_PT_BAND));
-        let (w, band_h) = title_band.dim_in_pixel();
-        title_band.draw_text(
-            &r.name,
-            &style.title_font().pos(Pos::new(HPos::Center, VPos::Center)),
-            ((w / 2) as i32, (band_h / 2) as i32),
-        )?;
+        // The title gets a band of its own (plotters' `titled` pads by at
+        // most 5 px, which clips the title at print resolution), wrapped
+        // when a record's name is longer than the column is wide.
+        let body = layout::title_band(root, style, &r.name)?;
 
         let scaled = |s: &[f64], k: f64| -> Vec<(f64, f64)> {
             s.iter()

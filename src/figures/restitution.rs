@@ -8,6 +8,10 @@
 //! [`RestitutionFigure::reference_label`]): the paper layer draws the seed
 //! paper's Tables 1–3 there for its study.
 //!
+//! A friction model whose every line lies on the μ = ∞ one (a friction that
+//! changes no outcome) says so in its legend entry, `(as μ = ∞)`: its
+//! dashed lines cannot be seen under the solid ones.
+//!
 //! The fraction counts only runs that reached θ = π/2 (the `overturned`
 //! column); the trend in the title counts overturned or uplifted runs, the
 //! seed paper's convention, so that it compares with the paper's.
@@ -33,6 +37,9 @@ use crate::stats::{cochran_armitage, p_text};
 const HEIGHT_IN: f64 = 4.6;
 /// Panel margins: 28 pt for the y tick labels, 8 pt on the right.
 const MARGINS: Margins = Margins::new(28.0, 8.0);
+/// Largest difference, as a fraction of an axis's range, between two lines
+/// drawn as one (half a percent: under a line's width at print size).
+const SAME_LINE_TOL: f64 = 0.005;
 /// Gap between the two rows of panels (pt).
 const ROW_GAP_PT: f64 = 6.0;
 
@@ -87,6 +94,11 @@ pub struct RestitutionFigure {
     pub has_trend: bool,
     /// Legend label of the reference values, e.g. `paper (μ = ∞)`.
     pub reference_label: Option<String>,
+    /// For each friction model: whether each of its lines is drawn exactly
+    /// on the μ = ∞ line of its block and PGA (a friction that changes no
+    /// outcome), which its legend entry then says, the dashed lines being
+    /// hidden under the solid ones.
+    pub as_infinite: Vec<bool>,
 }
 
 impl RestitutionFigure {
@@ -201,11 +213,43 @@ impl RestitutionFigure {
                 "; trend over e (μ = ∞, overturned or uplifted): {ours}"
             ));
         }
+        // "on the μ = ∞ line": within SAME_LINE_TOL of each axis's range
+        let theta_top = panels
+            .iter()
+            .flat_map(|p| &p.series)
+            .flat_map(|s| s.theta.iter().map(|t| t.1))
+            .fold(0.0_f64, f64::max);
+        let close = |a: &[(f64, f64)], b: &[(f64, f64)], range: f64| {
+            a.len() == b.len()
+                && a.iter()
+                    .zip(b)
+                    .all(|(p, q)| p.0 == q.0 && (p.1 - q.1).abs() <= SAME_LINE_TOL * range)
+        };
+        let as_infinite = (0..frictions.len())
+            .map(|j| {
+                let mine = || {
+                    panels
+                        .iter()
+                        .flat_map(|p| p.series.iter().map(move |s| (p, s)))
+                };
+                j > 0
+                    && mine().any(|(_, s)| s.friction == j)
+                    && mine().filter(|(_, s)| s.friction == j).all(|(p, s)| {
+                        p.series.iter().any(|t| {
+                            t.friction == 0
+                                && t.level == s.level
+                                && close(&t.overturned, &s.overturned, 1.0)
+                                && close(&t.theta, &s.theta, theta_top)
+                        })
+                    })
+            })
+            .collect();
         RestitutionFigure {
             title,
             levels,
             all_levels,
             frictions,
+            as_infinite,
             panels,
             e_max: es.last().copied().unwrap_or(1.0),
             restitutions: es,
@@ -223,9 +267,13 @@ impl RestitutionFigure {
             )
         }));
         for (j, f) in self.frictions.iter().enumerate() {
+            let mut label = friction_label(f);
+            if self.as_infinite.get(j).copied().unwrap_or(false) {
+                label.push_str(" (as μ = ∞)");
+            }
             entries.push(Entry::new(
                 Sample::LinePoint(BLACK, Dash::nth(j), Marker::Circle, j == 0),
-                friction_label(f),
+                label,
             ));
         }
         if let Some(label) = &self.reference_label {
@@ -239,9 +287,24 @@ impl RestitutionFigure {
 }
 
 /// The Cochran–Armitage trend of `k` of `n` over the scores `e`, as the
-/// figures state it (`Z = −3.05, p = 0.002`); `None` when undefined.
+/// figures state it (`Z = −3.05, p = 0.002`, `p = 1.2×10⁻⁵`, with a true
+/// minus sign as on the axes); `None` when undefined.
 pub fn trend_text(k: &[u64], n: &[u64], e: &[f64]) -> Option<String> {
-    cochran_armitage(k, n, e).map(|t| format!("Z = {:.2}, p = {}", t.z, p_text(t.p)))
+    cochran_armitage(k, n, e).map(|t| {
+        let z = format!("{:.2}", t.z);
+        let z = match z.strip_prefix('-') {
+            Some(abs) => format!("\u{2212}{abs}"),
+            None => z,
+        };
+        // p below 0.001 as 1.2×10⁻⁵, not 1.2e-5
+        let p = if t.p > 0.0 && t.p < 0.001 {
+            let rounded: f64 = format!("{:.1e}", t.p).parse().unwrap_or(t.p);
+            layout::power_label(rounded)
+        } else {
+            p_text(t.p)
+        };
+        format!("Z = {z}, p = {p}")
+    })
 }
 
 impl Figure for RestitutionFigure {
@@ -337,5 +400,20 @@ impl Figure for RestitutionFigure {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trend_text_writes_a_true_minus_and_small_p_as_a_power_of_ten() {
+        // Overturning falling steeply with e: Z < 0, p far below 0.001.
+        let (k, n, e) = ([90, 60, 30, 5], [100; 4], [0.0, 0.3, 0.6, 0.9]);
+        let text = trend_text(&k, &n, &e).unwrap();
+        assert!(text.starts_with("Z = \u{2212}"), "{text}");
+        assert!(text.contains("×10⁻"), "{text}");
+        assert!(!text.contains('-') && !text.contains("e-"), "{text}");
     }
 }

@@ -1,61 +1,103 @@
-//! Risk at a site (`risk.svg`): on a shared logarithmic IM axis, one panel
-//! per case, the hazard curve (annual rate of exceedance, left, logarithmic,
-//! black; dashed beyond its levels, where the risk integral extrapolates
-//! it), each limit state's fragility curve (right, 0–1, solid, one colour per
-//! limit state) and the integrand P(LS | im)·|dλ/d ln im| (the rate's
-//! deaggregation over intensity, scaled to peak at 1, shaded in the same
-//! colour; the tick at the top marks its peak located with the hazard's
-//! slope smoothed between levels, see [`crate::risk`]). A case without a fit has
-//! only its hazard curve and says "no fit".
+//! Risk at a site (`risk.svg`), drawn to be read at journal size whatever
+//! the number of cases: two panels side by side instead of one panel per
+//! case.
+//!
+//! - **(a) Hazard and deaggregation.** The site's hazard curve λ(im) (left
+//!   axis, logarithmic, black; dashed beyond its levels, where the risk
+//!   integral extrapolates it) and, on the same logarithmic IM axis, the
+//!   integrand P(LS | im)·|dλ/d ln im| of every fitted case and limit state
+//!   (right axis, each scaled to peak at 1, a thin line in the limit state's
+//!   colour): where each rate comes from. The integrands are drawn with the
+//!   hazard's log-slope smoothed between its levels
+//!   ([`crate::risk::deaggregation_smoothed`]), as each peak is located:
+//!   with the log–log interpolant's slope, which jumps at every level, each
+//!   was a sawtooth. The ticks along the top mark the peaks (see
+//!   [`crate::risk`]). The cases' curves are drawn as one bundle
+//!   per limit state: cases that differ little overlap, and their spread is
+//!   the information.
+//! - **(b) Annual rate per case.** One row per case (in `risk.csv`'s order),
+//!   one marker per limit state at its annual rate λ_LS on a logarithmic
+//!   axis, with the bootstrap band of the rate as a line through it (a
+//!   forest plot): every case's result readable at once, where the panels
+//!   of one curve plot per case were tiny. Rows are labelled with only the
+//!   case parameters that vary between cases; those all cases share are
+//!   stated in the panel's heading. Alternate groups of rows of one H/B are
+//!   shaded. A limit state without a fit (or with a zero rate) is not left
+//!   out silently: its row says so in words at the right (`overturning: no
+//!   fit (separated)`). At most [`MAX_ROWS`] cases are drawn; a note below
+//!   the panel names how many more `risk.csv` holds.
+//!
+//! Logarithmic axes are labelled by [`LogAxis`] (powers of ten with
+//! superscripts on the rate axes), and the legend is one short row: the
+//! hazard, its extrapolation (when the IM axis reaches beyond the hazard's
+//! levels, the only time it is drawn) and one entry per limit state.
 
 use crate::detmath as dm;
 use plotters::coord::Shift;
 use plotters::prelude::{
-    BindKeyPoints, DrawingArea, DrawingBackend, IntoLogRange, LineSeries, PathElement, Polygon,
+    BindKeyPoints, DrawingArea, DrawingBackend, IntoLogRange, LineSeries, PathElement, Rectangle,
     Text,
 };
-use plotters::style::{BLACK, Color};
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::{BLACK, Color, RGBColor};
 
+use super::data::{friction_label, param_label};
 use super::figure::{DrawResult, Figure};
-use super::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
-use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
-use crate::risk::{HazardCurve, RiskRow, deaggregation};
+use super::layout::{self, Dash, Entry, Frame, LogAxis, Margins, Marker, Sample, curve};
+use super::style::{LINE_PT, PAGE_WIDTH_IN, Style};
+use crate::case::Case;
+use crate::risk::{HazardCurve, RiskOptions, RiskRow, deaggregation_smoothed};
 
-/// Panels per row.
-const COLUMNS: usize = 4;
-/// Height of one row of panels (in).
-const ROW_IN: f64 = 1.55;
-/// Room above the panels for title and legend (in).
-const HEADER_IN: f64 = 0.55;
-/// Left margin for the hazard's tick labels, right for the probability's.
-const MARGINS: Margins = Margins::new(24.0, 4.0);
-/// Room right of a panel for the probability tick labels (pt).
-const RIGHT_AXIS_PT: f64 = 18.0;
-/// Samples per curve.
+/// Most cases drawn as rows of panel (b); `risk.csv` has them all.
+pub const MAX_ROWS: usize = 40;
+/// Height of one row of panel (b) (pt).
+const ROW_PT: f64 = 10.5;
+/// Smallest height of the panels' plot area (in).
+const MIN_PLOT_IN: f64 = 1.9;
+/// Room for the title, the legend and the headings (in).
+const HEADER_IN: f64 = 0.62;
+/// Room below the panels for the x axes and a note (in).
+const FOOTER_IN: f64 = 0.5;
+/// Width of panel (a) (in), with its axes.
+const HAZARD_PANEL_IN: f64 = 2.7;
+/// Room right of the hazard panel for its right-hand axis labels (pt).
+const RIGHT_AXIS_PT: f64 = 30.0;
+/// Room beside a plot beyond its widest tick label: tick marks and a gap (pt).
+const TICK_ROOM_PT: f64 = 9.0;
+/// Samples per integrand curve.
 const SAMPLES: usize = 240;
-/// Opacity of the deaggregation's shading.
-const SHADE_ALPHA: f64 = 0.22;
+/// Opacity of an integrand line (many overlap).
+const INTEGRAND_ALPHA: f64 = 0.45;
+/// Shading of alternate H/B groups of rows.
+const GROUP_SHADE: RGBColor = RGBColor(0xF2, 0xF2, 0xF2);
 
-/// One limit state of one panel.
+/// One fitted limit state of one case.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RiskSeries {
     /// Index into [`RiskFigure::limit_states`] (sets the colour).
     pub limit_state: usize,
-    /// (im, P(LS | im)).
-    pub fragility: Vec<(f64, f64)>,
     /// (im, integrand scaled to peak at 1).
     pub integrand: Vec<(f64, f64)>,
     /// Where the integrand peaks.
     pub peak_im: f64,
+    /// Annual rate λ_LS (1/yr).
+    pub rate: f64,
+    /// Bootstrap band of the rate (1/yr), when there is one.
+    pub band: Option<(f64, f64)>,
 }
 
-/// One panel: one case.
+/// One case: a row of panel (b).
 #[derive(Clone, Debug, PartialEq)]
-pub struct RiskPanel {
-    /// Heading (the case).
+pub struct RiskCase {
+    /// The case.
+    pub key: Case,
+    /// Row label: the case's parameters that vary between the figure's cases.
     pub label: String,
     /// Its limit states with a fit.
     pub series: Vec<RiskSeries>,
+    /// Its limit states without one: (index into
+    /// [`RiskFigure::limit_states`], the fit's status).
+    pub unfitted: Vec<(usize, String)>,
 }
 
 /// The risk figure's data.
@@ -73,17 +115,23 @@ pub struct RiskFigure {
     pub hazard: Vec<(f64, f64)>,
     /// The extrapolated parts shown: below the lowest level, above the highest.
     pub hazard_extended: [Vec<(f64, f64)>; 2],
-    /// Panels, in the order of `risk.csv`'s cases.
-    pub panels: Vec<RiskPanel>,
+    /// Cases, in the order of `risk.csv`; the first [`MAX_ROWS`] are drawn.
+    pub cases: Vec<RiskCase>,
+    /// The parameters every case shares (`2B = 0.5 m`), left out of the
+    /// row labels and added to the title; empty when none is shared.
+    pub common: String,
+    /// What the band on a rate is, e.g. `90 % band`.
+    pub band_label: String,
 }
 
 impl RiskFigure {
-    /// The figure of `rows` (as [`crate::risk::assess`] returns them) over `hazard`.
+    /// The figure of `rows` (as [`crate::risk::assess`] returns them, with
+    /// its default options' band) over `hazard`.
     pub fn new(rows: &[RiskRow], hazard: &HazardCurve) -> RiskFigure {
         let fitted: Vec<(f64, f64)> = rows.iter().filter_map(|r| r.curve.fit).collect();
         let (h0, h1) = (hazard.iml[0], hazard.iml[hazard.iml.len() - 1]);
-        // Wide enough for each integrand's bulk (±3β about the median) and
-        // the hazard's levels.
+        // Wide enough for each integrand's bulk (±3.5β about the median)
+        // and the hazard's levels.
         let lo = fitted
             .iter()
             .map(|&(m, b)| m * dm::exp(-3.5 * b))
@@ -112,13 +160,14 @@ impl RiskFigure {
             Vec::new()
         };
         let mut limit_states: Vec<String> = Vec::new();
-        let mut panels: Vec<RiskPanel> = Vec::new();
+        let mut cases: Vec<RiskCase> = Vec::new();
         for r in rows {
-            let label = r.curve.key.to_string();
-            if panels.last().is_none_or(|p| p.label != label) {
-                panels.push(RiskPanel {
-                    label,
+            if cases.last().is_none_or(|c| c.key != r.curve.key) {
+                cases.push(RiskCase {
+                    key: r.curve.key,
+                    label: String::new(),
                     series: Vec::new(),
+                    unfitted: Vec::new(),
                 });
             }
             let ls = match limit_states.iter().position(|l| *l == r.curve.limit_state) {
@@ -128,24 +177,36 @@ impl RiskFigure {
                     limit_states.len() - 1
                 }
             };
+            let case = cases.last_mut().expect("pushed above");
             let (Some((m, b)), Some(integral)) = (r.curve.fit, r.integral) else {
+                case.unfitted
+                    .push((ls, format!("no fit ({})", r.curve.status)));
                 continue;
             };
-            let p = |x: f64| dm::norm_cdf(dm::ln(x / m) / b);
-            let density = deaggregation(hazard, m, b, &ims);
-            let top = deaggregation(hazard, m, b, &[integral.peak_im])[0]
+            if integral.rate.is_nan() || integral.rate <= 0.0 {
+                // a log axis has no room for it: said in words instead
+                case.unfitted.push((ls, "rate 0".to_string()));
+                continue;
+            }
+            let density = deaggregation_smoothed(hazard, m, b, &ims);
+            let top = deaggregation_smoothed(hazard, m, b, &[integral.peak_im])[0]
                 .max(density.iter().copied().fold(0.0, f64::max));
-            let panel = panels.last_mut().expect("pushed above");
-            panel.series.push(RiskSeries {
+            case.series.push(RiskSeries {
                 limit_state: ls,
-                fragility: ims.iter().map(|&x| (x, p(x))).collect(),
                 integrand: ims
                     .iter()
                     .zip(&density)
                     .map(|(&x, &d)| (x, if top > 0.0 { d / top } else { 0.0 }))
                     .collect(),
                 peak_im: integral.peak_im,
+                rate: integral.rate,
+                band: r.band.map(|b| (b.lo, b.hi)),
             });
+        }
+        let keys: Vec<Case> = cases.iter().map(|c| c.key).collect();
+        let (labels, common) = case_labels(&keys);
+        for (c, label) in cases.iter_mut().zip(labels) {
+            c.label = label;
         }
         let (im, unit) = rows.first().map_or(("pga", "g"), |r| {
             (r.curve.im.as_str(), r.curve.im_unit.as_str())
@@ -156,75 +217,151 @@ impl RiskFigure {
             (name, "1" | "") => name.to_string(),
             (name, u) => format!("{name} ({u})"),
         };
+        let pct = (RiskOptions::default().confidence * 100.0).round();
         RiskFigure {
-            title: format!(
-                "Annual rate: hazard ({}), fragility, deaggregation",
-                site_label(hazard)
-            ),
+            title: format!("Annual rate of each limit state at {}", hazard.site()),
             im_label,
             limit_states,
             im_range: (lo, hi),
             hazard: with_rate(grid(h0, h1, SAMPLES)),
             hazard_extended: [with_rate(below), with_rate(above)],
-            panels,
+            cases,
+            common,
+            band_label: format!("{pct} % band"),
+        }
+    }
+
+    /// The cases drawn as rows: the first [`MAX_ROWS`].
+    pub fn shown(&self) -> &[RiskCase] {
+        &self.cases[..self.cases.len().min(MAX_ROWS)]
+    }
+
+    /// The right-hand notes of panel (b), one per shown case: its limit
+    /// states without a rate, in words (empty when it has none).
+    pub fn notes(&self) -> Vec<String> {
+        self.shown()
+            .iter()
+            .map(|c| {
+                c.unfitted
+                    .iter()
+                    .map(|(ls, why)| format!("{}: {why}", self.limit_states[*ls]))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            })
+            .collect()
+    }
+
+    /// The rate axis's range: every rate and band, with room either side.
+    fn rate_range(&self) -> (f64, f64) {
+        let (lo, hi) = self
+            .shown()
+            .iter()
+            .flat_map(|c| &c.series)
+            .flat_map(|s| {
+                let (a, b) = s.band.unwrap_or((s.rate, s.rate));
+                [s.rate, a, b]
+            })
+            .filter(|v| *v > 0.0 && v.is_finite())
+            .fold((f64::INFINITY, 0.0_f64), |(l, h), v| (l.min(v), h.max(v)));
+        if hi > 0.0 {
+            (lo / 2.0, hi * 2.0)
+        } else {
+            (1e-6, 1e-2)
         }
     }
 
     fn legend(&self) -> Vec<Entry> {
-        let mut entries = vec![
-            Entry::new(Sample::Line(BLACK, Dash::Solid), "hazard λ (1/yr, left)"),
-            Entry::new(Sample::Line(BLACK, Dash::Dashed), "extrapolated"),
-        ];
+        let mut entries = vec![Entry::new(Sample::Line(BLACK, Dash::Solid), "hazard λ")];
+        // only when the IM axis reaches beyond the hazard's levels
+        if self.hazard_extended.iter().any(|p| p.len() > 1) {
+            entries.push(Entry::new(
+                Sample::Line(BLACK, Dash::Dashed),
+                "extrapolated",
+            ));
+        }
         for (i, ls) in self.limit_states.iter().enumerate() {
             entries.push(Entry::new(
-                Sample::Line(colour(i), Dash::Solid),
-                format!("P({ls} | IM) (right)"),
-            ));
-            entries.push(Entry::new(
-                Sample::Block(layout::tint(colour(i), 1.0 - 1.5 * SHADE_ALPHA)),
-                "its deaggregation (peak = 1)",
+                Sample::LinePoint(colour(i), Dash::Solid, Marker::Circle, true),
+                ls.clone(),
             ));
         }
         entries
     }
 }
 
-/// `site K of FILE` for an OpenQuake curve, else the file name.
-fn site_label(hazard: &HazardCurve) -> String {
-    let name = hazard
-        .path
-        .file_name()
-        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    match &hazard.source {
-        crate::risk::HazardSource::OpenQuake { site, .. } => format!("site {site} of {name}"),
-        crate::risk::HazardSource::Plain => name,
+/// Row labels of `keys` naming only the parameters that vary between them,
+/// and the text of those they all share (all of them for a single case,
+/// whose row then needs no label).
+fn case_labels(keys: &[Case]) -> (Vec<String>, String) {
+    // (value, row label, heading text) of each parameter
+    let parts = |c: &Case| -> [(String, String, String); 4] {
+        let (a, w, e) = (
+            param_label(c.aspect),
+            param_label(c.width),
+            param_label(c.restitution),
+        );
+        let f = friction_label(&c.friction);
+        let metres = if c.width.is_drawn() { "" } else { " m" };
+        [
+            (a.clone(), format!("H/B {a}"), format!("H/B = {a}")),
+            (w.clone(), format!("2B {w}"), format!("2B = {w}{metres}")),
+            (e.clone(), format!("e {e}"), format!("e = {e}")),
+            (f.clone(), compact_friction(&f), f),
+        ]
+    };
+    let all: Vec<[(String, String, String); 4]> = keys.iter().map(parts).collect();
+    // one case: its parameters are all shared, and its row needs no label
+    let varies = |k: usize| all.iter().any(|p| p[k].0 != all[0][k].0);
+    let labels = all
+        .iter()
+        .map(|p| {
+            (0..4)
+                .filter(|&k| varies(k))
+                .map(|k| p[k].1.clone())
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+        .collect();
+    let common = match all.first() {
+        Some(p) => (0..4)
+            .filter(|&k| !varies(k))
+            .map(|k| p[k].2.clone())
+            .collect::<Vec<_>>()
+            .join(", "),
+        _ => String::new(),
+    };
+    (labels, common)
+}
+
+/// `μₛ = 0.7, μₖ = 0.6` → `μₛ/μₖ 0.7/0.6`, `μ = ∞` → `μ ∞` (row labels).
+fn compact_friction(label: &str) -> String {
+    match label {
+        "μ = ∞" => "μ ∞".to_string(),
+        "μₛ, μₖ drawn" => "μ drawn".to_string(),
+        other => {
+            let values: Vec<&str> = other
+                .split(", ")
+                .filter_map(|p| p.split(" = ").nth(1))
+                .collect();
+            format!("μₛ/μₖ {}", values.join("/"))
+        }
     }
 }
 
-fn colour(i: usize) -> plotters::style::RGBColor {
+fn colour(i: usize) -> RGBColor {
     super::style::PALETTE[i % super::style::PALETTE.len()]
 }
 
-/// 1, 2, 5 × powers of ten in [lo, hi].
-fn log_ticks(lo: f64, hi: f64, multiples: &[f64]) -> Vec<f64> {
-    let mut v = Vec::new();
-    let mut decade = dm::powf(10.0, dm::log10(lo).floor());
-    while decade <= hi {
-        for m in multiples {
-            let t = m * decade;
-            if t >= lo && t <= hi {
-                v.push(t);
-            }
-        }
-        decade *= 10.0;
-    }
-    v
+/// Pixels to points at `style`'s resolution.
+fn pt(style: &Style, px: u32) -> f64 {
+    px as f64 * 72.0 / style.px_per_in
 }
 
 impl Figure for RiskFigure {
     fn size_in(&self) -> (f64, f64) {
-        let rows = self.panels.len().div_ceil(COLUMNS).max(1);
-        (PAGE_WIDTH_IN, HEADER_IN + ROW_IN * rows as f64)
+        let rows = self.shown().len().max(1) as f64;
+        let plot = (rows * ROW_PT / 72.0).max(MIN_PLOT_IN);
+        (PAGE_WIDTH_IN, HEADER_IN + plot + FOOTER_IN)
     }
 
     fn draw<DB: DrawingBackend>(
@@ -232,9 +369,6 @@ impl Figure for RiskFigure {
         root: &DrawingArea<DB, Shift>,
         style: &Style,
     ) -> DrawResult<DB> {
-        let frame = Frame::new(root, style, &self.title, &self.legend(), MARGINS)?;
-        let n_rows = self.panels.len().div_ceil(COLUMNS).max(1);
-        let areas = frame.body.split_evenly((n_rows, COLUMNS));
         let (xl, xh) = self.im_range;
         let rates = self
             .hazard
@@ -243,71 +377,240 @@ impl Figure for RiskFigure {
             .map(|p| p.1)
             .filter(|r| *r > 0.0);
         let (y_min, y_max) = rates.fold((f64::INFINITY, 0.0_f64), |(a, b), r| (a.min(r), b.max(r)));
-        let (yl, yh) = (y_min.max(1e-12 * y_max) / 2.0, y_max * 2.0);
-        let x_ticks = log_ticks(xl, xh, &[1.0, 3.0]);
-        let y_ticks = log_ticks(yl, yh, &[1.0]);
+        let (yl, yh) = if y_max > 0.0 {
+            (y_min.max(1e-12 * y_max) / 2.0, y_max * 2.0)
+        } else {
+            (1e-6, 1.0)
+        };
+        let im_axis = LogAxis::new(xl, xh);
+        let lambda_axis = LogAxis::new(yl, yh);
+        let (rl, rh) = self.rate_range();
+        let rate_axis = LogAxis::new(rl, rh);
+        let shown = self.shown();
+        let labels: Vec<String> = shown.iter().map(|c| c.label.clone()).collect();
+        let notes = self.notes();
+
+        let lambda_w = layout::widest(
+            root,
+            style,
+            lambda_axis.ticks.iter().map(|&t| lambda_axis.label(t)),
+        );
+        let mut title = self.title.clone();
+        if !self.common.is_empty() {
+            title.push_str(&format!("; {}", self.common));
+        }
+        let frame = Frame::new(
+            root,
+            style,
+            &title,
+            &self.legend(),
+            Margins::new(pt(style, lambda_w) + TICK_ROOM_PT, 0.0),
+        )?;
+        let (left, right) = frame
+            .body
+            .split_horizontally(style.ipx(HAZARD_PANEL_IN * 72.0));
         let thin = style.ipx(LINE_PT);
-        for (panel, area) in self.panels.iter().zip(&areas) {
-            frame.heading(area, &panel.label)?;
-            let mut builder = frame.chart(area, true);
-            builder.right_y_label_area_size(style.ipx(RIGHT_AXIS_PT));
-            let mut chart = builder
-                .build_cartesian_2d(
-                    (xl..xh).log_scale().with_key_points(x_ticks.clone()),
-                    (yl..yh).log_scale().with_key_points(y_ticks.clone()),
-                )?
-                .set_secondary_coord((xl..xh).log_scale(), 0.0..1.05);
-            layout::mesh(&mut chart, style)
-                .x_desc(self.im_label.as_str())
-                .x_label_formatter(&|v| tick_label(*v))
-                .y_label_formatter(&|v| format!("1e{}", dm::log10(*v).round()))
-                .draw()?;
-            chart
-                .configure_secondary_axes()
-                .axis_style(style.axis())
-                .label_style(style.tick_font())
-                .y_labels(3)
-                .y_label_formatter(&|v| tick_label(*v))
-                .draw()?;
-            for s in &panel.series {
-                let c = colour(s.limit_state);
-                let mut shade: Vec<(f64, f64)> = s.integrand.clone();
-                shade.push((xh, 0.0));
-                shade.push((xl, 0.0));
-                chart.draw_secondary_series(std::iter::once(Polygon::new(
-                    shade,
-                    c.mix(SHADE_ALPHA).filled(),
-                )))?;
-                chart.draw_secondary_series(LineSeries::new(
-                    s.fragility.clone(),
-                    c.stroke_width(thin),
-                ))?;
-                chart.draw_secondary_series(std::iter::once(PathElement::new(
-                    vec![(s.peak_im, 0.95), (s.peak_im, 1.05)],
-                    c.stroke_width(thin),
-                )))?;
-            }
-            chart.draw_series(LineSeries::new(
-                self.hazard.clone(),
-                BLACK.stroke_width(thin),
+
+        // (a) hazard and deaggregation
+        let left = layout::side_label(
+            &left,
+            style,
+            "Annual rate λ (1/yr)",
+            frame.top,
+            frame.x_area,
+        )?;
+        frame.heading(&left, "(a) Hazard and deaggregation")?;
+        let mut builder = frame.chart(&left, true);
+        builder.right_y_label_area_size(style.ipx(RIGHT_AXIS_PT));
+        let mut chart = builder
+            .build_cartesian_2d(
+                (xl..xh).log_scale().with_key_points(im_axis.ticks.clone()),
+                (yl..yh)
+                    .log_scale()
+                    .with_key_points(lambda_axis.ticks.clone()),
+            )?
+            .set_secondary_coord((xl..xh).log_scale(), 0.0..1.05);
+        layout::mesh(&mut chart, style)
+            .x_desc(self.im_label.as_str())
+            .x_label_formatter(&|v| im_axis.label(*v))
+            .y_label_formatter(&|v| lambda_axis.label(*v))
+            .draw()?;
+        chart
+            .configure_secondary_axes()
+            .axis_style(style.axis())
+            .label_style(style.tick_font())
+            .axis_desc_style(style.label_font())
+            .y_desc("Deaggregation (peak = 1)")
+            .y_labels(3)
+            .y_label_formatter(&|v| super::style::tick_label(*v))
+            .draw()?;
+        for s in self.cases.iter().flat_map(|c| &c.series) {
+            let c = colour(s.limit_state);
+            chart.draw_secondary_series(LineSeries::new(
+                s.integrand.iter().copied(),
+                c.mix(INTEGRAND_ALPHA).stroke_width(thin),
             ))?;
-            for part in &self.hazard_extended {
-                curve!(
-                    chart,
-                    part.clone(),
-                    BLACK.stroke_width(thin),
-                    Dash::Dashed,
-                    style
-                );
+            chart.draw_secondary_series(std::iter::once(PathElement::new(
+                vec![(s.peak_im, 1.0), (s.peak_im, 1.05)],
+                c.stroke_width(thin),
+            )))?;
+        }
+        chart.draw_series(LineSeries::new(
+            self.hazard.iter().copied(),
+            BLACK.stroke_width(style.ipx(0.8)),
+        ))?;
+        for part in &self.hazard_extended {
+            curve!(
+                chart,
+                part.iter().copied(),
+                BLACK.stroke_width(style.ipx(0.8)),
+                Dash::Dashed,
+                style
+            );
+        }
+
+        // (b) one row per case
+        let label_w = layout::widest(root, style, labels.iter().cloned());
+        let note_w = layout::widest(root, style, notes.iter().cloned());
+        let heading = format!("(b) Annual rate per case, {}", self.band_label);
+        layout::heading(
+            &right,
+            style,
+            &heading,
+            label_w + style.ipx(TICK_ROOM_PT + 6.0),
+        )?;
+        let n = shown.len().max(1);
+        let note_room = if note_w > 0 {
+            note_w + style.ipx(4.0)
+        } else {
+            style.ipx(10.0)
+        };
+        let mut chart = frame
+            .chart(&right, true)
+            .margin_left(style.ipx(6.0))
+            .margin_right(note_room)
+            .y_label_area_size(label_w + style.ipx(TICK_ROOM_PT))
+            .build_cartesian_2d(
+                (rl..rh)
+                    .log_scale()
+                    .with_key_points(rate_axis.ticks.clone()),
+                -0.5..n as f64 - 0.5,
+            )?;
+        // alternate H/B groups shaded, under the grid
+        let mut group = 0;
+        for (i, c) in shown.iter().enumerate() {
+            if i > 0 && c.key.aspect != shown[i - 1].key.aspect {
+                group += 1;
             }
-            if panel.series.is_empty() {
-                chart.draw_secondary_series(std::iter::once(Text::new(
-                    "no fit",
-                    (xl * 1.2, 0.12),
-                    style.tick_font(),
+            if group % 2 == 1 {
+                let y = (n - 1 - i) as f64;
+                chart.draw_series(std::iter::once(Rectangle::new(
+                    [(rl, y - 0.5), (rh, y + 0.5)],
+                    GROUP_SHADE.filled(),
                 )))?;
             }
         }
+        layout::mesh(&mut chart, style)
+            .x_desc("Annual rate of exceedance (1/yr)")
+            .x_label_formatter(&|v| rate_axis.label(*v))
+            .y_labels(0)
+            .draw()?;
+        // a light line along each row, its label left of the axis
+        let label_font = style.tick_font().pos(Pos::new(HPos::Right, VPos::Center));
+        let (base_x, base_y) = right.get_base_pixel();
+        let (x_px, _) = chart.plotting_area().get_pixel_range();
+        for (i, label) in labels.iter().enumerate() {
+            let y = (n - 1 - i) as f64;
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![(rl, y), (rh, y)],
+                style.grid(),
+            )))?;
+            let (_, y_px) = chart.backend_coord(&(rl, y));
+            right.draw(&Text::new(
+                label.clone(),
+                (x_px.start - base_x - style.ipx(3.0) as i32, y_px - base_y),
+                label_font.clone(),
+            ))?;
+        }
+        let n_ls = self.limit_states.len().max(1);
+        let step = (0.7 / n_ls as f64).min(0.25);
+        let r = layout::marker_px(style, true);
+        for (i, c) in shown.iter().enumerate() {
+            let y0 = (n - 1 - i) as f64;
+            for s in &c.series {
+                let y = y0 + step * ((n_ls - 1) as f64 / 2.0 - s.limit_state as f64);
+                let col = colour(s.limit_state);
+                if let Some((a, b)) = s.band {
+                    chart.draw_series(std::iter::once(PathElement::new(
+                        vec![(a.max(rl), y), (b.min(rh), y)],
+                        col.stroke_width(style.ipx(0.9)),
+                    )))?;
+                }
+                chart.draw_series(std::iter::once(plotters::prelude::Circle::new(
+                    (s.rate, y),
+                    r,
+                    col.filled(),
+                )))?;
+            }
+        }
+        // the notes, right of the plot, on their rows
+        let font = style.tick_font().pos(Pos::new(HPos::Left, VPos::Center));
+        for (i, note) in notes.iter().enumerate() {
+            if note.is_empty() {
+                continue;
+            }
+            let y = (n - 1 - i) as f64;
+            let (_, y_px) = chart.backend_coord(&(rh, y));
+            right.draw(&Text::new(
+                note.clone(),
+                (x_px.end - base_x + style.ipx(4.0) as i32, y_px - base_y),
+                font.clone(),
+            ))?;
+        }
+        if self.cases.len() > shown.len() {
+            let (w, h) = right.dim_in_pixel();
+            right.draw(&Text::new(
+                format!("{} more cases in risk.csv", self.cases.len() - shown.len()),
+                (
+                    w as i32 - style.ipx(4.0) as i32,
+                    h as i32 - style.ipx(4.0) as i32,
+                ),
+                style.tick_font().pos(Pos::new(HPos::Right, VPos::Bottom)),
+            ))?;
+        }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn row_labels_name_what_varies_and_the_heading_what_is_shared() {
+        use crate::solver::Friction;
+        let coulomb = Friction::Coulomb {
+            mu_s: 0.7,
+            mu_k: 0.6,
+        };
+        let keys = [
+            Case::fixed(2.0, 0.5, 0.0, Friction::Infinite),
+            Case::fixed(2.0, 0.5, 0.0, coulomb),
+            Case::fixed(4.0, 0.5, 0.3, Friction::Infinite),
+        ];
+        let (labels, common) = case_labels(&keys);
+        assert_eq!(
+            labels,
+            [
+                "H/B 2, e 0, μ ∞",
+                "H/B 2, e 0, μₛ/μₖ 0.7/0.6",
+                "H/B 4, e 0.3, μ ∞"
+            ]
+        );
+        assert_eq!(common, "2B = 0.5 m");
+        // one case: every parameter shared, none in its row
+        let (labels, common) = case_labels(&keys[..1]);
+        assert_eq!(labels, [""]);
+        assert_eq!(common, "H/B = 2, 2B = 0.5 m, e = 0, μ = ∞");
     }
 }

@@ -21,21 +21,24 @@
 
 use crate::detmath as dm;
 use plotters::coord::Shift;
-use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
+use plotters::prelude::{BindKeyPoints, DrawingArea, DrawingBackend, IntoLogRange};
 use plotters::style::{BLACK, Color};
 use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 
 use super::figure::{DrawResult, Figure};
-use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
+use super::layout::{self, Dash, Entry, Frame, LogAxis, Margins, Marker, Sample, curve, markers};
 use super::style::{COLUMN_WIDTH_IN, PALETTE, Style};
 use crate::error::Result;
 use crate::motion::{Record, SynthesisSettings, Synthesizer};
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 2.9;
-/// Panel margins: 33 pt for the y tick labels, 10 pt on the right.
-const MARGINS: Margins = Margins::new(33.0, 10.0);
+/// Room right of the panel (pt), for half the last frequency label.
+const RIGHT_PT: f64 = 10.0;
+/// Room left of the plot beyond its widest y tick label (pt): the tick
+/// marks and a gap.
+const Y_TICK_ROOM_PT: f64 = 9.0;
 /// Markers per decade for the stationary estimate (thinned on a log grid).
 const MARKERS_PER_DECADE: f64 = 12.0;
 /// Points of the target curve.
@@ -104,7 +107,9 @@ impl SpectrumFigure {
             })
             .collect();
         let mut mean = vec![0.0; bins.len()];
+        let mut averaged = 0;
         for i in 0..count {
+            averaged += 1;
             let r = synth.generate(seed, i as u64, 1.0)?;
             input.fill(0.0);
             input[..len].copy_from_slice(&r.acc);
@@ -124,7 +129,7 @@ impl SpectrumFigure {
             })
             .collect();
         Ok(SpectrumFigure {
-            title: format!("Spectrum of {count} records (ensemble seed {seed})"),
+            title: format!("Spectrum: mean of {}", ensemble_text(averaged, seed)),
             target,
             stationary,
             records,
@@ -149,6 +154,8 @@ impl SpectrumFigure {
         let n_bins = (decades * BINS_PER_DECADE).ceil().max(1.0) as usize;
         let bin_of = |f: f64| (dm::log10(f / RECORDED_F_MIN) * BINS_PER_DECADE).floor();
         let (mut sum, mut count) = (vec![0.0; n_bins], vec![0usize; n_bins]);
+        // records with at least one frequency bin in the mean
+        let mut averaged = 0;
         let mut planner = RealFftPlanner::<f64>::new();
         for r in records {
             let len = r.acc.len();
@@ -160,6 +167,7 @@ impl SpectrumFigure {
             fft.process(&mut input, &mut spectrum)
                 .expect("buffers sized by the plan");
             let (mut b_sum, mut b_n) = (vec![0.0; n_bins], vec![0usize; n_bins]);
+            let mut contributes = false;
             for (j, x) in spectrum.iter().enumerate().skip(1) {
                 let f = j as f64 / (m as f64 * r.dt);
                 let b = bin_of(f);
@@ -173,8 +181,10 @@ impl SpectrumFigure {
                 if b_n[b] > 0 {
                     sum[b] += b_sum[b] / b_n[b] as f64;
                     count[b] += 1;
+                    contributes = true;
                 }
             }
+            averaged += usize::from(contributes);
         }
         let points = (0..n_bins)
             .filter(|&b| count[b] > 0)
@@ -185,11 +195,57 @@ impl SpectrumFigure {
             })
             .collect();
         SpectrumFigure {
-            title: format!("Mean spectrum of {} {what}", records.len()),
+            title: format!("Mean spectrum of {averaged} {what}"),
             target: Vec::new(),
             stationary: Vec::new(),
             records: points,
         }
+    }
+}
+
+/// `200 records (seed 7)`: the records a synthetic spectrum averages
+/// (records 0 to n − 1 of the ensemble), as its title names them.
+fn ensemble_text(n: usize, seed: u64) -> String {
+    let s = if n == 1 { "" } else { "s" };
+    format!("{n} record{s} (seed {seed})")
+}
+
+impl SpectrumFigure {
+    /// The frequency range shown (the target's, or the records' without one)
+    /// and the PSD range (the data's, with a factor of 2 of room either side).
+    pub fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+        let all = self
+            .target
+            .iter()
+            .chain(&self.stationary)
+            .chain(&self.records);
+        let (mut y_lo, mut y_hi) = (f64::INFINITY, 0.0_f64);
+        for &(_, s) in all {
+            if s > 0.0 {
+                y_lo = y_lo.min(s);
+                y_hi = y_hi.max(s);
+            }
+        }
+        let shown = if self.target.is_empty() {
+            &self.records
+        } else {
+            &self.target
+        };
+        let f = match (shown.first(), shown.last()) {
+            (Some(a), Some(b)) if b.0 > a.0 => (a.0, b.0),
+            _ => (RECORDED_F_MIN, RECORDED_F_MAX),
+        };
+        if y_hi <= 0.0 || y_lo.is_infinite() {
+            (y_lo, y_hi) = (1e-6, 1.0);
+        }
+        (f, (y_lo * 0.5, y_hi * 2.0))
+    }
+
+    /// The labels of the PSD axis's ticks, bottom to top.
+    pub fn y_tick_labels(&self) -> Vec<String> {
+        let (_, (lo, hi)) = self.ranges();
+        let axis = LogAxis::new(lo, hi);
+        axis.ticks.iter().map(|&t| axis.label(t)).collect()
     }
 }
 
@@ -238,40 +294,27 @@ impl Figure for SpectrumFigure {
                 "records as recorded, mean",
             )]
         };
-        let frame = Frame::new(root, style, &self.title, &entries, MARGINS)?;
+        let ((f_lo, f_hi), (y_lo, y_hi)) = self.ranges();
+        let (x_axis, y_axis) = (LogAxis::new(f_lo, f_hi), LogAxis::new(y_lo, y_hi));
+        // room for the widest y label, measured in the font it is drawn in
+        let widest = layout::widest(root, style, y_axis.ticks.iter().map(|&t| y_axis.label(t)));
+        let margins = Margins::new(
+            widest as f64 * 72.0 / style.px_per_in + Y_TICK_ROOM_PT,
+            RIGHT_PT,
+        );
+        let frame = Frame::new(root, style, &self.title, &entries, margins)?;
         frame.heading(&frame.body, "One-sided PSD ((m/s²)²/Hz)")?;
-
-        let all = self
-            .target
-            .iter()
-            .chain(&self.stationary)
-            .chain(&self.records);
-        let (mut y_lo, mut y_hi) = (f64::INFINITY, 0.0_f64);
-        for &(_, s) in all {
-            if s > 0.0 {
-                y_lo = y_lo.min(s);
-                y_hi = y_hi.max(s);
-            }
-        }
-        let shown = if synthetic {
-            &self.target
-        } else {
-            &self.records
-        };
-        let (f_lo, f_hi) = match (shown.first(), shown.last()) {
-            (Some(a), Some(b)) if b.0 > a.0 => (a.0, b.0),
-            _ => (RECORDED_F_MIN, RECORDED_F_MAX),
-        };
-        if y_hi <= 0.0 || y_lo.is_infinite() {
-            (y_lo, y_hi) = (1e-6, 1.0);
-        }
         let mut chart = frame.chart(&frame.body, true).build_cartesian_2d(
-            (f_lo..f_hi).log_scale(),
-            (y_lo * 0.5..y_hi * 2.0).log_scale(),
+            (f_lo..f_hi)
+                .log_scale()
+                .with_key_points(x_axis.ticks.clone()),
+            (y_lo..y_hi)
+                .log_scale()
+                .with_key_points(y_axis.ticks.clone()),
         )?;
         let mut mesh = layout::mesh(&mut chart, style);
-        mesh.x_label_formatter(&|v| layout::log_tick_label(*v))
-            .y_label_formatter(&|v| layout::log_tick_label(*v))
+        mesh.x_label_formatter(&|v| x_axis.label(*v))
+            .y_label_formatter(&|v| y_axis.label(*v))
             .x_desc("Frequency (Hz)")
             .draw()?;
 
@@ -307,6 +350,33 @@ mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
     use rand_xoshiro::Xoshiro256PlusPlus;
+
+    /// The PSD axis of a spectrum spanning seven decades labels each decade
+    /// as a power of ten, every label different (issue 29: `0.00001` and
+    /// `0.000001` were both clipped to `00001`); the title counts the
+    /// records the mean was taken over.
+    #[test]
+    fn psd_axis_labels_are_distinct_powers_of_ten_and_the_title_counts_the_records() {
+        let fig = SpectrumFigure::compute(&SynthesisSettings::default(), 5, 3).unwrap();
+        assert!(
+            fig.title.contains("mean of 3 records (seed 5)"),
+            "{}",
+            fig.title
+        );
+        let fig = SpectrumFigure {
+            title: String::new(),
+            target: vec![(0.01, 1.2e-6), (1.0, 0.5)],
+            stationary: Vec::new(),
+            records: Vec::new(),
+        };
+        let labels = fig.y_tick_labels();
+        assert_eq!(
+            labels,
+            ["10⁻⁶", "10⁻⁵", "10⁻⁴", "10⁻³", "10⁻²", "10⁻¹", "10⁰"]
+        );
+        let distinct: std::collections::BTreeSet<&String> = labels.iter().collect();
+        assert_eq!(distinct.len(), labels.len());
+    }
 
     /// White noise of variance σ² sampled at Δt has the flat one-sided PSD
     /// 2σ²Δt. Over 8 records of 60 s at 0.01 s (independent periodogram

@@ -49,6 +49,9 @@ pub struct HazardCurve {
     /// hazard beyond them is then taken as the last positive segment's
     /// power law, an upper bound, see [`crate::risk`]).
     pub dropped_high: usize,
+    /// The site a plain file names in a `# site: …` comment (as
+    /// [`USED_HAZARD`] does), see [`HazardCurve::site`].
+    pub site_label: Option<String>,
 }
 
 impl HazardCurve {
@@ -121,6 +124,66 @@ impl HazardCurve {
     }
 }
 
+impl HazardCurve {
+    /// Where the curve is for, as a figure names it: `site K of FILE` for
+    /// an OpenQuake curve, else the file's name; for a plain file with a
+    /// `# site: …` comment (as [`USED_HAZARD`] has), that site.
+    pub fn site(&self) -> String {
+        if let Some(site) = &self.site_label {
+            return site.clone();
+        }
+        let name = self
+            .path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        match &self.source {
+            HazardSource::OpenQuake { site, .. } => format!("site {site} of {name}"),
+            HazardSource::Plain => name,
+        }
+    }
+}
+
+/// The file `rockfrag risk` writes beside `risk.csv`: the hazard curve it
+/// integrated over, as a plain `iml,annual_rate` table (levels in the fit's
+/// unit, exactly the levels used: those left out at the ends are not in
+/// it). `rockfrag figures` redraws the risk figure from it and the study's
+/// fit, and it is itself a hazard file `rockfrag risk --hazard` reads.
+pub const USED_HAZARD: &str = "risk_hazard.csv";
+
+/// The comment line of [`USED_HAZARD`] naming the site.
+const SITE_COMMENT: &str = "# site: ";
+
+/// Writes `hazard` to `path` as [`USED_HAZARD`] is written: comment lines
+/// saying what it is and naming its site ([`HazardCurve::site`]), then
+/// `iml,annual_rate` with every number as the shortest text that reads back
+/// exactly, so that [`read_hazard`] gives the same curve bit for bit, at the
+/// same site.
+pub fn write_used_hazard(path: &Path, hazard: &HazardCurve) -> Result<()> {
+    let name = hazard
+        .path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    crate::io_util::write_atomic(path, |w| {
+        writeln!(
+            w,
+            "# the hazard curve rockfrag risk integrated over, from {name}: annual rate of \
+             exceeding each level, levels in the fit's unit"
+        )?;
+        writeln!(w, "{SITE_COMMENT}{}", hazard.site())?;
+        writeln!(w, "iml,annual_rate")?;
+        for (x, r) in hazard.iml.iter().zip(&hazard.rate) {
+            writeln!(
+                w,
+                "{},{}",
+                crate::io_util::number(*x),
+                crate::io_util::number(*r)
+            )?;
+        }
+        Ok(())
+    })
+    .map_err(Error::io(path))
+}
+
 /// OpenQuake's name of a fit's IM, for messages.
 fn openquake_name(im: &str) -> &str {
     match im {
@@ -134,7 +197,8 @@ fn openquake_name(im: &str) -> &str {
 /// with `investigation_time=…` and `imt='…'`, a header
 /// `lon,lat,depth,poe-<iml>,…`, a row per site; `site` picks the 0-based
 /// row, default the first) or a plain CSV with columns `iml` and
-/// `annual_rate` (lines starting with `#` are comments). Probabilities of
+/// `annual_rate` (lines starting with `#` are comments; one starting
+/// `# site: ` names the curve's site, see [`HazardCurve::site`]). Probabilities of
 /// exceedance in the investigation time T become annual rates
 /// λ = −ln(1 − poe)/T (Poisson occurrence, as OpenQuake assumes).
 ///
@@ -403,6 +467,10 @@ fn read_plain(path: &Path, lines: &[String]) -> Result<HazardCurve> {
         })
     };
     let (ci, cr) = (column("iml")?, column("annual_rate")?);
+    let site = lines
+        .iter()
+        .find_map(|l| l.trim().strip_prefix(SITE_COMMENT))
+        .map(|s| s.trim().to_string());
     let mut points = Vec::new();
     for (line, row) in numbered {
         let fields: Vec<&str> = row.split(',').map(str::trim).collect();
@@ -420,7 +488,9 @@ fn read_plain(path: &Path, lines: &[String]) -> Result<HazardCurve> {
         let r = get(cr, "an annual rate ≥ 0", |r| r.is_finite() && r >= 0.0)?;
         points.push((line, x, r));
     }
-    finish(path, HazardSource::Plain, &points, 0)
+    let mut hazard = finish(path, HazardSource::Plain, &points, 0)?;
+    hazard.site_label = site;
+    Ok(hazard)
 }
 
 /// Validates (line, level, rate) points and drops the zero rates at the top.
@@ -476,6 +546,7 @@ fn finish(
         rate: kept.iter().map(|p| p.2).collect(),
         dropped_low,
         dropped_high: points.len() - positive,
+        site_label: None,
     })
 }
 

@@ -270,6 +270,22 @@ pub fn deaggregation(hazard: &HazardCurve, median: f64, beta: f64, ims: &[f64]) 
         .collect()
 }
 
+/// The integrand as [`deaggregation`] gives it, but with the hazard's
+/// log-slope varying linearly between its segments' midpoints, as the peak
+/// (`peak_im`) is located: the same curve without the jumps at the hazard's
+/// levels, where the log–log interpolant's slope jumps (drawn, those make
+/// a sawtooth of a smooth deaggregation). For figures; the rate itself is
+/// the integral of [`deaggregation`].
+pub fn deaggregation_smoothed(
+    hazard: &HazardCurve,
+    median: f64,
+    beta: f64,
+    ims: &[f64],
+) -> Vec<f64> {
+    let f = Integrand::new(hazard, median, beta);
+    ims.iter().map(|&x| f.smoothed(dm::ln(x))).collect()
+}
+
 /// Globally adaptive Gauss–Kronrod over the pieces: the subinterval with the
 /// largest error estimate is halved until the summed estimate is below
 /// [`RELATIVE_TOLERANCE`] of the total. Returns (total, below, above, error).

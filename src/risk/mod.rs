@@ -4,8 +4,14 @@
 //! ```text
 //! fragility.csv (θ, β) ─┐
 //! fragility_bootstrap.csv ─┼─▶ integrate ─▶ risk.csv, summary.md ## Risk,
-//! hazard curve (OpenQuake CSV or iml,annual_rate) ─┘     figures/risk.svg
+//! hazard curve (OpenQuake CSV or iml,annual_rate) ─┘     figures/risk.svg,
+//!                                                        risk_hazard.csv
 //! ```
+//!
+//! `risk_hazard.csv` ([`USED_HAZARD`]) is the hazard curve as integrated
+//! (levels in the fit's unit, those left out at the ends not in it): with
+//! the study's fit it is all `rockfrag figures` needs to draw the risk
+//! figure again, in SVG or PNG.
 //!
 //! ## The integral
 //!
@@ -86,7 +92,12 @@ mod integrate;
 mod output;
 
 pub use assess::{RiskOptions, RiskRow, assess};
-pub use hazard::{HazardCurve, HazardSource, MIN_RATE_PRECISION, read_hazard};
+pub use hazard::{
+    HazardCurve, HazardSource, MIN_RATE_PRECISION, USED_HAZARD, read_hazard, write_used_hazard,
+};
 pub use input::{FittedCurve, FittedFragility, read_fragility};
-pub use integrate::{RELATIVE_TOLERANCE, RiskIntegral, annual_rate, deaggregation, risk_integral};
+pub use integrate::{
+    RELATIVE_TOLERANCE, RiskIntegral, annual_rate, deaggregation, deaggregation_smoothed,
+    risk_integral,
+};
 pub use output::{RISK_HEADER, describe_hazard, summary_section, write_risk_csv};
