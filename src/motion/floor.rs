@@ -118,8 +118,8 @@ impl Floor {
     /// `floor[i].participation` (0-based i).
     pub fn validate(&self) -> Result<()> {
         for (i, m) in self.modes.iter().enumerate() {
-            check_period(&format!("floor[{i}].period"), m.period)?;
-            check_damping(&format!("floor[{i}].damping"), m.damping)?;
+            check_period(|| format!("floor[{i}].period"), m.period)?;
+            check_damping(|| format!("floor[{i}].damping"), m.damping)?;
             if !m.participation.is_finite() {
                 return Err(Error::invalid(
                     &format!("floor[{i}].participation"),
@@ -132,24 +132,26 @@ impl Floor {
     }
 }
 
-fn check_period(field: &str, period: f64) -> Result<()> {
+// The field names are built only on error: validation runs for every floor
+// record and must not allocate.
+fn check_period(field: impl FnOnce() -> String, period: f64) -> Result<()> {
     if period.is_finite() && period > 0.0 && (TAU / period).is_finite() {
         Ok(())
     } else {
         Err(Error::invalid(
-            field,
+            &field(),
             period,
             "a positive, finite natural period T in s",
         ))
     }
 }
 
-fn check_damping(field: &str, damping: f64) -> Result<()> {
+fn check_damping(field: impl FnOnce() -> String, damping: f64) -> Result<()> {
     if (0.0..1.0).contains(&damping) {
         Ok(())
     } else {
         Err(Error::invalid(
-            field,
+            &field(),
             damping,
             "a damping ratio ζ with 0 ≤ ζ < 1 (an underdamped mode; 0.05 is usual)",
         ))
@@ -224,24 +226,9 @@ impl Oscillator {
     /// assert!(Oscillator::new(1.0, 1.0, 0.01).is_err());
     /// ```
     pub fn new(period: f64, damping: f64, dt: f64) -> Result<Oscillator> {
-        check_period("period", period)?;
-        check_damping("damping", damping)?;
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(Error::invalid(
-                "dt",
-                dt,
-                "a positive, finite sample interval in s",
-            ));
-        }
+        Oscillator::check(period, damping, dt)?;
         let omega = TAU / period;
         let w = omega * dt;
-        if !w.is_finite() {
-            return Err(Error::invalid(
-                "period",
-                period,
-                "a period not so short that 2πΔt/T overflows",
-            ));
-        }
         let z = damping;
         let (phi, phi1, phi2) = scaled_map(w, z, w < SERIES_BELOW);
         // forcing −ẍg: y(Δt) = a y + Δt(φ₁−φ₂)e₂·(−ẍg[k]) + Δtφ₂e₂·(−ẍg[k+1]);
@@ -261,6 +248,27 @@ impl Oscillator {
             two_zeta_omega: 2.0 * z * omega,
             omega_sq: omega * omega,
         })
+    }
+
+    /// The checks of [`Oscillator::new`], without computing anything.
+    fn check(period: f64, damping: f64, dt: f64) -> Result<()> {
+        check_period(|| "period".into(), period)?;
+        check_damping(|| "damping".into(), damping)?;
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::invalid(
+                "dt",
+                dt,
+                "a positive, finite sample interval in s",
+            ));
+        }
+        if !(TAU / period * dt).is_finite() {
+            return Err(Error::invalid(
+                "period",
+                period,
+                "a period not so short that 2πΔt/T overflows",
+            ));
+        }
+        Ok(())
     }
 
     /// The state at the next sample, from the state `s` at this one and the
@@ -369,19 +377,27 @@ pub fn floor_record(ground: &Record, floor: &Floor) -> Result<Record> {
 /// `vel`, `disp` columns, those). The name is the ground's; the vertical
 /// acceleration, if any, is the ground's, unchanged.
 ///
-/// Errors: the ground record's [`Record::validate`] errors, or the floor's
+/// Errors: the ground record's [`Record::validate_forcing`] errors or
+/// series of different lengths (non-finite velocities or displacements are
+/// not looked for: they would stay in the floor's), or the floor's
 /// [`Floor::validate`] errors; `out` is left unchanged then.
 pub fn floor_into(ground: &Record, floor: &Floor, out: &mut Record) -> Result<()> {
-    ground.validate()?;
+    ground.validate_forcing()?;
+    if ground.vel.len() != ground.len() || ground.disp.len() != ground.len() {
+        return Err(Error::InvalidRecord {
+            name: ground.name.clone(),
+            message: "acc, vel and disp have different lengths".into(),
+        });
+    }
     floor.validate()?;
     let active = || floor.modes.iter().filter(|m| m.participation != 0.0);
     if active().next().is_none() {
         out.clone_from(ground);
         return Ok(());
     }
-    // Checked before `out` is touched; the coefficients are cheap to redo.
+    // everything checked before `out` is touched
     for m in active() {
-        Oscillator::new(m.period, m.damping, ground.dt)?;
+        Oscillator::check(m.period, m.damping, ground.dt)?;
     }
     let sum: f64 = active().map(|m| m.participation).sum();
     let keep = 1.0 - sum;

@@ -27,6 +27,7 @@
 //! *Bull. Seismol. Soc. Am.* 100(4), 1830–1835.
 
 use std::f64::consts::FRAC_1_SQRT_2;
+use std::fmt::Write;
 
 use super::io::DT_REL_TOL;
 use super::record::Record;
@@ -75,6 +76,24 @@ impl Pair {
     pub fn check(&self) -> Result<()> {
         self.h1.validate()?;
         self.h2.validate()?;
+        self.check_together()
+    }
+
+    /// The part of [`Pair::check`] that rotating relies on (run on every
+    /// rotation, so no scan for non-finite values, which would only be
+    /// carried into the rotated record): each component's Δt and series
+    /// lengths, and the pair sampled together.
+    fn check_together(&self) -> Result<()> {
+        for h in [&self.h1, &self.h2] {
+            if !(h.dt.is_finite() && h.dt > 0.0)
+                || h.vel.len() != h.len()
+                || h.disp.len() != h.len()
+                || h.acc_v.as_ref().is_some_and(|v| v.len() != h.len())
+            {
+                // the record's own message
+                h.validate()?;
+            }
+        }
         let (d1, d2) = (self.h1.dt, self.h2.dt);
         let bad = |message: String| Error::InvalidRecord {
             name: self.name(),
@@ -140,12 +159,20 @@ impl Pair {
     /// cosine. The record has H1's Δt, the vertical acceleration of whichever
     /// component carries one, and the name `H1+H2@φdeg` (φ as given).
     ///
-    /// Errors: the pair's [`Pair::check`] errors, or a non-finite angle;
-    /// `out` is left unchanged then.
+    /// Errors: a non-finite angle, or components that are not sampled
+    /// together ([`Pair::check`]; non-finite samples are not looked for on
+    /// every rotation: they are carried into the record); `out` is left
+    /// unchanged then.
     pub fn rotate_into(&self, angle_deg: f64, out: &mut Record) -> Result<()> {
         let turn = Turn::new(angle_deg)?;
-        self.check()?;
-        out.name = format!("{}@{}deg", self.name(), angle_deg);
+        self.check_together()?;
+        out.name.clear();
+        write!(
+            out.name,
+            "{}+{}@{}deg",
+            self.h1.name, self.h2.name, angle_deg
+        )
+        .expect("writing to a String");
         out.dt = self.h1.dt;
         out.acc_v.clone_from(if self.h1.acc_v.is_some() {
             &self.h1.acc_v
@@ -310,6 +337,7 @@ pub fn rotd_series(x1: &[f64], x2: &[f64], percentile: f64) -> Result<f64> {
 /// assert_eq!(rotd(&pair, 100.0).unwrap(), 2.0);
 /// ```
 pub fn rotd(pair: &Pair, percentile: f64) -> Result<f64> {
+    // the full check: RotD is computed once per pair, in 180 passes over it
     pair.check()?;
     rotd_series(&pair.h1.acc, &pair.h2.acc, percentile)
 }
