@@ -183,10 +183,19 @@ pub struct OscillatorState {
 /// φ₁(X) = X⁻¹(e^X − I) ,  φ₂(X) = X⁻¹(φ₁(X) − I) ,  e₂ = [0, 1]
 /// ```
 ///
-/// (the first rows divided by ω to return to u). These are Nigam and
-/// Jennings' coefficients written with the φ-functions of the matrix
-/// exponential. For w < 1 φ₂ is summed as its Taylor series, which keeps full
-/// precision where the closed form cancels (long periods, fine steps).
+/// Back in (u, u̇), a₀₁ is divided by ω, a₁₀ multiplied by ω and the first
+/// entries of b0, b1 divided by ω; with ωd = ω√(1−ζ²) the matrix is Nigam
+/// and Jennings':
+///
+/// ```text
+/// a = e^{−ζωΔt} [[cos ωdΔt + (ζω/ωd) sin ωdΔt,  (sin ωdΔt)/ωd              ],
+///                [−(ω²/ωd) sin ωdΔt,           cos ωdΔt − (ζω/ωd) sin ωdΔt]]
+/// ```
+///
+/// and b0, b1 are their forcing coefficients written with the φ-functions of
+/// the matrix exponential. For w < 1 φ₂ is summed as its Taylor series,
+/// which keeps full precision where the closed form cancels (long periods,
+/// fine steps).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Oscillator {
     /// Sample interval Δt (s).
@@ -198,9 +207,9 @@ pub struct Oscillator {
     /// The state transition matrix e^{MΔt} acting on (u, u̇): row 0 gives u
     /// (entries in 1 and s), row 1 gives u̇ (1/s² and 1).
     pub a: [[f64; 2]; 2],
-    /// Coefficients of ẍg[k] in (u, u̇)ₖ₊₁ (s², s).
+    /// Coefficients of ẍg at sample k in (u, u̇)ₖ₊₁ (s², s).
     pub b0: [f64; 2],
-    /// Coefficients of ẍg[k+1] in (u, u̇)ₖ₊₁ (s², s).
+    /// Coefficients of ẍg at sample k + 1 in (u, u̇)ₖ₊₁ (s², s).
     pub b1: [f64; 2],
     /// 2ζω (1/s): damping force per unit mass and relative velocity.
     pub two_zeta_omega: f64,
