@@ -17,6 +17,8 @@
 //! every stage's settings before the [`spec`] that reads them from TOML and
 //! the [`study`] that runs them.
 //!
+//! - [`detmath`]: the transcendental functions (sin, exp, ln, Φ, …), the
+//!   same bits on every platform (no call to the platform's math library);
 //! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
 //!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
@@ -25,6 +27,8 @@
 //! - [`solver`]: the event-driven block solver (rest, slide, rock, slide-rock,
 //!   free flight; impacts with restitution and Coulomb friction);
 //! - [`outcome`]: what one analysis produces;
+//! - [`case`]: one block configuration (H/B, 2B, e, friction), each
+//!   parameter fixed or drawn per analysis;
 //! - [`outcomes_csv`]: the `outcomes.csv` table of a study's analyses, its
 //!   columns defined once for the writer and every reader;
 //! - [`study`]: running a study (parallel, resumable, shardable) into
@@ -32,8 +36,13 @@
 //! - [`fragility`]: lognormal overturning fragility curves (probit MLE, bootstrap);
 //! - [`risk`]: the annual rate of each limit state at a site, the fragility
 //!   integrated over a hazard curve (OpenQuake's or a plain table);
+//! - [`export`]: the fitted curves as an OpenQuake job and a pelicun
+//!   damage database that compute rockfrag's numbers;
 //! - [`figures`]: publication figures drawn with an embedded font;
-//! - [`bench`](mod@bench): the speed-against-error (work–precision) report.
+//! - [`paper`]: the seed paper as a layer on top (its Tables 1–3 beside a
+//!   study's results, its figures, `rockfrag paper`);
+//! - [`pipeline`]: one run sequence (analyses, summary, fit, figures) for
+//!   the command line and Python.
 //!
 //! ## Governing equations
 //!
@@ -65,21 +74,24 @@
 //!   using dynamic structural analysis. *Earthquake Spectra* 31(1), 579–599.
 
 // Each module uses only the modules declared above it (tests/architecture.rs).
+pub mod detmath;
 pub mod error;
-mod io_util;
+pub mod io_util;
 pub mod stats;
 pub mod uncertainty;
 pub mod motion;
 pub mod outcome;
 pub mod solver;
+pub mod case;
+pub mod table;
 pub mod outcomes_csv;
 pub mod fragility;
 pub mod spec;
 pub mod study;
 pub mod risk;
-pub mod reproduce;
-pub mod bench;
+pub mod export;
 pub mod figures;
-pub mod reference;
+pub mod paper;
+pub mod pipeline;
 
 pub use error::{Error, Result};

@@ -11,8 +11,7 @@
 //!
 //! References: Agresti, A. (2002). *Categorical Data Analysis*, 2nd ed. Wiley.
 
-use statrs::distribution::{ContinuousCDF, Normal};
-use statrs::function::factorial::ln_binomial;
+use crate::detmath::{self as dm, ln_binomial};
 
 /// Two-sided p-value of Fisher's exact test for the 2×2 table
 /// (k1 of n1 successes against k2 of n2).
@@ -37,7 +36,7 @@ pub fn fisher_exact(k1: u64, n1: u64, k2: u64, n2: u64) -> f64 {
     let p: f64 = (lo..=hi)
         .map(ln_p)
         .filter(|&l| l <= observed + 1e-7)
-        .map(f64::exp)
+        .map(dm::exp)
         .sum();
     p.min(1.0)
 }
@@ -91,8 +90,7 @@ pub fn cochran_armitage(successes: &[u64], trials: &[u64], scores: &[f64]) -> Op
         return None;
     }
     let z = t / var.sqrt();
-    let normal = Normal::standard();
-    let p = (2.0 * normal.sf(z.abs())).min(1.0);
+    let p = (2.0 * dm::norm_sf(z.abs())).min(1.0);
     Some(Trend {
         z,
         p,
@@ -106,7 +104,7 @@ pub fn p_text(p: f64) -> String {
     if p < 0.001 {
         format!("{p:.1e}")
     } else {
-        let decimals = (2 - p.log10().floor() as i32).max(0) as usize;
+        let decimals = (2 - dm::log10(p).floor() as i32).max(0) as usize;
         format!("{p:.decimals$}")
     }
 }
@@ -115,7 +113,7 @@ pub fn p_text(p: f64) -> String {
 /// so that a count the rate calls impossible scores very low, not −∞.
 pub fn binomial_log_likelihood(k: u64, n: u64, p: f64) -> f64 {
     let p = p.clamp(1e-12, 1.0 - 1e-12);
-    ln_binomial(n, k) + k as f64 * p.ln() + (n - k) as f64 * (1.0 - p).ln()
+    ln_binomial(n, k) + k as f64 * dm::ln(p) + (n - k) as f64 * dm::ln(1.0 - p)
 }
 
 #[cfg(test)]
@@ -129,7 +127,7 @@ mod tests {
         assert!((fisher_exact(10, 25, 10, 25) - 1.0).abs() < 1e-12);
         // 0/25 vs 8/25: margins k = 8 of 50. P(X=0) = C(25,8)/C(50,8), and by
         // symmetry the two tails are equal: p = 2·C(25,8)/C(50,8).
-        let c = |n: f64, r: f64| ln_binomial(n as u64, r as u64).exp();
+        let c = |n: f64, r: f64| dm::exp(ln_binomial(n as u64, r as u64));
         let expected = 2.0 * c(25.0, 8.0) / c(50.0, 8.0);
         assert!((fisher_exact(0, 25, 8, 25) - expected).abs() < 1e-12);
         // Symmetric in the two groups.
@@ -168,7 +166,7 @@ mod tests {
     #[test]
     fn binomial_log_likelihood_is_a_distribution() {
         let total: f64 = (0..=25)
-            .map(|k| binomial_log_likelihood(k, 25, 0.37).exp())
+            .map(|k| dm::exp(binomial_log_likelihood(k, 25, 0.37)))
             .sum();
         assert!((total - 1.0).abs() < 1e-12);
         assert!(binomial_log_likelihood(3, 25, 0.0).is_finite());

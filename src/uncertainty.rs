@@ -12,7 +12,7 @@
 //! case)`. They depend on nothing else (not on the thread that runs the
 //! analysis, nor on the shard), so `outcomes.csv` stays byte-identical for
 //! any thread count and shard split. Every analysis takes one uniform number
-//! per parameter, in the fixed order of [`Param::ALL`], whether or not the
+//! per parameter, in the fixed order of [`Property::ALL`], whether or not the
 //! parameter is drawn: adding a distribution for one parameter does not
 //! change the draws of another.
 //!
@@ -20,10 +20,10 @@
 //! truncated distribution maps `u` into `[F(min), F(max)]` first, so every
 //! draw lies within the bounds and none is rejected.
 
+use crate::detmath as dm;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
-use statrs::distribution::{ContinuousCDF, Normal};
 
 use crate::error::{Error, Result};
 
@@ -76,11 +76,6 @@ pub enum Distribution {
     },
 }
 
-/// The standard normal distribution.
-fn standard_normal() -> Normal {
-    Normal::standard()
-}
-
 impl Distribution {
     /// The smallest and largest values a draw can take (±∞ when unbounded).
     pub fn support(&self) -> (f64, f64) {
@@ -115,10 +110,10 @@ impl Distribution {
                 max,
             } => {
                 // ln x = ln median + β z, z truncated to the bounds' z-values.
-                let z = |m: f64| (m / median).ln() / beta;
+                let z = |m: f64| dm::ln(m / median) / beta;
                 let lo = min.map_or(f64::NEG_INFINITY, z);
                 let hi = max.map_or(f64::INFINITY, z);
-                let x = median * (beta * truncated_z(u, lo, hi)).exp();
+                let x = median * dm::exp(beta * truncated_z(u, lo, hi));
                 x.clamp(self.support().0, self.support().1)
             }
         }
@@ -247,19 +242,18 @@ fn truncation(field: &str, min: Option<f64>, max: Option<f64>) -> Result<()> {
 /// the upper tail's mirror when both bounds are above 0, so that far-tail
 /// truncations keep their digits.
 fn truncated_z(u: f64, lo: f64, hi: f64) -> f64 {
-    let n = standard_normal();
     if lo > 0.0 {
         // Mirror: z = −Φ⁻¹(Φ(−lo) − u (Φ(−lo) − Φ(−hi))).
-        let (a, b) = (n.cdf(-lo), n.cdf(-hi));
-        return -n.inverse_cdf((a - u * (a - b)).clamp(0.0, 1.0));
+        let (a, b) = (dm::norm_cdf(-lo), dm::norm_cdf(-hi));
+        return -dm::norm_inv_cdf((a - u * (a - b)).clamp(0.0, 1.0));
     }
-    let (a, b) = (n.cdf(lo), n.cdf(hi));
-    n.inverse_cdf((a + u * (b - a)).clamp(0.0, 1.0))
+    let (a, b) = (dm::norm_cdf(lo), dm::norm_cdf(hi));
+    dm::norm_inv_cdf((a + u * (b - a)).clamp(0.0, 1.0))
 }
 
-/// A block parameter that `[uncertainty]` can draw.
+/// A block property that `[uncertainty]` can draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Param {
+pub enum Property {
     /// Base width 2B, m.
     Width,
     /// Aspect ratio H/B.
@@ -272,43 +266,49 @@ pub enum Param {
     MuKOverMuS,
 }
 
-impl Param {
+impl Property {
     /// Every parameter, in the order an analysis draws them.
-    pub const ALL: [Param; 5] = [
-        Param::Width,
-        Param::Aspect,
-        Param::Restitution,
-        Param::MuS,
-        Param::MuKOverMuS,
+    pub const ALL: [Property; 5] = [
+        Property::Width,
+        Property::Aspect,
+        Property::Restitution,
+        Property::MuS,
+        Property::MuKOverMuS,
     ];
+
+    /// The position of the property in [`Property::ALL`]: the index of its
+    /// uniform number among an analysis's draws ([`uniforms`]).
+    pub fn index(self) -> usize {
+        self as usize
+    }
 
     /// The parameter's key in `[uncertainty]`.
     pub fn name(self) -> &'static str {
         match self {
-            Param::Width => "width",
-            Param::Aspect => "aspect",
-            Param::Restitution => "restitution",
-            Param::MuS => "mu_s",
-            Param::MuKOverMuS => "mu_k_over_mu_s",
+            Property::Width => "width",
+            Property::Aspect => "aspect",
+            Property::Restitution => "restitution",
+            Property::MuS => "mu_s",
+            Property::MuKOverMuS => "mu_k_over_mu_s",
         }
     }
 
     /// The physical range `[lo, hi]` of the parameter and its description.
     pub fn range(self) -> (f64, f64, &'static str) {
         match self {
-            Param::Width => (
+            Property::Width => (
                 f64::MIN_POSITIVE,
                 f64::INFINITY,
                 "a positive base width 2B in m",
             ),
-            Param::Aspect => (
+            Property::Aspect => (
                 f64::MIN_POSITIVE,
                 f64::INFINITY,
                 "a positive aspect ratio H/B",
             ),
-            Param::Restitution => (0.0, 1.0, "a coefficient of restitution in [0, 1]"),
-            Param::MuS => (0.0, f64::INFINITY, "a static friction coefficient μs ≥ 0"),
-            Param::MuKOverMuS => (0.0, 1.0, "a ratio μk/μs in [0, 1]"),
+            Property::Restitution => (0.0, 1.0, "a coefficient of restitution in [0, 1]"),
+            Property::MuS => (0.0, f64::INFINITY, "a static friction coefficient μs ≥ 0"),
+            Property::MuKOverMuS => (0.0, 1.0, "a ratio μk/μs in [0, 1]"),
         }
     }
 }
@@ -401,7 +401,7 @@ fn splitmix64(x: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// One uniform number in [0, 1) per parameter of [`Param::ALL`], for the
+/// One uniform number in [0, 1) per parameter of [`Property::ALL`], for the
 /// analysis seeded by `seed` (see [`analysis_seed`]).
 pub fn uniforms(seed: u64) -> [f64; 5] {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);

@@ -319,6 +319,57 @@ fn the_checker_sees_a_cycle_when_there_is_one() {
     );
 }
 
+/// The seed paper is a layer on top (issue 27): the modules declared
+/// before `paper` in `lib.rs` (the generic pipeline: spec, motion, solver,
+/// study, fragility, risk, figures, …) never import it, and no file
+/// outside `src/paper/` and the CLI names the paper's tables, its published
+/// rows or its study test — the paper layer alone knows the paper exists.
+#[test]
+fn generic_modules_do_not_know_the_paper() {
+    let order = declared_modules();
+    let paper = order
+        .iter()
+        .position(|m| m == "paper")
+        .expect("lib.rs declares the paper layer");
+    for generic in [
+        "spec",
+        "study",
+        "fragility",
+        "figures",
+        "risk",
+        "outcomes_csv",
+    ] {
+        let i = order.iter().position(|m| m == generic).unwrap();
+        assert!(i < paper, "{generic} is declared after paper: {order:?}");
+    }
+    let mut named = Vec::new();
+    for file in files_of(&src()) {
+        let rel = file.strip_prefix(src()).unwrap();
+        if rel.starts_with("paper") || rel.starts_with("cli") {
+            continue;
+        }
+        let code = code(&file);
+        for name in [
+            "TABLES",
+            "is_papers",
+            "PaperRow",
+            "PaperTables",
+            "paper::tables",
+        ] {
+            if code.contains(name) {
+                named.push(format!("{} names {name}", rel.display()));
+            }
+        }
+        let generic = order[..paper]
+            .iter()
+            .any(|m| rel.starts_with(m) || rel == Path::new(&format!("{m}.rs")));
+        if generic && paths_after(&code, "crate::").contains("paper") {
+            named.push(format!("{} imports crate::paper", rel.display()));
+        }
+    }
+    assert!(named.is_empty(), "{}", named.join("\n"));
+}
+
 #[test]
 fn no_source_file_is_over_a_thousand_lines() {
     let long: Vec<String> = files_of(&src())

@@ -12,9 +12,11 @@
 //! a small tolerance, and no more overturning flips than Taylor against
 //! Dormand–Prince.
 
+mod common;
+
+use common::reference::quiet_record;
 use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
 use rockfrag::outcome::{Mode, Outcome};
-use rockfrag::reference::quiet_record;
 use rockfrag::solver::{
     Analysis, Block, History, HistoryRow, Initial, Integrator, SolverSettings, simulate,
 };
@@ -200,7 +202,7 @@ fn chatter_free_ring_down() {
 #[test]
 fn chatter_series_under_a_steady_push() {
     let an = released_from_half_tilt(0.9);
-    let rec = rockfrag::reference::constant_record(0.1 * G, 0.01, 3.0);
+    let rec = common::reference::constant_record(0.1 * G, 0.01, 3.0);
     let (mut h_on, mut h_off) = (History::default(), History::default());
     simulate(&an, &rec, &SolverSettings::default(), Some(&mut h_on)).unwrap();
     simulate(&an, &rec, &without_rule(), Some(&mut h_off)).unwrap();

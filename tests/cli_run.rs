@@ -2,7 +2,7 @@
 //! write, and one-line errors that name the file and the field.
 
 mod common;
-use common::{rockfrag, stderr};
+use common::{rockfrag, run_spec, stderr, stdout};
 use std::path::Path;
 
 const SMALL: &str = concat!(
@@ -142,26 +142,16 @@ fn run_fits_fragility_and_draws_figures_when_the_spec_asks() {
         + "\n[output]\nfigures = true\n\n[fragility]\nbootstrap = 50\n";
     std::fs::write(&spec, text).unwrap();
     let out = tmp.path().join("out");
-    let o = rockfrag(&[
-        "run",
-        spec.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_spec(&spec, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     for name in ["fragility.csv", "fragility_curves.csv", "fragility.xml"] {
         assert!(out.join(name).exists(), "{name} missing");
     }
     let rows = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
     assert_eq!(rows.lines().count(), 1 + 4, "{rows}");
-    for name in [
-        "motion",
-        "spectrum",
-        "history",
-        "fragility",
-        "friction_demand",
-        "restitution",
-    ] {
+    let before = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(before.contains("IM the PGA in g"), "{before}");
+    for name in common::FIGURES {
         let svg = std::fs::read_to_string(out.join("figures").join(format!("{name}.svg")))
             .unwrap_or_else(|e| panic!("{name}.svg: {e}"));
         assert!(
@@ -197,4 +187,21 @@ fn run_fits_fragility_and_draws_figures_when_the_spec_asks() {
         "0",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+
+    // The refit replaces summary.md's section of curves, in its place (before
+    // the counts), once: the summary describes the curves on disk.
+    let after = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert_eq!(after.matches("## Fragility").count(), 1, "{after}");
+    assert!(after.contains("IM the PGV in m/s"), "{after}");
+    assert!(!after.contains("IM the PGA in g"), "{after}");
+    let (fit, counts) = (
+        after.find("## Fragility"),
+        after.find("## Counts per stripe"),
+    );
+    assert!(fit < counts, "{after}");
+    assert!(
+        stdout(&o).contains("summary.md (## Fragility)"),
+        "{}",
+        stdout(&o)
+    );
 }

@@ -195,18 +195,21 @@ fn writes_are_atomic_and_leave_no_temporary_files() {
 
 #[test]
 fn unwritable_destination_is_an_io_error_naming_the_file() {
-    // A missing directory is an I/O error that names the figure's path
-    // (not the temporary file's), for both formats.
+    // A destination that cannot be a file's (its "directory" is a file) is
+    // an I/O error that names the figure's path (not the temporary file's),
+    // for both formats.
     let dir = tempfile::tempdir().unwrap();
+    let blocker = dir.path().join("not-a-dir");
+    fs::write(&blocker, "a file").unwrap();
     for name in ["record.svg", "record.png"] {
-        let path = dir.path().join("missing").join(name);
+        let path = blocker.join(name);
         let err = plot_record(&synthetic_record("io"), &path).unwrap_err();
         match &err {
             Error::Io { path: p, .. } => assert_eq!(p, &path),
             other => panic!("expected Io, got {other:?}"),
         }
     }
-    assert!(listing(dir.path()).is_empty());
+    assert_eq!(listing(dir.path()), ["not-a-dir"]);
 }
 
 #[test]

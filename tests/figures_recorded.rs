@@ -7,10 +7,10 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use rockfrag::figures::FigureOptions;
+use rockfrag::case::Param;
 use rockfrag::motion::{SynthesisSettings, synthesize, write_csv};
+use rockfrag::paper::is_papers;
 use rockfrag::spec::{Motions, Study};
-use rockfrag::study::is_papers;
 
 /// A study of two recorded motions (CSV files beside the spec, PGA 0.25 g
 /// and 0.35 g as recorded, so neither is the synthetic sample's 0.6 g), run
@@ -32,12 +32,7 @@ fn run_recorded_study(root: &Path) -> std::path::PathBuf {
     )
     .unwrap();
     let out = root.join("out");
-    let o = common::rockfrag(&[
-        "run",
-        spec.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = common::run_spec(&spec, &out);
     assert!(o.status.success(), "{}", common::stderr(&o));
     out
 }
@@ -101,9 +96,8 @@ fn recorded_study_figures_show_its_records_in_its_folder() {
 fn only_the_papers_setup_draws_the_papers_values() {
     let paper = Study::shenton_jones();
     assert!(is_papers(&paper));
-    assert!(FigureOptions::for_study(&paper).papers);
     let mut wide = paper.clone();
-    wide.widths = vec![1.0];
+    wide.widths = vec![Param::Fixed(1.0)];
     assert!(!is_papers(&wide));
     let mut few = paper.clone();
     if let Motions::Synthetic { records, .. } = &mut few.motions {
@@ -112,5 +106,5 @@ fn only_the_papers_setup_draws_the_papers_values() {
     assert!(!is_papers(&few));
     let mut recorded = paper.clone();
     recorded.motions = Motions::Files(Vec::new());
-    assert!(!FigureOptions::for_study(&recorded).papers);
+    assert!(!is_papers(&recorded));
 }

@@ -8,11 +8,11 @@ use std::path::Path;
 
 use rayon::prelude::*;
 use rockfrag::Error;
+use rockfrag::case::{Case, Param};
 use rockfrag::fragility::{
-    Analysis, BOOTSTRAP_HEADER, BootstrapUnit, CURVES_HEADER, CaseData, CaseKey, FRAGILITY_HEADER,
-    FragilityOptions, IntensityMeasure, Observation, Unfit, bootstrap, fit_case, fit_cases,
-    fit_lognormal, lognormal_to_moments, moments_to_lognormal, nrml_string, read_outcomes,
-    write_outputs,
+    BOOTSTRAP_HEADER, BootstrapUnit, CURVES_HEADER, CaseData, FRAGILITY_HEADER, FragilityOptions,
+    IntensityMeasure, Observation, Trial, Unfit, bootstrap, fit_case, fit_cases, fit_lognormal,
+    lognormal_to_moments, moments_to_lognormal, nrml_string, read_outcomes, write_outputs,
 };
 use rockfrag::solver::Friction;
 
@@ -32,13 +32,8 @@ mod fixture {
         (0..20).map(|i| 0.1 + 0.05 * i as f64).collect()
     }
 
-    pub fn key(aspect: f64) -> CaseKey {
-        CaseKey {
-            aspect,
-            width: 0.5,
-            restitution: 0.0,
-            friction: Friction::Infinite,
-        }
+    pub fn key(aspect: f64) -> Case {
+        Case::fixed(aspect, 0.5, 0.0, Friction::Infinite)
     }
 
     /// Independent Bernoulli trials from Φ(ln(x/θ)/β): `trials` per level,
@@ -49,14 +44,14 @@ mod fixture {
         let mut case = CaseData {
             key: key(4.0),
             records: Vec::new(),
-            analyses: Vec::new(),
+            trials: Vec::new(),
             failed: 0,
         };
         for x in levels() {
             let p = normal.cdf((x / theta).ln() / beta);
             for _ in 0..trials {
                 let overturned = rng.random::<f64>() < p;
-                case.analyses.push(Analysis {
+                case.trials.push(Trial {
                     record: case.records.len(),
                     pga: x,
                     im: x,
@@ -74,7 +69,7 @@ mod fixture {
         levels()
             .into_iter()
             .map(|x| {
-                let at: Vec<_> = case.analyses.iter().filter(|a| a.pga == x).collect();
+                let at: Vec<_> = case.trials.iter().filter(|a| a.pga == x).collect();
                 Observation {
                     im: x,
                     trials: at.len() as u64,
@@ -195,25 +190,10 @@ fn fit_recovers_a_known_lognormal_fragility() {
     assert!(fit.loglik.is_finite() && fit.loglik < 0.0);
     // The MLE makes the score zero: a nudge in either parameter lowers ℓ.
     for (da, db) in [(1e-4, 0.0), (-1e-4, 0.0), (0.0, 1e-3), (0.0, -1e-3)] {
-        let nudged = loglik(&fixture::counts(&case), fit.a + da, fit.b + db);
-        let best = loglik(&fixture::counts(&case), fit.a, fit.b);
+        let nudged = common::loglik(&fixture::counts(&case), fit.a + da, fit.b + db);
+        let best = common::loglik(&fixture::counts(&case), fit.a, fit.b);
         assert!(nudged < best);
     }
-}
-
-/// Binomial log-likelihood up to its constant, for the check above.
-fn loglik(obs: &[Observation], a: f64, b: f64) -> f64 {
-    use statrs::distribution::{ContinuousCDF, Normal};
-    let n = Normal::standard();
-    obs.iter()
-        .map(|o| {
-            let p = n.cdf(a + b * o.im.ln());
-            let z = o.overturned as f64;
-            let m = (o.trials - o.overturned) as f64;
-            (if z > 0.0 { z * p.ln() } else { 0.0 })
-                + if m > 0.0 { m * (1.0 - p).ln() } else { 0.0 }
-        })
-        .sum()
 }
 
 /// Over 100 synthetic data sets (20 stripes × 500 independent trials, θ =
@@ -351,7 +331,7 @@ fn unfittable_bootstrap_replicates_are_counted() {
     let mut case = CaseData {
         key: fixture::key(4.0),
         records: (0..8).map(|r| r.to_string()).collect(),
-        analyses: Vec::new(),
+        trials: Vec::new(),
         failed: 0,
     };
     // Six of the eight capacities fall between the 0.3 and 0.4 g stripes; one
@@ -360,7 +340,7 @@ fn unfittable_bootstrap_replicates_are_counted() {
     let capacity = [0.28, 0.32, 0.34, 0.35, 0.36, 0.38, 0.39, 0.45];
     for pga in [0.2, 0.3, 0.4, 0.5, 0.6] {
         for (r, &c) in capacity.iter().enumerate() {
-            case.analyses.push(Analysis {
+            case.trials.push(Trial {
                 record: r,
                 pga,
                 im: pga,
@@ -404,13 +384,13 @@ fn write_outcomes_and_check(path: &Path, rows: &[fixture::Row]) {
     let pga = read_outcomes(path, IntensityMeasure::Pga).unwrap();
     assert_eq!(pga.cases.len(), 2);
     let c = &pga.cases[0];
-    assert_eq!((c.analyses.len(), c.failed), (29, 1));
+    assert_eq!((c.trials.len(), c.failed), (29, 1));
     assert_eq!((c.n_records(), c.n_stripes()), (10, 3));
     assert_eq!(pga.cases[1].key.aspect, 6.0);
     let tan = read_outcomes(path, IntensityMeasure::PgaOverTan).unwrap();
-    assert_eq!(tan.cases[1].analyses[0].im, 0.2 * 6.0);
+    assert_eq!(tan.cases[1].trials[0].im, 0.2 * 6.0);
     let pgv = read_outcomes(path, IntensityMeasure::Pgv).unwrap();
-    assert_eq!(pgv.cases[0].analyses[0].im, rows[0].pgv);
+    assert_eq!(pgv.cases[0].trials[0].im, rows[0].pgv);
     // Against PGV every analysis has its own intensity: a fit over analyses.
     let options = FragilityOptions {
         im: IntensityMeasure::Pgv,
@@ -501,9 +481,9 @@ fn nrml_parses_with_the_expected_elements() {
     )
     .remove(0);
     let mut unfitted_case = fixture::independent_case(THETA, BETA, 5, 6);
-    unfitted_case.key.aspect = 6.0;
+    unfitted_case.key.aspect = Param::Fixed(6.0);
     unfitted_case
-        .analyses
+        .trials
         .iter_mut()
         .for_each(|a| (a.overturned, a.exceeded) = (false, 0));
     let unfitted = fit_case(&unfitted_case, &FragilityOptions::default()).remove(0);
@@ -530,25 +510,27 @@ fn nrml_parses_with_the_expected_elements() {
         .collect();
     assert_eq!(functions.len(), 1);
     let f = functions[0];
-    assert_eq!(f.attribute("id"), Some("block-a4-w0p5-e0-inf"));
+    assert_eq!(f.attribute("id"), Some("a4_w0p5_e0_inf"));
     assert_eq!(f.attribute("format"), Some("continuous"));
     assert_eq!(f.attribute("shape"), Some("logncdf"));
     let imls = child(f, "imls");
     assert_eq!(imls.attribute("imt"), Some("PGA"));
     let num = |n: roxmltree::Node, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
-    assert_eq!(num(imls, "minIML"), 0.1);
-    assert_eq!(num(imls, "maxIML"), fixture::levels()[19]);
     let params = child(f, "params");
     assert_eq!(params.attribute("ls"), Some("overturning"));
     let (theta, beta) = moments_to_lognormal(num(params, "mean"), num(params, "stddev"));
     let fit = fitted.fit.as_ref().unwrap();
+    // Where the curve is 0 and 1 (θ e^(∓6β)), not the stripes' 0.1 to 1.05 g.
+    let (lo, hi) = (num(imls, "minIML"), num(imls, "maxIML"));
+    assert!((lo / (fit.median() * (-6.0 * fit.beta()).exp()) - 1.0).abs() < 1e-12);
+    assert!((hi / (fit.median() * (6.0 * fit.beta()).exp()) - 1.0).abs() < 1e-12);
     assert!((theta / fit.median() - 1.0).abs() < 1e-12);
     assert!((beta / fit.beta() - 1.0).abs() < 1e-12);
-    assert!(text.contains("<!-- block-a6-w0p5-e0-inf not fitted (none-overturned"));
+    assert!(text.contains("<!-- a6_w0p5_e0_inf not fitted (none-overturned"));
 
     // The same data against PGA·H/B (H/B = 4) and as PGV = PGA·1 m/s per g.
     let mut scaled = fixture::independent_case(THETA, BETA, 40, 5);
-    scaled.analyses.iter_mut().for_each(|a| a.im *= 4.0);
+    scaled.trials.iter_mut().for_each(|a| a.im *= 4.0);
     let over_tan = fit_case(
         &scaled,
         &FragilityOptions {
@@ -601,8 +583,8 @@ fn csv_outputs_have_the_documented_headers() {
     };
     let fitted = fit_case(&fixture::independent_case(THETA, BETA, 30, 8), &options).remove(0);
     let mut none = fixture::independent_case(THETA, BETA, 3, 9);
-    none.key.restitution = 0.5;
-    none.analyses
+    none.key.restitution = Param::Fixed(0.5);
+    none.trials
         .iter_mut()
         .for_each(|a| (a.overturned, a.exceeded) = (false, 0));
     let unfitted = fit_case(&none, &options).remove(0);
@@ -613,8 +595,8 @@ fn csv_outputs_have_the_documented_headers() {
     let header = lines.next().unwrap();
     assert_eq!(header, FRAGILITY_HEADER);
     assert!(header.starts_with(
-        "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,median,beta,median_lo,\
-         median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,status"
+        "case_id,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,median,beta,\
+         median_lo,median_hi,beta_lo,beta_hi,n_records,n_stripes,loglik,se_median,se_beta,status"
     ));
     let cols: Vec<&str> = header.split(',').collect();
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();

@@ -7,9 +7,10 @@ mod common;
 
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
+use rockfrag::case::Case;
 use rockfrag::fragility::{
-    Analysis, BetaModel, CaseData, CaseFit, CaseKey, FragilityOptions, LimitState, LognormalFit,
-    Observation, curves_cross, fit_case, fit_common_beta, fit_lognormal, read_outcomes_for,
+    BetaModel, CaseData, CaseFit, FragilityOptions, LimitState, LognormalFit, Trial, curves_cross,
+    fit_case, fit_common_beta, fit_lognormal, read_outcomes_for,
 };
 use rockfrag::solver::Friction;
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -36,14 +37,9 @@ fn simulated_case(curves: &[(f64, f64)], ims: &[f64], seed: u64) -> CaseData {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
     let normal = Normal::standard();
     let mut case = CaseData {
-        key: CaseKey {
-            aspect: 4.0,
-            width: 0.5,
-            restitution: 0.0,
-            friction: Friction::Infinite,
-        },
+        key: Case::fixed(4.0, 0.5, 0.0, Friction::Infinite),
         records: Vec::new(),
-        analyses: Vec::new(),
+        trials: Vec::new(),
         failed: 0,
     };
     for &x in ims {
@@ -52,7 +48,7 @@ fn simulated_case(curves: &[(f64, f64)], ims: &[f64], seed: u64) -> CaseData {
         for (k, &(theta, beta)) in curves.iter().enumerate() {
             exceeded |= u64::from(u < normal.cdf((x / theta).ln() / beta)) << k;
         }
-        case.analyses.push(Analysis {
+        case.trials.push(Trial {
             record: case.records.len(),
             pga: x,
             im: x,
@@ -129,20 +125,6 @@ fn each_limit_state_recovers_its_median_and_beta() {
     }
 }
 
-/// Binomial log-likelihood without its constant.
-fn loglik(obs: &[Observation], a: f64, b: f64) -> f64 {
-    let n = Normal::standard();
-    obs.iter()
-        .map(|o| {
-            let p = n.cdf(a + b * o.im.ln());
-            let z = o.overturned as f64;
-            let m = (o.trials - o.overturned) as f64;
-            (if z > 0.0 { z * p.ln() } else { 0.0 })
-                + if m > 0.0 { m * (1.0 - p).ln() } else { 0.0 }
-        })
-        .sum()
-}
-
 /// Two limit states whose separate fits cross (the severe one much wider:
 /// true θ, β = 0.3 g, 0.3 and 0.4 g, 0.8, meeting at 0.25 g where P ≈ 0.28)
 /// are refitted with one β: both say `common`, their β are one number, the
@@ -191,7 +173,7 @@ fn crossing_curves_are_refitted_with_one_beta() {
         assert!(p1 <= p0, "{p1} > {p0}");
     }
 
-    let joint = |a0: f64, a1: f64, b: f64| loglik(&o0, a0, b) + loglik(&o1, a1, b);
+    let joint = |a0: f64, a1: f64, b: f64| common::loglik(&o0, a0, b) + common::loglik(&o1, a1, b);
     let best = joint(f[0].a, f[1].a, f[0].b);
     for (d0, d1, db) in [
         (1e-4, 0.0, 0.0),
@@ -203,11 +185,11 @@ fn crossing_curves_are_refitted_with_one_beta() {
     ] {
         assert!(joint(f[0].a + d0, f[1].a + d1, f[0].b + db) < best);
     }
-    assert!(best < loglik(&o0, s0.a, s0.b) + loglik(&o1, s1.a, s1.b));
+    assert!(best < common::loglik(&o0, s0.a, s0.b) + common::loglik(&o1, s1.a, s1.b));
     // The per-limit-state log-likelihoods (constants included) sum to the
     // joint one: each differs from `loglik` by its own constant only.
-    let separate_constants =
-        (s0.loglik - loglik(&o0, s0.a, s0.b)) + (s1.loglik - loglik(&o1, s1.a, s1.b));
+    let separate_constants = (s0.loglik - common::loglik(&o0, s0.a, s0.b))
+        + (s1.loglik - common::loglik(&o1, s1.a, s1.b));
     assert!((f[0].loglik + f[1].loglik - best - separate_constants).abs() < 1e-6);
 
     let (b0, b1) = (

@@ -3,9 +3,11 @@
 //! kinetic-energy gain at impacts under the energy-consistent law, and
 //! |θ| ≤ π/2 unless the block overturned.
 
+mod common;
+
+use common::reference::quiet_record;
 use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
 use rockfrag::outcome::Outcome;
-use rockfrag::reference::quiet_record;
 use rockfrag::solver::{
     Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, SolverSettings, simulate,
 };

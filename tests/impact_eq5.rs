@@ -5,17 +5,20 @@
 //! impulse ratio `mu_impact` except where the sticking impulse is tensile.
 
 mod common;
+use common::reference::rock_impact_velocity;
 use common::{rockfrag, stderr, stdout};
 use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
 use rockfrag::outcome::Outcome;
-use rockfrag::reference::rock_impact_velocity;
 use rockfrag::solver::{
     Analysis, Block, ImpactLaw, SolverSettings, Velocity, corner_impact, eq5_mu, rock_impact_mu,
     simulate,
 };
 
+/// Records of the seed paper's ground-motion model (its eq. (5) is what
+/// these tests are about).
 fn records(seed: u64, n: u64, pga_g: f64) -> Vec<Record> {
-    let mut syn = Synthesizer::new(&SynthesisSettings::default()).unwrap();
+    let settings: SynthesisSettings = rockfrag::motion::preset("shenton-jones").unwrap();
+    let mut syn = Synthesizer::new(&settings).unwrap();
     (0..n)
         .map(|i| syn.generate(seed, i, pga_g * G).unwrap())
         .collect()

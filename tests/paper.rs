@@ -6,7 +6,7 @@
 //! reading would be K = 4; `rockfrag paper --replicates 12` is the full check,
 //! committed as `studies/paper-check.md`).
 
-use rockfrag::reproduce::{CheckOptions, check, paper_totals, readings, score};
+use rockfrag::paper::{CheckOptions, check, paper_totals, readings, score};
 use rockfrag::spec::{Motions, Study};
 
 /// The built-in study's motion settings are the rad/s-grid reading, and its
@@ -25,9 +25,9 @@ fn the_built_in_study_uses_the_rad_s_grid_reading() {
     // Δω = 0.05 rad/s and ω_max = 25 rad/s, in Hz (Δf rounded by < 1e-4).
     let two_pi = 2.0 * std::f64::consts::PI;
     assert!(
-        (settings.df * two_pi / 0.05 - 1.0).abs() < 1e-4,
+        (settings.frequency_step() * two_pi / 0.05 - 1.0).abs() < 1e-4,
         "{}",
-        settings.df
+        settings.frequency_step()
     );
     assert!((settings.f_max * two_pi - 25.0).abs() < 1e-12);
     // The literal reading is kept as its own spec file.
@@ -104,7 +104,7 @@ fn the_summary_of_the_papers_study_carries_the_tests() {
     study.output.figures = false;
     study.fragility = None;
     let opts = rockfrag::study::RunOptions::new(dir.path());
-    assert!(rockfrag::study::run(&study, &opts).unwrap().complete);
+    assert!(rockfrag::pipeline::run(&study, &opts).unwrap().run.complete);
     let text = std::fs::read_to_string(dir.path().join("summary.md")).unwrap();
     assert!(text.contains("## Statistics"), "{text}");
     assert!(

@@ -25,6 +25,8 @@
 //! once), a fixed seed so every run and CI sees the same cases, and no
 //! regression files written.
 
+mod common;
+
 use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestCaseError, TestRunner};
@@ -451,27 +453,7 @@ fn spec_corpus() -> Vec<Vec<u8>> {
         .collect();
     paths.sort();
     let mut corpus: Vec<Vec<u8>> = paths.iter().map(|p| std::fs::read(p).unwrap()).collect();
-    corpus.push(
-        br#"name = "rich"
-g = 9.80665
-record_files = ["record-a.csv"]
-[grid]
-width = [0.3, 0.5]
-aspect = [3]
-restitution = [0.5]
-friction = ["inf", { mu_s = 0.7, mu_k = 0.6 }, [0.5, 0.5]]
-pgv = [0.25, 0.5]
-[solver]
-model = "linear"
-impact = "energetic"
-[output]
-time_in_mode = true
-stats = true
-[fragility]
-im = "pgv"
-"#
-        .to_vec(),
-    );
+    corpus.push(format!("{}[fragility]\nim = \"pgv\"\n", common::RICH_SPEC).into_bytes());
     corpus
 }
 

@@ -1,12 +1,14 @@
 //! Closed-form checks of the infinite-friction solver (issue 3, items 1–4, 8).
 //! Each test states the physical fact it checks and why its tolerance.
 
-use rockfrag::motion::Record;
-use rockfrag::outcome::Mode;
-use rockfrag::reference::{
+mod common;
+
+use common::reference::{
     constant_record, free_rocking_first_impact_time, next_amplitude, quiet_record,
     rock_impact_velocity,
 };
+use rockfrag::motion::Record;
+use rockfrag::outcome::Mode;
 use rockfrag::solver::{Analysis, Block, History, Initial, SolverSettings, simulate};
 use rockfrag::solver::{ImpactLaw, corner_impact, rock_impact_mu, rock_impact_ratio};
 

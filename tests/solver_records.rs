@@ -1,6 +1,8 @@
 //! Solver checks on synthetic Clough–Penzien records (issue 3, items 5–7 and
 //! the ring-down rule). Each test states the fact it checks and its tolerance.
 
+mod common;
+
 use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
 use rockfrag::outcome::Outcome;
 use rockfrag::solver::{Analysis, Block, ImpactLaw, Initial, Model, SolverSettings, simulate};
@@ -98,7 +100,7 @@ fn hard_cases_finish_with_finite_results() {
         assert_sane(&o, "ring-down e = 0.9");
     }
     // released at θc(1 − 1e-9), no ground motion: balance point, falls either way
-    let quiet = rockfrag::reference::quiet_record(0.02, 20.0);
+    let quiet = common::reference::quiet_record(0.02, 20.0);
     for aspect in [2.0, 6.0] {
         let bl = Block::new(0.5, aspect, G).unwrap();
         let mut an = Analysis::new(bl, 0.0);

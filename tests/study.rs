@@ -1,8 +1,10 @@
 //! Running studies: results independent of threads, shards and
 //! interruptions; failures recorded, not fatal; every form of motion input.
 
+use rockfrag::case::Param;
 use rockfrag::error::Error;
 use rockfrag::motion::{SynthesisSettings, synthesize, write_csv};
+use rockfrag::pipeline;
 use rockfrag::spec::Study;
 use rockfrag::study::{self, RunOptions, Shard, files};
 use std::path::{Path, PathBuf};
@@ -23,8 +25,9 @@ fn read(dir: &Path, name: &str) -> Vec<u8> {
     std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{}/{name}: {e}", dir.display()))
 }
 
+/// Runs the whole study as `rockfrag run` does (analyses, then summary.md).
 fn run_whole(study: &Study, dir: &Path, threads: usize) -> study::RunReport {
-    let report = study::run(study, &opts(dir, threads)).unwrap();
+    let report = pipeline::run(study, &opts(dir, threads)).unwrap().run;
     assert!(report.complete);
     report
 }
@@ -47,7 +50,7 @@ fn thread_count_does_not_change_the_results() {
         chunk_analyses: 5,
         ..opts(&c, 2)
     };
-    assert!(study::run(&study, &chunked).unwrap().complete);
+    assert!(pipeline::run(&study, &chunked).unwrap().run.complete);
     assert_eq!(read(&a, files::OUTCOMES), read(&b, files::OUTCOMES));
     assert_eq!(read(&a, files::OUTCOMES), read(&c, files::OUTCOMES));
     assert_eq!(read(&a, files::SUMMARY), read(&b, files::SUMMARY));
@@ -79,6 +82,7 @@ fn merged_shards_equal_the_unsharded_run() {
     }
     let merged = tmp.path().join("merged");
     let m = study::merge(&dirs, &merged).unwrap();
+    pipeline::finish(&study, &merged, None).unwrap();
     assert_eq!(
         read(&whole, files::OUTCOMES),
         read(&merged, files::OUTCOMES)
@@ -114,7 +118,7 @@ fn merge_refuses_missing_or_foreign_shards() {
         "{err}"
     );
     let mut other = study.clone();
-    other.restitutions = vec![0.0];
+    other.restitutions = vec![Param::Fixed(0.0)];
     let two = shard(&other, 2, "b2");
     let err = study::merge(&[one, two], &tmp.path().join("m")).unwrap_err();
     assert!(err.to_string().contains("different studies"), "{err}");
@@ -137,7 +141,7 @@ fn interrupted_run_resumes_to_the_same_outcomes() {
         chunk_analyses: 4,
         ..opts(&dir, 1)
     };
-    let first = study::run(&study, &stop).unwrap();
+    let first = pipeline::run(&study, &stop).unwrap().run;
     assert!(!first.complete);
     assert_eq!(first.analyses_run, 2 * 4);
     for name in [files::OUTCOMES, files::SUMMARY, files::MANIFEST] {
@@ -156,7 +160,7 @@ fn interrupted_run_resumes_to_the_same_outcomes() {
     partial.write_all(b"4,0.5,0,inf,,,0.8,1,ok,tru").unwrap();
     drop(partial);
 
-    let second = study::run(&study, &opts(&dir, 2)).unwrap();
+    let second = pipeline::run(&study, &opts(&dir, 2)).unwrap().run;
     assert!(second.complete);
     assert_eq!(second.resumed_at_unit, 2);
     assert_eq!(second.analyses_run, 4 * 4);
@@ -180,7 +184,7 @@ fn resume_refuses_another_spec_or_shard() {
     assert!(!study::run(&study, &stop).unwrap().complete);
 
     let mut other = study.clone();
-    other.aspects = vec![5.0];
+    other.aspects = vec![Param::Fixed(5.0)];
     let err = study::run(&other, &opts(&dir, 1)).unwrap_err();
     assert!(matches!(err, Error::Conflict { .. }), "{err}");
     let msg = err.to_string();

@@ -6,9 +6,11 @@
 
 mod common;
 
+use rockfrag::case::{Field, Param};
 use rockfrag::fragility::{fit_cases, read_outcomes_for};
 use rockfrag::motion::{At2, G_STANDARD as G, SynthesisSettings, Synthesizer};
-use rockfrag::outcomes_csv::{Column, OutcomesReader};
+use rockfrag::outcomes_csv::{Column, OutcomesFile};
+use rockfrag::solver::Friction;
 use rockfrag::spec::Study;
 use rockfrag::study::{self, RunOptions, Shard, files};
 use std::path::{Path, PathBuf};
@@ -73,7 +75,7 @@ fn run(study: &Study, dir: &Path, threads: usize, shard: Shard) {
         chunk_analyses: 7,
         ..RunOptions::new(dir)
     };
-    assert!(study::run(study, &opts).unwrap().complete);
+    assert!(rockfrag::pipeline::run(study, &opts).unwrap().run.complete);
 }
 
 /// The must-show: byte-identical on 1 and 2 threads and on a
@@ -86,7 +88,7 @@ fn recorded_scaled_drawn_restitution_three_limit_states() {
     let tmp = tempfile::tempdir().unwrap();
     let spec = recorded_spec(tmp.path(), "");
     let study = Study::load(&spec).unwrap();
-    assert!(study.pooled().restitution && !study.pooled().aspect);
+    assert_eq!(study.drawn(), [Field::Restitution]);
 
     let (one, two) = (tmp.path().join("one"), tmp.path().join("two"));
     run(&study, &one, 1, Shard::WHOLE);
@@ -112,17 +114,13 @@ fn recorded_scaled_drawn_restitution_three_limit_states() {
     );
 
     // The draws, and each analysis's own IM.
-    let (mut table, [e_col, pga_col, status]) = OutcomesReader::open(
-        &one.join(files::OUTCOMES),
-        [Column::Restitution, Column::Pga, Column::Status],
-        "the test",
-    )
-    .unwrap();
+    let mut table =
+        OutcomesFile::open(&one.join(files::OUTCOMES), &[Column::Pga], "the test").unwrap();
     let (mut es, mut pgas) = (Vec::new(), Vec::new());
-    while let Some(row) = table.next_row().unwrap() {
-        assert_eq!(row.field(status), "ok", "every analysis finishes");
-        es.push(row.number(e_col).unwrap());
-        pgas.push(row.number(pga_col).unwrap());
+    while let Some((_, row)) = table.next_row().unwrap() {
+        assert!(row.result.is_ok(), "every analysis finishes");
+        es.push(row.case.restitution.fixed().unwrap());
+        pgas.push(row.pga.unwrap());
     }
     assert_eq!(es.len(), RECORDS * 6);
     assert!(es.iter().all(|e| (0.0..=0.9).contains(e)), "{es:?}");
@@ -146,7 +144,7 @@ fn recorded_scaled_drawn_restitution_three_limit_states() {
     let options = study.fragility.clone().unwrap();
     let data = read_outcomes_for(&one.join(files::OUTCOMES), &options).unwrap();
     assert_eq!(data.cases.len(), 1, "the draws pool into one case");
-    assert_eq!(data.cases[0].analyses.len(), RECORDS * 6);
+    assert_eq!(data.cases[0].trials.len(), RECORDS * 6);
     let fits = fit_cases(&data, &options).unwrap();
     let medians: Vec<f64> = fits
         .iter()
@@ -177,16 +175,14 @@ fn draws_depend_on_their_key_and_not_on_other_parameters() {
         let study = Study::load(&spec).unwrap();
         let out = dir.join("out");
         run(&study, &out, 2, Shard::WHOLE);
-        let (mut t, [e, s, k]) = OutcomesReader::open(
-            &out.join(files::OUTCOMES),
-            [Column::Restitution, Column::MuS, Column::MuK],
-            "the test",
-        )
-        .unwrap();
+        let mut t = OutcomesFile::open(&out.join(files::OUTCOMES), &[], "the test").unwrap();
         let mut rows = Vec::new();
-        while let Some(r) = t.next_row().unwrap() {
-            let mu = |i| (!r.field(i).is_empty()).then(|| r.number(i).unwrap());
-            rows.push((r.number(e).unwrap(), mu(s), mu(k)));
+        while let Some((_, r)) = t.next_row().unwrap() {
+            let (s, k) = match r.case.friction {
+                Param::Fixed(Friction::Coulomb { mu_s, mu_k }) => (Some(mu_s), Some(mu_k)),
+                _ => (None, None),
+            };
+            rows.push((r.case.restitution.fixed().unwrap(), s, k));
         }
         rows
     };
@@ -296,8 +292,9 @@ fn fragility_command_pools_drawn_parameters_and_takes_limit_states() {
         text.lines()
             .skip(1)
             .map(|l| {
+                // case_id, aspect, width, restitution, …, limit_state
                 let f: Vec<&str> = l.split(',').collect();
-                (f[2].to_string(), f[6].to_string())
+                (f[3].to_string(), f[7].to_string())
             })
             .collect::<Vec<_>>()
     };

@@ -15,7 +15,6 @@ Functions: :func:`motion`, :func:`simulate`, :func:`simulate_many`,
 raise ``OSError``; a solver failure raises ``RuntimeError``.
 """
 
-import csv as _csv
 import json as _json
 import os as _os
 
@@ -284,21 +283,18 @@ def run(spec=None, out=None, threads=None):
     )
 
 
-def _column(values):
-    present = [v for v in values if v != ""]
-    if present and all(v in ("true", "false") for v in present):
-        if len(present) == len(values):
+def _column(kind, values):
+    """A column of ``outcomes.csv`` as rockfrag's reader types it (``kind``:
+    flag, count, number or text; values as the file holds them)."""
+    if kind == "flag":
+        if all(v != "" for v in values):
             return _np.array([v == "true" for v in values], dtype=bool)
         return _np.array([None if v == "" else v == "true" for v in values], dtype=object)
-    try:
-        floats = [float(v) if v != "" else _np.nan for v in values]
-    except ValueError:
-        return _np.array(values, dtype=object)
-    if len(present) == len(values) and all(
-        v.lstrip("-").isdigit() for v in values
-    ):
+    if kind == "count" and all(v != "" for v in values):
         return _np.array([int(v) for v in values], dtype=_np.int64)
-    return _np.array(floats, dtype=_np.float64)
+    if kind in ("count", "number"):
+        return _np.array([float(v) if v != "" else _np.nan for v in values], dtype=_np.float64)
+    return _np.array(values, dtype=object)
 
 
 def read_outcomes(folder, *, as_frame=None):
@@ -324,17 +320,9 @@ def read_outcomes(folder, *, as_frame=None):
     path = _os.fspath(folder)
     if _os.path.isdir(path):
         path = _os.path.join(path, "outcomes.csv")
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(_csv.reader(f))
-    if not rows:
-        raise ValueError("%s: empty file: expected the outcomes header" % path)
-    header, body = rows[0], rows[1:]
-    for i, r in enumerate(body):
-        if len(r) != len(header):
-            raise ValueError(
-                "%s:%d: %d fields, expected %d" % (path, i + 2, len(r), len(header))
-            )
-    cols = {name: _column([r[j] for r in body]) for j, name in enumerate(header)}
+    # The library's reader: the file is checked as every rockfrag stage
+    # reads it (columns by name, typed values, errors naming the line).
+    cols = {name: _column(kind, values) for name, kind, values in _rockfrag.read_outcomes(path)}
     if as_frame is None or as_frame:
         try:
             import pandas as pd

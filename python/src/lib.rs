@@ -18,7 +18,7 @@ use rockfrag::solver::{
     SolverSettings, simulate,
 };
 use rockfrag::spec::Study;
-use rockfrag::study::{self, RunOptions, Shard};
+use rockfrag::study::{RunOptions, Shard};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -61,18 +61,10 @@ fn json_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py
     })
 }
 
-fn choice<T: Copy>(field: &str, given: &str, options: &[(&str, T)]) -> PyResult<T> {
-    options
-        .iter()
-        .find(|(name, _)| *name == given)
-        .map(|(_, v)| *v)
-        .ok_or_else(|| {
-            let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
-            PyValueError::new_err(format!(
-                "invalid {field} = '{given}': expected one of {}",
-                names.join(", ")
-            ))
-        })
+/// A named setting (`model`, `integrator`, …) from its name, by the
+/// library's one table of names; a bad name is the library's message.
+fn choice<T: std::str::FromStr<Err = rockfrag::Error>>(given: &str) -> PyResult<T> {
+    given.parse::<T>().map_err(py_err)
 }
 
 /// One block and the solver settings: everything an analysis needs besides
@@ -135,32 +127,10 @@ impl Setup {
         };
         let defaults = SolverSettings::default();
         let settings = SolverSettings {
-            model: choice(
-                "model",
-                model,
-                &[("nonlinear", Model::Nonlinear), ("linear", Model::Linear)],
-            )?,
-            integrator: choice(
-                "integrator",
-                integrator,
-                &[
-                    ("taylor", Integrator::Taylor),
-                    ("dopri5", Integrator::Dopri5),
-                ],
-            )?,
-            impact: choice(
-                "impact",
-                impact,
-                &[
-                    ("newton", ImpactLaw::Newton),
-                    ("energetic", ImpactLaw::Energetic),
-                ],
-            )?,
-            rock_impact: choice(
-                "rock_impact",
-                rock_impact,
-                &[("bounce", RockImpact::Bounce), ("rock", RockImpact::Rock)],
-            )?,
+            model: choice::<Model>(model)?,
+            integrator: choice::<Integrator>(integrator)?,
+            impact: choice::<ImpactLaw>(impact)?,
+            rock_impact: choice::<RockImpact>(rock_impact)?,
             rtol: rtol.unwrap_or(defaults.rtol),
             settle_tol: settle_tol.unwrap_or(defaults.settle_tol),
             settle_cascades: !follow_cascades,
@@ -432,42 +402,59 @@ fn run(
         spec_file,
         ..RunOptions::new(&out)
     };
-    py.detach(|| -> PyResult<()> {
-        std::fs::create_dir_all(&out)
-            .map_err(rockfrag::Error::io(&out))
-            .map_err(py_err)?;
-        let _lock = study::RunLock::acquire(&out).map_err(py_err)?;
-        let report = study::run(&study, &opts).map_err(py_err)?;
-        if let Some(options) = &study.fragility {
-            let input = out.join("outcomes.csv");
-            let outcomes =
-                rockfrag::fragility::read_outcomes_for(&input, options).map_err(py_err)?;
-            if outcomes.cases.is_empty() {
-                return Err(PyValueError::new_err(format!(
-                    "{}: no analyses to fit",
-                    input.display()
-                )));
-            }
-            let fits = rockfrag::fragility::fit_cases(&outcomes, options).map_err(py_err)?;
-            rockfrag::fragility::write_outputs(&out, &fits).map_err(py_err)?;
-        }
-        if study.output.figures {
-            let options = rockfrag::figures::FigureOptions::for_study(&study);
-            rockfrag::figures::study_figures(&out, &out.join("figures"), &options)
-                .map_err(py_err)?;
-        }
-        let c = report.counts;
-        if c.failed > 0 {
-            return Err(PyRuntimeError::new_err(format!(
-                "{} of {} analyses failed (status 'failed' and the reason in {}); all results are written",
-                c.failed,
-                c.analyses,
-                out.join("outcomes.csv").display()
-            )));
-        }
-        Ok(())
-    })?;
+    // The CLI's run sequence: analyses, summary, fit, figures.
+    let report = py
+        .detach(|| rockfrag::pipeline::run(&study, &opts))
+        .map_err(py_err)?;
+    if let Some(message) = report.failure() {
+        return Err(PyRuntimeError::new_err(message));
+    }
     Ok(out.display().to_string())
+}
+
+/// The columns of a study's `outcomes.csv`, read by the library's reader
+/// into its one row type, each field as the file holds it
+/// ([`OutcomeRow::write_field`](rockfrag::outcomes_csv::OutcomeRow::write_field)):
+/// a list of (name, kind, values) in the file's order, kind `flag`,
+/// `count`, `number` or `text` ([`ValueKind`](rockfrag::outcomes_csv::ValueKind)),
+/// values as text (empty where absent), typed by the Python layer.
+#[pyfunction]
+fn read_outcomes(
+    py: Python<'_>,
+    path: &str,
+) -> PyResult<Vec<(&'static str, &'static str, Vec<String>)>> {
+    use rockfrag::outcomes_csv::{OutcomesFile, ValueKind};
+    let path = Path::new(path);
+    py.detach(|| -> rockfrag::Result<_> {
+        let mut file = OutcomesFile::open(path, &[], "read_outcomes")?;
+        let columns = file.columns();
+        let mut values: Vec<Vec<String>> = vec![Vec::new(); columns.len()];
+        while let Some((_, row)) = file.next_row()? {
+            for (column, v) in columns.iter().zip(&mut values) {
+                let mut field = String::new();
+                row.write_field(*column, &mut field);
+                // As the CSV reader would give it: unquoted.
+                if field.starts_with('"') {
+                    field = field[1..field.len() - 1].replace("\"\"", "\"");
+                }
+                v.push(field);
+            }
+        }
+        Ok(columns
+            .into_iter()
+            .zip(values)
+            .map(|(c, v)| {
+                let kind = match c.value_kind() {
+                    ValueKind::Flag => "flag",
+                    ValueKind::Count => "count",
+                    ValueKind::Number => "number",
+                    ValueKind::Text => "text",
+                };
+                (c.name(), kind, v)
+            })
+            .collect())
+    })
+    .map_err(py_err)
 }
 
 /// Fits a lognormal fragility to counts: `overturned[i]` of `trials[i]`
@@ -553,6 +540,7 @@ fn _rockfrag(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(motion, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(read_outcomes, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

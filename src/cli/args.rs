@@ -60,3 +60,18 @@ pub fn shard(s: &str) -> Result<rockfrag::study::Shard, String> {
     s.parse()
         .map_err(|_| "expected K/N with 1 ≤ K ≤ N, e.g. 2/8".to_string())
 }
+
+/// A parser for a named choice of the library (a setting such as the solver
+/// model): clap lists the names and suggests the nearest for a typo, and the
+/// name is turned into the value by the library's one table of names.
+pub fn choice<T>(names: Vec<&'static str>) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+    T::Err: std::fmt::Debug,
+{
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(names).map(|s| {
+        s.parse::<T>()
+            .expect("a name clap accepted is a listed name")
+    })
+}

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use rockfrag::figures::{FigureOptions, Format, study_figures};
+use rockfrag::figures::{FigureOptions, Format, study_figures, study_of_folder};
 
 /// Output format, as a CLI value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -36,33 +36,27 @@ pub struct FiguresArgs {
 
 /// Runs `rockfrag figures`.
 pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
-    let mut options = FigureOptions::for_folder(&args.dir)?;
+    let study = study_of_folder(&args.dir)?;
+    let mut options = study
+        .as_ref()
+        .map_or_else(FigureOptions::default, FigureOptions::for_study);
     options.format = match args.format {
         FormatArg::Svg => Format::Svg,
         FormatArg::Png => Format::Png,
     };
     if let Some(seed) = args.seed {
         options.seed = seed;
-        options.history.seed = seed;
     }
     let out = args.out.unwrap_or_else(|| args.dir.join("figures"));
-    for path in draw(&args.dir, &out, &options)? {
-        println!("{}", path.display());
-    }
-    Ok(())
-}
-
-/// Draws the figures of `dir` into `out`, printing notes to stderr, and
-/// returns the files written (also used by `run` and `merge` when the spec
-/// sets `output.figures`).
-pub fn draw(
-    dir: &std::path::Path,
-    out: &std::path::Path,
-    options: &FigureOptions,
-) -> anyhow::Result<Vec<PathBuf>> {
-    let report = study_figures(dir, out, options)?;
+    let report = match &study {
+        Some(study) => rockfrag::pipeline::figures(study, &args.dir, &out, &options)?,
+        None => study_figures(&args.dir, &out, &options)?,
+    };
     for note in &report.notes {
         eprintln!("note: {note}");
     }
-    Ok(report.written)
+    for path in &report.written {
+        println!("{}", path.display());
+    }
+    Ok(())
 }

@@ -4,35 +4,12 @@
 use std::io::Write;
 use std::path::PathBuf;
 
+use super::args::choice;
 use anyhow::Context;
-use clap::ValueEnum;
-use rockfrag::fragility::{
-    BetaModel, BootstrapUnit, CaseFit, FragilityOptions, IntensityMeasure, Interval, LimitState,
-    fit_cases, read_outcomes_for, write_outputs,
-};
-use rockfrag::outcomes_csv::Pooled;
+use rockfrag::case::Field;
+use rockfrag::fragility::{BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState};
 use rockfrag::spec::Study;
 use rockfrag::study::Manifest;
-
-/// Intensity measure, as a CLI value.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum ImArg {
-    /// Peak ground acceleration, g.
-    Pga,
-    /// Peak ground velocity, m/s (needs a `pgv` column).
-    Pgv,
-    /// PGA/(g tan θc) = PGA·H/B, dimensionless.
-    PgaOverTan,
-}
-
-/// Bootstrap resampling unit, as a CLI value.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum ResampleArg {
-    /// Whole records, each bringing its analyses at every stripe.
-    Records,
-    /// Analyses, independently within each stripe.
-    Analyses,
-}
 
 /// Flags of `rockfrag fragility`.
 #[derive(Debug, clap::Args)]
@@ -40,9 +17,10 @@ pub struct FragilityArgs {
     /// Study directory holding `outcomes.csv`.
     #[arg(value_name = "DIR")]
     pub dir: PathBuf,
-    /// Intensity measure the curves are fitted against.
-    #[arg(long, value_enum, default_value_t = ImArg::Pga)]
-    pub im: ImArg,
+    /// Intensity measure the curves are fitted against: PGA in g, PGV in
+    /// m/s (needs a `pgv` column), or PGA/(g tan θc) = PGA·H/B, dimensionless.
+    #[arg(long, value_parser = choice::<IntensityMeasure>(IntensityMeasure::names()), default_value_t = IntensityMeasure::default())]
+    pub im: IntensityMeasure,
     /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap.
     #[arg(long, value_name = "N", default_value_t = FragilityOptions::default().bootstrap)]
     pub bootstrap: usize,
@@ -51,8 +29,8 @@ pub struct FragilityArgs {
     pub seed: u64,
     /// What the bootstrap resamples: whole records (shared across stripes),
     /// or analyses within each stripe (only for independent analyses).
-    #[arg(long, value_enum, default_value_t = ResampleArg::Records)]
-    pub resample: ResampleArg,
+    #[arg(long, value_parser = choice::<BootstrapUnit>(BootstrapUnit::names()), default_value_t = BootstrapUnit::default())]
+    pub resample: BootstrapUnit,
     /// Output directory for fragility.csv, fragility_curves.csv,
     /// fragility_bootstrap.csv and
     /// fragility.xml [default: DIR].
@@ -70,8 +48,8 @@ pub struct FragilityArgs {
     /// `aspect`, `restitution`, `friction`. Those the study draws per
     /// analysis (its `[uncertainty]`, read from DIR/manifest.json) are
     /// always pooled.
-    #[arg(long, value_name = "PARAMS", value_delimiter = ',', value_enum)]
-    pub pool: Vec<PoolArg>,
+    #[arg(long, value_name = "PARAMS", value_delimiter = ',', value_parser = choice::<Field>(Field::ALL.iter().map(|f| f.name()).collect()))]
+    pub pool: Vec<Field>,
     /// Print every case's bootstrap note (default: one summary line).
     #[arg(long, short)]
     pub verbose: bool,
@@ -79,19 +57,6 @@ pub struct FragilityArgs {
     /// records and levels); without it that is refused.
     #[arg(long)]
     pub partial: bool,
-}
-
-/// A case parameter that `--pool` pools over.
-#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
-pub enum PoolArg {
-    /// Base width 2B.
-    Width,
-    /// Aspect ratio H/B.
-    Aspect,
-    /// Coefficient of restitution e.
-    Restitution,
-    /// Friction coefficients μs, μk (Coulomb cases only).
-    Friction,
 }
 
 /// Parses `NAME=MEASURE>THRESHOLD` or `NAME=MEASURE`.
@@ -128,15 +93,13 @@ impl FragilityArgs {
         } else {
             None
         };
-        let mut pool = study.as_ref().map_or(Pooled::default(), Study::pooled);
-        for p in &self.pool {
-            match p {
-                PoolArg::Width => pool.width = true,
-                PoolArg::Aspect => pool.aspect = true,
-                PoolArg::Restitution => pool.restitution = true,
-                PoolArg::Friction => pool.friction = true,
+        let mut pool = study.as_ref().map_or_else(Vec::new, Study::drawn);
+        for &field in &self.pool {
+            if !pool.contains(&field) {
+                pool.push(field);
             }
         }
+        pool.sort();
         let limit_state = if self.limit_states.is_empty() {
             study
                 .as_ref()
@@ -146,16 +109,9 @@ impl FragilityArgs {
             self.limit_states.clone()
         };
         Ok(FragilityOptions {
-            im: match self.im {
-                ImArg::Pga => IntensityMeasure::Pga,
-                ImArg::Pgv => IntensityMeasure::Pgv,
-                ImArg::PgaOverTan => IntensityMeasure::PgaOverTan,
-            },
+            im: self.im,
             bootstrap: self.bootstrap,
-            unit: match self.resample {
-                ResampleArg::Records => BootstrapUnit::Records,
-                ResampleArg::Analyses => BootstrapUnit::Analyses,
-            },
+            unit: self.resample,
             seed: self.seed,
             limit_state,
             pool,
@@ -181,7 +137,7 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     }
     let options = args.options()?;
     let out = args.out.as_ref().unwrap_or(&args.dir);
-    let report = fit_and_write(&args.dir, out, &options)?;
+    let report = rockfrag::pipeline::refit(&args.dir, out, &options)?;
     let mut text = report.table.clone();
     text.push_str(&report.notes(args.verbose));
     text.push_str(&report.wrote);
@@ -191,214 +147,4 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         other => other.context("writing to standard output"),
     }
-}
-
-/// What a fit wrote and has to say.
-pub struct FitReport {
-    /// The table of cases (header and one row per case and limit state).
-    pub table: String,
-    /// One note per case whose bootstrap had replicates it could not fit.
-    pub case_notes: Vec<String>,
-    /// Those notes in one line, or empty.
-    pub bootstrap_line: String,
-    /// A note on failed analyses skipped, or empty.
-    pub failed_note: String,
-    /// `wrote …` (one line).
-    pub wrote: String,
-    /// Curves fitted, and curves asked for.
-    pub fitted: usize,
-    /// Curves asked for (cases × limit states).
-    pub curves: usize,
-    /// The fragility.csv written.
-    pub fragility_csv: PathBuf,
-}
-
-impl FitReport {
-    /// The notes: every case's (`verbose`) or their summary line, then the
-    /// note on failed analyses.
-    pub fn notes(&self, verbose: bool) -> String {
-        let mut text = if verbose {
-            self.case_notes.concat()
-        } else {
-            self.bootstrap_line.clone()
-        };
-        text.push_str(&self.failed_note);
-        text
-    }
-
-    /// One line: curves fitted and where they went.
-    pub fn summary(&self) -> String {
-        let see = if self.fitted < self.curves {
-            " (its status column says why a curve was not fitted)"
-        } else {
-            ""
-        };
-        format!(
-            "fragility: {} of {} curves fitted; wrote {}{see}, fragility_curves.csv, fragility_bootstrap.csv, fragility.xml\n",
-            self.fitted,
-            self.curves,
-            self.fragility_csv.display()
-        )
-    }
-}
-
-/// Fits the curves of `dir/outcomes.csv`, writes the fragility files into
-/// `out` and returns what to tell the user (also used by `run` and `merge`
-/// when the spec has a `[fragility]` table).
-pub fn fit_and_write(
-    dir: &std::path::Path,
-    out: &std::path::Path,
-    options: &FragilityOptions,
-) -> anyhow::Result<FitReport> {
-    let input = dir.join("outcomes.csv");
-    let outcomes = read_outcomes_for(&input, options)?;
-    if outcomes.cases.is_empty() {
-        anyhow::bail!("{}: no analyses to fit", input.display());
-    }
-    let fits = fit_cases(&outcomes, options)?;
-    let paths = write_outputs(out, &fits)?;
-
-    let failed: usize =
-        fits.iter().map(|f| f.n_failed).sum::<usize>() + outcomes.failed_unattributed;
-    let failed_note = if failed > 0 {
-        format!("note: {failed} failed analyses skipped (error or status not ok in outcomes.csv)\n")
-    } else {
-        String::new()
-    };
-    Ok(FitReport {
-        table: table(&fits, options),
-        case_notes: case_notes(&fits),
-        bootstrap_line: bootstrap_line(&fits, &paths.fragility),
-        failed_note,
-        wrote: format!(
-            "wrote {}, {}, {}, {}\n",
-            paths.fragility.display(),
-            paths.curves.display(),
-            paths.bootstrap.display(),
-            paths.nrml.display()
-        ),
-        fitted: fits.iter().filter(|f| f.fit.is_ok()).count(),
-        curves: fits.len(),
-        fragility_csv: paths.fragility.clone(),
-    })
-}
-
-/// One note per curve whose bootstrap had replicates that could not be
-/// fitted.
-fn case_notes(fits: &[CaseFit]) -> Vec<String> {
-    fits.iter()
-        .filter_map(|f| {
-            let b = f.bootstrap.as_ref().filter(|b| b.unfit_total() > 0)?;
-            let reasons: Vec<String> = b.unfit.iter().map(|(k, n)| format!("{k} {n}")).collect();
-            Some(format!(
-                "note: {} {}: {} of {} bootstrap replicates could not be fitted ({}); \
-                 the intervals come from the other {}\n",
-                f.key,
-                f.limit_state,
-                b.unfit_total(),
-                b.replicates,
-                reasons.join(", "),
-                b.fitted
-            ))
-        })
-        .collect()
-}
-
-/// The bootstrap notes in one line, by reason: `bootstrap: 16 cases had
-/// separated replicates (max 12 of 1000); see fragility.csv`; empty if none.
-fn bootstrap_line(fits: &[CaseFit], csv: &std::path::Path) -> String {
-    // reason -> (curves with it, most replicates of one curve, its replicates)
-    let mut by_reason: std::collections::BTreeMap<&str, (usize, usize, usize)> =
-        std::collections::BTreeMap::new();
-    for b in fits.iter().filter_map(|f| f.bootstrap.as_ref()) {
-        for (reason, &n) in &b.unfit {
-            let e = by_reason.entry(reason).or_insert((0, 0, b.replicates));
-            e.0 += 1;
-            if n > e.1 {
-                (e.1, e.2) = (n, b.replicates);
-            }
-        }
-    }
-    if by_reason.is_empty() {
-        return String::new();
-    }
-    let parts: Vec<String> = by_reason
-        .iter()
-        .map(|(reason, (curves, max, of))| {
-            let what = if *curves == 1 { "curve" } else { "curves" };
-            format!("{curves} {what} had {reason} replicates (max {max} of {of})")
-        })
-        .collect();
-    format!(
-        "bootstrap: {}; the intervals come from the others (boot_unfit in {}; --verbose lists them)\n",
-        parts.join(", "),
-        csv.display()
-    )
-}
-
-fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
-    // The band's heading only when there is a band (a bootstrap).
-    let pct = match options.bootstrap {
-        0 => String::new(),
-        _ => format!(" [{}%]", (options.confidence * 100.0).round()),
-    };
-    let unit = match options.im.unit() {
-        "1" => String::new(),
-        u => format!(" ({u})"),
-    };
-    let header: Vec<String> = [
-        "case",
-        "limit state",
-        "analyses",
-        "exceeded",
-        "stripes",
-        "records",
-        &format!("median{unit}{pct}"),
-        &format!("beta{pct}"),
-        "status",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let mut rows = vec![header];
-    for f in fits {
-        let band = |i: Option<Interval>| {
-            i.map_or(String::new(), |i| {
-                format!(" [{}, {}]", sig(i.lo), sig(i.hi))
-            })
-        };
-        let boot = f.bootstrap.as_ref();
-        let (median, beta, status) = match &f.fit {
-            Ok(fit) => (
-                format!("{}{}", sig(fit.median()), band(boot.and_then(|b| b.median))),
-                format!("{}{}", sig(fit.beta()), band(boot.and_then(|b| b.beta))),
-                match f.beta_model {
-                    BetaModel::Separate => "ok".to_string(),
-                    BetaModel::Common => "ok (β common to the case's limit states)".to_string(),
-                },
-            ),
-            Err(reason) => ("-".into(), "-".into(), format!("not fitted: {reason}")),
-        };
-        rows.push(vec![
-            f.key.to_string(),
-            f.limit_state.clone(),
-            f.n_analyses.to_string(),
-            f.n_exceeded.to_string(),
-            f.n_stripes.to_string(),
-            f.n_records.to_string(),
-            median,
-            beta,
-            status,
-        ]);
-    }
-    super::table::aligned(&rows)
-}
-
-/// Three significant digits, without exponent for ordinary magnitudes.
-fn sig(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return x.to_string();
-    }
-    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
-    format!("{x:.digits$}")
 }

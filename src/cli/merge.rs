@@ -30,6 +30,10 @@ pub fn run(args: MergeArgs) -> anyhow::Result<()> {
         m.counts.failed,
         args.out.display()
     );
+    let spec = args.out.join(study::files::MANIFEST);
+    let whole = Study::from_toml_unchecked(&m.spec_toml, &spec)?;
+    let finish = rockfrag::pipeline::finish(&whole, &args.out, None)?;
+    super::run::say(&finish, &args.out, args.verbose);
     if m.counts.failed > 0 {
         anyhow::bail!(
             "{} of {} analyses failed in the shards",
@@ -37,7 +41,5 @@ pub fn run(args: MergeArgs) -> anyhow::Result<()> {
             m.counts.analyses
         );
     }
-    let spec = args.out.join(study::files::MANIFEST);
-    let whole = Study::from_toml_unchecked(&m.spec_toml, &spec)?;
-    super::run::finish(&whole, &args.out, args.verbose)
+    Ok(())
 }

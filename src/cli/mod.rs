@@ -3,6 +3,7 @@
 
 mod args;
 mod bench;
+mod export;
 mod fragility;
 mod merge;
 mod figures;
@@ -11,7 +12,6 @@ mod paper;
 mod risk;
 mod run;
 mod simulate;
-mod table;
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};
@@ -42,6 +42,9 @@ pub enum Command {
     /// Annual rate of each limit state at a site: the fitted fragility
     /// integrated over a hazard curve (OpenQuake CSV or iml,annual_rate).
     Risk(risk::RiskArgs),
+    /// A fitted study's curves for OpenQuake (a classical_damage job) or
+    /// pelicun (a damage database).
+    Export(export::ExportArgs),
     /// Speed against error: the work–precision report (table and figure).
     Bench(bench::BenchArgs),
     /// Draw the publication figures of a study folder (SVG or PNG).
@@ -60,6 +63,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Merge(args) => merge::run(args),
         Command::Fragility(args) => fragility::run(args),
         Command::Risk(args) => risk::run(args),
+        Command::Export(args) => export::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Figures(args) => figures::run(args),
         Command::Paper(args) => paper::run(args),

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use rockfrag::reproduce::{CheckOptions, check, markdown, write_report};
+use rockfrag::paper::{CheckOptions, check, check_markdown, write_e_trend, write_report};
 
 /// Flags of `rockfrag paper`.
 #[derive(Debug, clap::Args)]
@@ -21,6 +21,9 @@ pub struct PaperArgs {
     /// Worker threads (0: one per core).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub threads: usize,
+    /// Format of the e-trend figure (`e_trend.svg` or `.png` beside the report).
+    #[arg(long, value_enum, default_value_t = super::figures::FormatArg::Svg)]
+    pub format: super::figures::FormatArg,
 }
 
 /// Runs `rockfrag paper`.
@@ -37,9 +40,16 @@ pub fn run(args: PaperArgs) -> anyhow::Result<()> {
     let results = check(&options, |line| {
         eprintln!("{line} ({:.1} s)", t0.elapsed().as_secs_f64())
     })?;
-    let text = markdown(&results, &options);
+    let text = check_markdown(&results, &options);
     let path = args.out.join("paper-check.md");
     write_report(&path, &text)?;
+    let figure = args.out.join(match args.format {
+        super::figures::FormatArg::Svg => "e_trend.svg",
+        super::figures::FormatArg::Png => "e_trend.png",
+    });
+    if write_e_trend(&results, &figure)? {
+        eprintln!("drew {}", figure.display());
+    }
     print!("{text}");
     eprintln!(
         "wrote {} in {:.1} s",

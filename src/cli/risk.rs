@@ -6,9 +6,10 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use rockfrag::figures::{RiskFigure, save};
+use rockfrag::io_util::sig3;
 use rockfrag::risk::{
     HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, assess, describe_hazard,
-    read_fragility, read_hazard, sci, sig, summary_section, update_summary, write_risk_csv,
+    read_fragility, read_hazard, summary_section, write_risk_csv,
 };
 
 /// Flags of `rockfrag risk`.
@@ -62,7 +63,9 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     let summary = args.dir.join("summary.md");
     let summary = (args.out.is_none() && summary.exists()).then_some(summary);
     if let Some(path) = &summary {
-        update_summary(path, &summary_section(&rows, &hazard, &options))?;
+        let section = summary_section(&rows, &hazard, &options);
+        rockfrag::io_util::replace_section(path, "## Risk", &section, &[])
+            .with_context(|| path.display().to_string())?;
     }
 
     let mut text = format!("hazard: {}\n", describe_hazard(&hazard).replace('`', ""));
@@ -105,7 +108,7 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
                 "warning: {} {}: quadrature error estimate {} of the rate",
                 r.curve.key,
                 r.curve.limit_state,
-                sci(i.error / i.rate)
+                sig3(i.error / i.rate)
             );
         }
     }
@@ -117,7 +120,7 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
 }
 
 fn table(rows: &[RiskRow], options: &RiskOptions) -> String {
-    let years = sig(options.years);
+    let years = sig3(options.years);
     let pct = (options.confidence * 100.0).round();
     let header: Vec<String> = [
         "case".to_string(),
@@ -144,21 +147,21 @@ fn table(rows: &[RiskRow], options: &RiskOptions) -> String {
             ],
             Some(i) => {
                 let band = r.band.map_or(String::new(), |b| {
-                    format!(" [{}, {}]", sci(b.lo), sci(b.hi))
+                    format!(" [{}, {}]", sig3(b.lo), sig3(b.hi))
                 });
                 let (below, above) = r.shares().unwrap_or_default();
                 vec![
                     c.key.to_string(),
                     c.limit_state.clone(),
-                    format!("{}{band}", sci(i.rate)),
-                    sig(1.0 / i.rate),
-                    sig(r.poe(options.years).unwrap_or(f64::NAN)),
-                    sig(i.peak_im),
+                    format!("{}{band}", sig3(i.rate)),
+                    sig3(1.0 / i.rate),
+                    sig3(r.poe(options.years).unwrap_or(f64::NAN)),
+                    sig3(i.peak_im),
                     format!("{:.2}%/{:.2}%", 100.0 * below, 100.0 * above),
                 ]
             }
         };
         cells.push(row);
     }
-    super::table::aligned(&cells)
+    rockfrag::io_util::aligned(&cells)
 }

@@ -2,9 +2,9 @@
 
 use super::args::{shard, threads};
 use anyhow::bail;
-use rockfrag::figures::FigureOptions;
+use rockfrag::pipeline::{self, FinishReport};
 use rockfrag::spec::{SHENTON_JONES_ORIGIN, Study};
-use rockfrag::study::{self, RunOptions, Shard, files};
+use rockfrag::study::{RunOptions, Shard};
 use std::path::{Path, PathBuf};
 
 /// Flags of `rockfrag run`.
@@ -56,23 +56,20 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         stop_after_units: args.stop_after_units,
         force: args.force,
     };
-    // Held over the run and what follows it (fragility files, figures): a
-    // second run into this folder is refused until all is written.
-    std::fs::create_dir_all(&out).map_err(rockfrag::Error::io(&out))?;
-    let _lock = study::RunLock::acquire(&out)?;
-    let report = study::run(&study, &opts)?;
-    let rate = report.analyses_run as f64 / report.wall_seconds.max(1e-9);
-    if report.resumed_at_unit > 0 {
-        eprintln!("resumed after {} work units", report.resumed_at_unit);
+    let report = pipeline::run(&study, &opts)?;
+    let run = &report.run;
+    let rate = run.analyses_run as f64 / run.wall_seconds.max(1e-9);
+    if run.resumed_at_unit > 0 {
+        eprintln!("resumed after {} work units", run.resumed_at_unit);
     }
-    if !report.complete {
+    if !run.complete {
         eprintln!(
             "stopped: {} analyses in {:.1} s; run the same command again to resume",
-            report.analyses_run, report.wall_seconds
+            run.analyses_run, run.wall_seconds
         );
         return Ok(());
     }
-    let c = report.counts;
+    let c = run.counts;
     eprintln!(
         "study {}{}: {} analyses ({} overturned, {} uplifted, {} failed); {} run in {:.1} s, \
          {:.1} analyses/s on {} thread{}; wrote {}",
@@ -86,47 +83,43 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         c.overturned,
         c.uplifted,
         c.failed,
-        report.analyses_run,
-        report.wall_seconds,
+        run.analyses_run,
+        run.wall_seconds,
         rate,
-        report.threads,
-        if report.threads == 1 { "" } else { "s" },
+        run.threads,
+        if run.threads == 1 { "" } else { "s" },
         out.display()
     );
+    if let Some(finish) = &report.finish {
+        say(finish, &out, args.verbose);
+    }
     // The fit and the figures skip failed analyses (and say how many), so
     // they are made before the failures are reported in the exit status.
-    if opts.shard == Shard::WHOLE {
-        finish(&study, &out, args.verbose)?;
-    }
-    if c.failed > 0 {
-        bail!(
-            "{} of {} analyses failed (status 'failed' and the reason in {}); all results are written",
-            c.failed,
-            c.analyses,
-            out.join(files::OUTCOMES).display()
-        );
+    if let Some(message) = report.failure() {
+        bail!(message);
     }
     Ok(())
 }
 
-/// What a complete study folder gets when its spec asks: the fragility fit
-/// (`[fragility]`) and the figures (`output.figures`, into `DIR/figures/`).
-/// Says one line for each, and a line of bootstrap notes if any, on
-/// standard error; `verbose` prints the fragility table and every note on
-/// standard output.
-pub fn finish(study: &Study, dir: &Path, verbose: bool) -> anyhow::Result<()> {
-    if let Some(options) = &study.fragility {
-        let report = super::fragility::fit_and_write(dir, dir, options)?;
+/// Says what [`pipeline::finish`] made: one line for each step, and a line
+/// of bootstrap notes if any, on standard error; `verbose` prints the
+/// fragility table and every note on standard output.
+pub fn say(finish: &FinishReport, dir: &Path, verbose: bool) {
+    if let Some(report) = &finish.fit {
         if verbose {
             print!("{}{}{}", report.table, report.notes(true), report.wrote);
         } else {
             eprint!("{}{}", report.summary(), report.notes(false));
         }
     }
-    if study.output.figures {
-        let out = dir.join("figures");
-        let written = super::figures::draw(dir, &out, &FigureOptions::for_study(study))?;
-        eprintln!("drew {} figures into {}", written.len(), out.display());
+    if let Some(figures) = &finish.figures {
+        for note in &figures.notes {
+            eprintln!("note: {note}");
+        }
+        eprintln!(
+            "drew {} figures into {}",
+            figures.written.len(),
+            dir.join("figures").display()
+        );
     }
-    Ok(())
 }

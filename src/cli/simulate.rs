@@ -1,6 +1,6 @@
 //! `rockfrag simulate`: one block under one record, printing the outcome.
 
-use super::args::{non_negative, open_unit_interval, positive, unit_interval};
+use super::args::{choice, non_negative, open_unit_interval, positive, unit_interval};
 use anyhow::Context;
 use clap::ValueEnum;
 use rockfrag::motion::{self, G_STANDARD, Record, SynthesisSettings};
@@ -10,43 +10,6 @@ use rockfrag::solver::{
     SolverSettings, simulate,
 };
 use std::path::PathBuf;
-
-/// Rock equation, as a CLI value.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum ModelArg {
-    /// Nonlinear eq. (1) (integrator: see --integrator).
-    Nonlinear,
-    /// Linearised in θ, piecewise exact.
-    Linear,
-}
-
-/// Integrator of the nonlinear rock equation, as a CLI value.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum IntegratorArg {
-    /// Taylor series over each sample (fastest).
-    Taylor,
-    /// Dormand–Prince 5(4) with dense output.
-    Dopri5,
-}
-
-/// Impact law, as a CLI value.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum ImpactArg {
-    /// Newton restitution, no slip (the paper's).
-    Newton,
-    /// Energy-consistent (never adds kinetic energy).
-    Energetic,
-}
-
-/// What a rock impact with e > 0 leads to, as a CLI value.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum RockImpactArg {
-    /// The impact law in full: the block flies and rings down (physics).
-    Bounce,
-    /// The block keeps rocking with ω₂/ω₁ = 1 − 1.5(1+e)sin²θc, no flight: a
-    /// reading of the paper's program, not physics.
-    Rock,
-}
 
 /// Friction model, as a CLI value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -124,18 +87,24 @@ pub struct SimulateArgs {
     /// instead of closing its tail in closed form (the cascade rules).
     #[arg(long)]
     pub follow_cascades: bool,
-    /// Rock equation.
-    #[arg(long, value_enum, default_value_t = ModelArg::Nonlinear)]
-    pub model: ModelArg,
-    /// Integrator of the nonlinear rock equation.
-    #[arg(long, value_enum, default_value_t = IntegratorArg::Taylor)]
-    pub integrator: IntegratorArg,
-    /// Impact law.
-    #[arg(long, value_enum, default_value_t = ImpactArg::Newton)]
-    pub impact: ImpactArg,
-    /// What a rock impact with e > 0 leads to (infinite friction).
-    #[arg(long, value_enum, default_value_t = RockImpactArg::Bounce)]
-    pub rock_impact: RockImpactArg,
+    /// Rock equation: the nonlinear eq. (1) (integrated by --integrator), or
+    /// linearised in θ, piecewise exact.
+    #[arg(long, value_parser = choice::<Model>(Model::names()), default_value_t = Model::default())]
+    pub model: Model,
+    /// Integrator of the nonlinear rock equation: a Taylor series over each
+    /// sample (fastest), or Dormand–Prince 5(4) with dense output.
+    #[arg(long, value_parser = choice::<Integrator>(Integrator::names()), default_value_t = Integrator::default())]
+    pub integrator: Integrator,
+    /// Impact law: Newton restitution without slip (the paper's), or
+    /// energy-consistent (never adds kinetic energy).
+    #[arg(long, value_parser = choice::<ImpactLaw>(ImpactLaw::names()), default_value_t = ImpactLaw::default())]
+    pub impact: ImpactLaw,
+    /// What a rock impact with e > 0 leads to (infinite friction): the
+    /// impact law in full, the block flies and rings down (physics); or
+    /// `rock`, the block keeps rocking with ω₂/ω₁ = 1 − 1.5(1+e)sin²θc, no
+    /// flight (a reading of the paper's program, not physics).
+    #[arg(long, value_parser = choice::<RockImpact>(RockImpact::names()), default_value_t = RockImpact::default())]
+    pub rock_impact: RockImpact,
     /// Gravity (m/s²), also used to convert accelerations given in g.
     #[arg(long, value_name = "M/S2", default_value_t = G_STANDARD, value_parser = positive)]
     pub g: f64,
@@ -184,22 +153,10 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         ..Initial::default()
     };
     let settings = SolverSettings {
-        model: match args.model {
-            ModelArg::Nonlinear => Model::Nonlinear,
-            ModelArg::Linear => Model::Linear,
-        },
-        integrator: match args.integrator {
-            IntegratorArg::Taylor => Integrator::Taylor,
-            IntegratorArg::Dopri5 => Integrator::Dopri5,
-        },
-        impact: match args.impact {
-            ImpactArg::Newton => ImpactLaw::Newton,
-            ImpactArg::Energetic => ImpactLaw::Energetic,
-        },
-        rock_impact: match args.rock_impact {
-            RockImpactArg::Bounce => RockImpact::Bounce,
-            RockImpactArg::Rock => RockImpact::Rock,
-        },
+        model: args.model,
+        integrator: args.integrator,
+        impact: args.impact,
+        rock_impact: args.rock_impact,
         rtol: args.rtol,
         settle_tol: args.settle_tol,
         settle_cascades: !args.follow_cascades,

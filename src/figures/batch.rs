@@ -5,20 +5,24 @@
 //! |------|--------|
 //! | `motion` | a sample record: acceleration, velocity, displacement ([`super::plot_record`]) |
 //! | `spectrum` | ensemble periodograms against the target PSD ([`super::spectrum`]) |
-//! | `history` | θ/θc and the modes of one finite-friction run ([`super::history`]) |
+//! | `history` | θ/θc and the modes of one of the study's analyses ([`super::history`]) |
 //! | `fragility` | fragility curves and observed fractions ([`super::fragility`]) |
 //! | `friction_demand` | mean μ_mot and μ_imp against B/H ([`super::friction`]) |
 //! | `restitution` | overturning and θmax/θc against e ([`super::restitution`]) |
 //!
-//! The first three are computed from the study's own motions and the solver
+//! The sample record and the spectrum come from the study's own motions
 //! (see [`FigureOptions::for_folder`]): for a synthetic study, its generator
 //! settings and seed; for a study of recorded motions (`record_files`), its
-//! first record as recorded and the history chosen among its records, the
-//! synthetic-ensemble spectrum being skipped with a note (it would describe
-//! motions the study never ran). The last three are drawn from
+//! first record as recorded and the mean spectrum of its records. The
+//! history re-solves one of the study's analyses with its time history
+//! (see `figures::history`). The last three are drawn from
 //! `DIR/outcomes.csv` and, if present, `DIR/fragility_curves.csv`. Nothing
 //! depends on the clock or on the order of the rows, so running twice gives
 //! byte-identical files.
+//!
+//! [`StudyFigures::compute`] builds the figures' data and
+//! [`StudyFigures::write`] draws them, so that a layer above (the paper's)
+//! can add to a figure in between.
 
 use std::path::{Path, PathBuf};
 
@@ -26,13 +30,13 @@ use super::data::StudyData;
 use super::figure::{Figure, Format, save};
 use super::fragility::FragilityFigure;
 use super::friction::FrictionDemandFigure;
-use super::history::{HistoryCase, HistoryFigure};
+use super::history::{HistoryChoice, HistoryFigure, HistorySource};
 use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
 use super::spectrum::SpectrumFigure;
+use crate::case::Field;
 use crate::error::{Error, Result};
-use crate::motion::{SynthesisSettings, Synthesizer, read_record};
-use crate::outcomes_csv::Pooled;
+use crate::motion::{Record, SynthesisSettings, Synthesizer, read_record};
 use crate::spec::{Motions, Study};
 use crate::study::Manifest;
 use crate::study::files::MANIFEST;
@@ -49,23 +53,22 @@ pub struct FigureOptions {
     pub spectrum_records: usize,
     /// PGA of the sample record, g (default: 0.6).
     pub motion_pga: f64,
-    /// The analyses the history figure chooses from (default: see [`HistoryCase`]).
-    pub history: HistoryCase,
-    /// Ground-motion generator settings (default: the paper's). For a study
-    /// of recorded motions only `g` is used (to read `.AT2` files).
+    /// Which analysis the history figure draws (default: chosen, see
+    /// the history module).
+    pub history: HistoryChoice,
+    /// Ground-motion generator settings (default: the generator's). For a
+    /// study of recorded motions only `g` is used (to read `.AT2` files).
     pub synthesis: SynthesisSettings,
     /// The study's recorded-motion files, in its order; empty (the default)
     /// for a synthetic study. When not empty, the sample record is the first
-    /// file, the history is chosen among these records and the spectrum is
-    /// skipped.
+    /// file and the spectrum is the records' own.
     pub record_files: Vec<PathBuf>,
-    /// Whether the study is the paper's set-up, so that the friction-demand
-    /// figure may draw the paper's Tables 1–3 beside its means (default:
-    /// false; see [`FigureOptions::for_study`]).
-    pub papers: bool,
-    /// Case parameters the study draws per analysis (its `[uncertainty]`):
-    /// the figures pool the analyses over them (default: none).
-    pub pooled: Pooled,
+    /// Case fields the study draws per analysis (its `[uncertainty]`): the
+    /// figures pool the analyses over them (default: none).
+    pub pooled: Vec<Field>,
+    /// The study, when known (from its manifest): the history re-solves its
+    /// analyses with its solver settings and motions.
+    pub study: Option<Study>,
 }
 
 impl Default for FigureOptions {
@@ -75,30 +78,29 @@ impl Default for FigureOptions {
             seed: 1,
             spectrum_records: 200,
             motion_pga: 0.6,
-            history: HistoryCase::default(),
+            history: HistoryChoice::default(),
             synthesis: SynthesisSettings::default(),
             record_files: Vec::new(),
-            papers: false,
-            pooled: Pooled::default(),
+            pooled: Vec::new(),
+            study: None,
         }
     }
 }
 
 impl FigureOptions {
     /// The options that draw `study`'s own motions: its seed and generator
-    /// settings for the sample record, the spectrum and the history, or its
-    /// record files (and `g`) for a study of recorded motions; `papers` set
-    /// by [`crate::study::is_papers`]; every other field at its default.
+    /// settings for the sample record and the spectrum, or its record files
+    /// (and `g`) for a study of recorded motions; every other field at its
+    /// default.
     pub fn for_study(study: &Study) -> FigureOptions {
         let mut options = FigureOptions {
-            papers: crate::study::is_papers(study),
-            pooled: study.pooled(),
+            pooled: study.drawn(),
+            study: Some(study.clone()),
             ..FigureOptions::default()
         };
         match &study.motions {
             Motions::Synthetic { settings, seed, .. } => {
                 options.seed = *seed;
-                options.history.seed = *seed;
                 options.synthesis = settings.clone();
             }
             Motions::Files(files) => {
@@ -114,36 +116,42 @@ impl FigureOptions {
     /// folder has no manifest. Record files are relative to the spec file
     /// the study was run from (`spec_file` in the manifest, as given on the
     /// command line); a file not found there is looked for relative to
-    /// `dir`, and if not there either is left for [`study_figures`] to
-    /// report.
+    /// `dir`, and if not there either is left for [`StudyFigures::compute`]
+    /// to report.
     ///
     /// Errors: a manifest that cannot be read, or whose spec does not parse.
     pub fn for_folder(dir: &Path) -> Result<FigureOptions> {
-        let path = dir.join(MANIFEST);
-        if !path.exists() {
+        let Some(study) = study_of_folder(dir)? else {
             return Ok(FigureOptions::default());
-        }
-        let manifest = Manifest::read(&path)?;
-        let study = Study::from_toml_unchecked(&manifest.spec_toml, &path)?;
-        let mut options = FigureOptions::for_study(&study);
-        if let Motions::Files(files) = &study.motions {
-            let base = Path::new(&manifest.spec_file)
-                .parent()
-                .unwrap_or(Path::new(""));
-            options.record_files = files
-                .iter()
-                .map(|f| {
-                    let from_spec = base.join(&f.given);
-                    if from_spec.is_file() || !f.path.is_file() {
-                        from_spec
-                    } else {
-                        f.path.clone()
-                    }
-                })
-                .collect();
-        }
-        Ok(options)
+        };
+        Ok(FigureOptions::for_study(&study))
     }
+}
+
+/// The study recorded in `dir/manifest.json` (`None` without a manifest),
+/// its record files found relative to the spec file it was run from (as
+/// given on the command line) or else relative to `dir`.
+///
+/// Errors: a manifest that cannot be read, or whose spec does not parse.
+pub fn study_of_folder(dir: &Path) -> Result<Option<Study>> {
+    let path = dir.join(MANIFEST);
+    if !path.exists() {
+        return Ok(None);
+    }
+    let manifest = Manifest::read(&path)?;
+    let mut study = Study::from_toml_unchecked(&manifest.spec_toml, &path)?;
+    if let Motions::Files(files) = &mut study.motions {
+        let base = Path::new(&manifest.spec_file)
+            .parent()
+            .unwrap_or(Path::new(""));
+        for f in files {
+            let from_spec = base.join(&f.given);
+            if from_spec.is_file() || !f.path.is_file() {
+                f.path = from_spec;
+            }
+        }
+    }
+    Ok(Some(study))
 }
 
 /// What [`study_figures`] did.
@@ -155,153 +163,207 @@ pub struct FiguresReport {
     pub notes: Vec<String>,
 }
 
+/// The figures of a study folder, computed and not yet drawn.
+#[derive(Clone, Debug)]
+pub struct StudyFigures {
+    /// The sample record.
+    pub motion: Option<Record>,
+    /// The spectrum.
+    pub spectrum: Option<SpectrumFigure>,
+    /// The response history.
+    pub history: Option<HistoryFigure>,
+    /// The fragility curves.
+    pub fragility: FragilityFigure,
+    /// The friction demand (studies with infinite-friction analyses over
+    /// fixed H/B).
+    pub friction_demand: Option<FrictionDemandFigure>,
+    /// The trend with restitution (studies over fixed e and H/B).
+    pub restitution: Option<RestitutionFigure>,
+    /// The study's data, for a layer that adds figures of its own.
+    pub data: StudyData,
+    /// Figures drawn in reduced form or skipped, and why.
+    pub notes: Vec<String>,
+}
+
+impl StudyFigures {
+    /// Computes every figure of the study folder `dir`.
+    ///
+    /// Errors: [`Error::Io`] if `outcomes.csv` is missing, [`Error::Parse`]
+    /// for malformed CSV or a folder without successful analyses.
+    pub fn compute(dir: &Path, options: &FigureOptions) -> Result<StudyFigures> {
+        let data = StudyData::load_pooled(dir, &options.pooled)?;
+        if data.outcomes.is_empty() {
+            return Err(Error::Parse {
+                path: dir.join("outcomes.csv"),
+                line: 0,
+                message: "no successful analyses to draw".to_string(),
+            });
+        }
+        let mut notes = Vec::new();
+        let (motion, spectrum) = if options.record_files.is_empty() {
+            let mut synth = Synthesizer::new(&options.synthesis)?;
+            let mut record = synth.generate(
+                options.seed,
+                0,
+                options.synthesis.pga_from_g(options.motion_pga),
+            )?;
+            record.name = format!(
+                "Record 0 of ensemble seed {}, scaled to {} g",
+                options.seed,
+                super::style::tick_label(options.motion_pga)
+            );
+            let spectrum = SpectrumFigure::compute(
+                &options.synthesis,
+                options.seed,
+                options.spectrum_records,
+            )?;
+            (Some(record), Some(spectrum))
+        } else {
+            recorded_figures(options, &mut notes)
+        };
+        let source = HistorySource {
+            choice: &options.history,
+            study: options.study.as_ref(),
+            synthesis: &options.synthesis,
+            seed: options.seed,
+            record_files: &options.record_files,
+            pooled: &options.pooled,
+        };
+        let history = match HistoryFigure::from_study(dir, &data, &source) {
+            Ok(h) => Some(h),
+            Err(e) => {
+                notes.push(format!("history: skipped, {e}"));
+                None
+            }
+        };
+
+        let fragility = FragilityFigure::from_study(&data);
+        if !fragility.fitted {
+            notes.push(format!(
+                "fragility: no {} — observed fractions only",
+                dir.join("fragility_curves.csv").display()
+            ));
+        }
+        // Both figures are drawn over fixed values of H/B (and e): a
+        // parameter drawn per analysis has none.
+        let drawn = |what: &str, param: &str| {
+            format!(
+                "{what}: skipped, {param} is drawn per analysis ([uncertainty]) and the figure \
+                 is drawn over fixed values of it"
+            )
+        };
+        let pooled = |f: Field| options.pooled.contains(&f);
+        let friction_demand = match FrictionDemandFigure::from_study(&data) {
+            _ if pooled(Field::Aspect) => {
+                notes.push(drawn("friction_demand", "H/B"));
+                None
+            }
+            Some(fig) => Some(fig),
+            None => {
+                notes.push(
+                    "friction_demand: skipped, the study has no infinite-friction analyses"
+                        .to_string(),
+                );
+                None
+            }
+        };
+        let restitution = if pooled(Field::Restitution) {
+            notes.push(drawn("restitution", "e"));
+            None
+        } else if pooled(Field::Aspect) {
+            notes.push(drawn("restitution", "H/B"));
+            None
+        } else {
+            Some(RestitutionFigure::from_study(&data))
+        };
+        Ok(StudyFigures {
+            motion,
+            spectrum,
+            history,
+            fragility,
+            friction_demand,
+            restitution,
+            data,
+            notes,
+        })
+    }
+
+    /// Draws every figure into `out` (created if missing) in `format`, in
+    /// the order of the table above.
+    pub fn write(&self, out: &Path, format: Format) -> Result<FiguresReport> {
+        std::fs::create_dir_all(out).map_err(Error::io(out))?;
+        let file = |name: &str| out.join(format!("{name}.{}", format.extension()));
+        let mut report = FiguresReport {
+            written: Vec::new(),
+            notes: self.notes.clone(),
+        };
+        if let Some(record) = &self.motion {
+            let path = file("motion");
+            plot_record(record, &path)?;
+            report.written.push(path);
+        }
+        if let Some(f) = &self.spectrum {
+            write(f, file("spectrum"), &mut report)?;
+        }
+        if let Some(f) = &self.history {
+            write(f, file("history"), &mut report)?;
+        }
+        write(&self.fragility, file("fragility"), &mut report)?;
+        if let Some(f) = &self.friction_demand {
+            write(f, file("friction_demand"), &mut report)?;
+        }
+        if let Some(f) = &self.restitution {
+            write(f, file("restitution"), &mut report)?;
+        }
+        Ok(report)
+    }
+}
+
 /// Draws every figure of the study folder `dir` into `out` (created if
-/// missing), in `options.format`.
+/// missing), in `options.format`: [`StudyFigures::compute`], then
+/// [`StudyFigures::write`].
 ///
 /// Errors: [`Error::Io`] if `outcomes.csv` is missing or a file cannot be
 /// written, [`Error::Parse`] for malformed CSV.
 pub fn study_figures(dir: &Path, out: &Path, options: &FigureOptions) -> Result<FiguresReport> {
-    let data = StudyData::load_pooled(dir, options.pooled)?;
-    if data.outcomes.is_empty() {
-        return Err(Error::Parse {
-            path: dir.join("outcomes.csv"),
-            line: 0,
-            message: "no successful analyses to draw".to_string(),
-        });
-    }
-    std::fs::create_dir_all(out).map_err(Error::io(out))?;
-    let ext = options.format.extension();
-    let file = |name: &str| out.join(format!("{name}.{ext}"));
-    let mut report = FiguresReport::default();
-
-    if options.record_files.is_empty() {
-        let mut synth = Synthesizer::new(&options.synthesis)?;
-        let mut record = synth.generate(
-            options.seed,
-            0,
-            options.synthesis.pga_from_g(options.motion_pga),
-        )?;
-        record.name = format!(
-            "Record 0 of ensemble seed {}, scaled to {} g",
-            options.seed,
-            super::style::tick_label(options.motion_pga)
-        );
-        let path = file("motion");
-        plot_record(&record, &path)?;
-        report.written.push(path);
-
-        let spectrum =
-            SpectrumFigure::compute(&options.synthesis, options.seed, options.spectrum_records)?;
-        write(&spectrum, file("spectrum"), &mut report)?;
-
-        let history = HistoryFigure::compute(&options.history, &options.synthesis)?;
-        write(&history, file("history"), &mut report)?;
-    } else {
-        recorded_figures(options, &file, &mut report)?;
-    }
-
-    let fragility = FragilityFigure::from_study(&data);
-    if !fragility.fitted {
-        report.notes.push(format!(
-            "fragility: no {} — observed fractions only",
-            dir.join("fragility_curves.csv").display()
-        ));
-    }
-    write(&fragility, file("fragility"), &mut report)?;
-
-    // Both figures are drawn over fixed values of H/B (and e): a parameter
-    // drawn per analysis has none.
-    let drawn = |what: &str, param: &str| {
-        format!(
-            "{what}: skipped, {param} is drawn per analysis ([uncertainty]) and the figure \
-             is drawn over fixed values of it"
-        )
-    };
-    match FrictionDemandFigure::from_study(&data) {
-        _ if options.pooled.aspect => report.notes.push(drawn("friction_demand", "H/B")),
-        Some(fig) if options.papers => write(&fig, file("friction_demand"), &mut report)?,
-        Some(fig) => write(&fig.without_paper(), file("friction_demand"), &mut report)?,
-        None => report.notes.push(
-            "friction_demand: skipped, the study has no infinite-friction analyses".to_string(),
-        ),
-    }
-
-    if options.pooled.restitution {
-        report.notes.push(drawn("restitution", "e"));
-    } else if options.pooled.aspect {
-        report.notes.push(drawn("restitution", "H/B"));
-    } else {
-        write(
-            &RestitutionFigure::from_study(&data),
-            file("restitution"),
-            &mut report,
-        )?;
-    }
-    Ok(report)
+    StudyFigures::compute(dir, options)?.write(out, options.format)
 }
 
-/// The motion and history figures of a study of recorded motions (the
-/// spectrum is skipped with a note): the first record as recorded, and the
-/// history chosen among the first `options.history.records` records scaled
-/// to its PGA. A record file that cannot be read skips both, with a note.
+/// The sample record and spectrum of a study of recorded motions: the first
+/// record as recorded, and the mean spectrum of every record as recorded. A
+/// record file that cannot be read skips the figure it is needed for, with
+/// a note.
 fn recorded_figures(
     options: &FigureOptions,
-    file: &dyn Fn(&str) -> PathBuf,
-    report: &mut FiguresReport,
-) -> Result<()> {
+    notes: &mut Vec<String>,
+) -> (Option<Record>, Option<SpectrumFigure>) {
     let g = options.synthesis.g;
-    // The spectrum of every record the study ran, as recorded.
     let mut all = Vec::with_capacity(options.record_files.len());
     for path in &options.record_files {
         match read_record(path, g) {
             Ok(r) => all.push(r),
             Err(e) => {
-                report.notes.push(format!(
-                    "spectrum: skipped, record file {} cannot be read ({e})",
+                notes.push(format!(
+                    "motion, spectrum: skipped, record file {} cannot be read ({e}); record \
+                     files are relative to the spec file as given to `rockfrag run`, from the \
+                     folder it ran in",
                     path.display()
                 ));
-                all.clear();
-                break;
+                return (None, None);
             }
         }
     }
-    if !all.is_empty() {
-        let spectrum = SpectrumFigure::recorded(&all, "recorded motions");
-        write(&spectrum, file("spectrum"), report)?;
-    }
-    let n = (options.history.records.max(1) as usize).min(options.record_files.len());
-    let mut records = Vec::with_capacity(n);
-    let mut names = Vec::with_capacity(n);
-    for path in &options.record_files[..n] {
-        match read_record(path, g) {
-            Ok(r) => records.push(r),
-            Err(e) => {
-                report.notes.push(format!(
-                    "motion, history: skipped, record file {} cannot be read ({e}); \
-                     record files are relative to the spec file as given to `rockfrag run`, \
-                     from the folder it ran in",
-                    path.display()
-                ));
-                return Ok(());
-            }
-        }
-        names.push(path.file_name().map_or_else(
-            || path.display().to_string(),
-            |f| f.to_string_lossy().into_owned(),
-        ));
-    }
-    let mut first = records[0].clone();
+    let spectrum = SpectrumFigure::recorded(&all, "recorded motions");
+    let mut first = all.swap_remove(0);
+    let name = options.record_files[0].file_name().map_or_else(
+        || options.record_files[0].display().to_string(),
+        |f| f.to_string_lossy().into_owned(),
+    );
     first.name = format!(
-        "{}, as recorded (PGA {} g)",
-        names[0],
+        "{name}, as recorded (PGA {} g)",
         super::style::tick_label((first.pga() / g * 1000.0).round() / 1000.0)
     );
-    let path = file("motion");
-    plot_record(&first, &path)?;
-    report.written.push(path);
-    let history = HistoryFigure::compute_recorded(&options.history, &records, &names, g)?;
-    write(&history, file("history"), report)?;
-    Ok(())
+    (Some(first), Some(spectrum))
 }
 
 fn write<F: Figure>(figure: &F, path: PathBuf, report: &mut FiguresReport) -> Result<()> {

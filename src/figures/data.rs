@@ -1,25 +1,28 @@
 //! The study results the figures read: `outcomes.csv` (one row per analysis)
 //! and, optionally, `fragility_curves.csv` (fitted curves with their band).
 //!
-//! Both are read with [`OutcomesReader`] (columns by header name, the case
-//! columns as a [`CaseKey`]); failed analyses are skipped, having no
-//! outcome. Rows are sorted once after reading, so every figure sees the
-//! same order whatever order the study (or a merge of its shards) wrote them
-//! in, and the figures are byte-identical.
+//! Both are read through their stage files' row types
+//! ([`OutcomesFile`], [`read_curves_csv`]) and kept in the compact form
+//! the figures plot; failed analyses are skipped, having no outcome. Rows
+//! are sorted once after reading, so every figure sees the same order
+//! whatever order the study (or a merge of its shards) wrote them in, and
+//! the figures are byte-identical.
 
 use std::path::Path;
 
-use crate::error::Result;
-pub use crate::outcomes_csv::same;
-use crate::outcomes_csv::{CaseKey, Column, OutcomesReader, Pooled, cmp_friction, same_friction};
+use crate::case::{Case, Field, Param, cmp_friction};
+use crate::error::{Error, Result};
+use crate::fragility::{IntensityMeasure, read_curves_csv};
+use crate::outcomes_csv::{Column, OutcomesFile};
 use crate::solver::Friction;
 
-/// One analysis as the figures need it: the case, the intensity and the
-/// outcome quantities that are plotted.
+/// One analysis as the figures plot it: the case, the intensity and the
+/// outcome quantities that are drawn (taken from an
+/// [`OutcomeRow`](crate::outcomes_csv::OutcomeRow)).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OutcomeRow {
-    /// The block and its contact (aspect, width, e, friction).
-    pub case: CaseKey,
+pub struct PlotRow {
+    /// The block and its contact (drawn parameters as drawn, or pooled).
+    pub case: Case,
     /// Peak ground acceleration of the record (g).
     pub pga: f64,
     /// Record index in the ensemble.
@@ -44,8 +47,8 @@ pub struct OutcomeRow {
 /// One point of a fitted fragility curve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CurvePoint {
-    /// The block and its contact.
-    pub case: CaseKey,
+    /// The case.
+    pub case: Case,
     /// The limit state (`overturning` for a file without a `limit_state`
     /// column, which predates limit states).
     pub limit_state: String,
@@ -61,11 +64,11 @@ pub struct CurvePoint {
 
 /// A friction model for legends: `μ = ∞` or `μₛ = 0.7, μₖ = 0.6` (`μₛ, μₖ
 /// drawn` when drawn per analysis).
-pub fn friction_label(f: &Friction) -> String {
+pub fn friction_label(f: &Param<Friction>) -> String {
     match *f {
-        Friction::Infinite => "μ = ∞".to_string(),
-        Friction::Coulomb { mu_s, .. } if mu_s.is_nan() => "μₛ, μₖ drawn".to_string(),
-        Friction::Coulomb { mu_s, mu_k } => format!(
+        Param::Fixed(Friction::Infinite) => "μ = ∞".to_string(),
+        Param::Drawn => "μₛ, μₖ drawn".to_string(),
+        Param::Fixed(Friction::Coulomb { mu_s, mu_k }) => format!(
             "μₛ = {}, μₖ = {}",
             super::style::tick_label(mu_s),
             super::style::tick_label(mu_k)
@@ -73,11 +76,19 @@ pub fn friction_label(f: &Friction) -> String {
     }
 }
 
+/// A case parameter for titles and legends: its tick label, or `drawn`.
+pub fn param_label(p: Param<f64>) -> String {
+    match p {
+        Param::Fixed(x) => super::style::tick_label(x),
+        Param::Drawn => "drawn".to_string(),
+    }
+}
+
 /// What the figures read from a study folder.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StudyData {
     /// Successful analyses, sorted by case, PGA and record.
-    pub outcomes: Vec<OutcomeRow>,
+    pub outcomes: Vec<PlotRow>,
     /// Fitted fragility curves, sorted by case and IM; `None` when the folder
     /// has no `fragility_curves.csv`.
     pub curves: Option<Vec<CurvePoint>>,
@@ -86,23 +97,18 @@ pub struct StudyData {
 impl StudyData {
     /// Reads `dir/outcomes.csv` and, if present, `dir/fragility_curves.csv`.
     pub fn load(dir: &Path) -> Result<StudyData> {
-        StudyData::load_pooled(dir, Pooled::default())
+        StudyData::load_pooled(dir, &[])
     }
 
     /// As [`StudyData::load`], with each analysis in the case that pools
-    /// the parameters `pooled` (those the study draws per analysis).
-    pub fn load_pooled(dir: &Path, pooled: Pooled) -> Result<StudyData> {
+    /// the fields `pooled` (those the study draws per analysis).
+    pub fn load_pooled(dir: &Path, pooled: &[Field]) -> Result<StudyData> {
         let mut outcomes = read_outcomes(&dir.join("outcomes.csv"))?;
-        if pooled.any() {
+        if !pooled.is_empty() {
             for row in &mut outcomes {
                 row.case = row.case.pooled(pooled);
             }
-            outcomes.sort_by(|a, b| {
-                a.case
-                    .total_cmp(&b.case)
-                    .then(a.pga.total_cmp(&b.pga))
-                    .then(a.record.cmp(&b.record))
-            });
+            sort(&mut outcomes);
         }
         let curves_path = dir.join("fragility_curves.csv");
         let curves = if curves_path.exists() {
@@ -114,28 +120,25 @@ impl StudyData {
     }
 }
 
-/// Reads `outcomes.csv` with [`OutcomesReader`]; skips failed rows; returns
-/// the rows sorted by case, PGA and record.
+fn sort(rows: &mut [PlotRow]) {
+    rows.sort_by(|a, b| {
+        a.case
+            .total_cmp(&b.case)
+            .then(a.pga.total_cmp(&b.pga))
+            .then(a.record.cmp(&b.record))
+    });
+}
+
+/// Reads `outcomes.csv` through [`OutcomesFile`]; skips failed rows;
+/// returns the rows sorted by case, PGA and record.
 ///
-/// Errors: [`Error::Io`](crate::Error::Io) if the file cannot be read,
-/// [`Error::Parse`](crate::Error::Parse) naming the line for a missing
+/// Errors: [`Error::Io`] if the file cannot be read,
+/// [`Error::Parse`] naming the line for a missing
 /// column, or the line, column and value for an unreadable value.
-pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
-    let (
-        mut table,
-        [
-            pga,
-            record,
-            overturned,
-            uplifted,
-            theta,
-            mu_mot,
-            mu_imp,
-            impacts,
-        ],
-    ) = OutcomesReader::open(
+pub fn read_outcomes(path: &Path) -> Result<Vec<PlotRow>> {
+    let mut table = OutcomesFile::open(
         path,
-        [
+        &[
             Column::Pga,
             Column::Record,
             Column::Overturned,
@@ -148,74 +151,51 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<OutcomeRow>> {
         "the figures",
     )?;
     // optional: files written before the column existed lack it
-    let mu_eq5 = table.column(Column::MuImpactEq5);
+    let has_eq5 = table.has(Column::MuImpactEq5);
     let mut rows = Vec::new();
-    while let Some(row) = table.next_row()? {
-        if row.failed() {
-            continue;
-        }
-        rows.push(OutcomeRow {
-            case: row.case()?,
-            pga: row.number(pga)?,
-            record: row.integer(record)?,
-            overturned: row.boolean(overturned)?,
-            uplifted: row.boolean(uplifted)?,
-            theta_max_over_theta_c: row.number(theta)?,
-            mu_motion: row.number(mu_mot)?,
-            mu_impact: row.number(mu_imp)?,
-            mu_impact_eq5: mu_eq5.map(|i| row.number(i)).transpose()?,
-            impacts: row.integer(impacts)?,
+    while let Some((line, row)) = table.next_row()? {
+        let Ok(o) = &row.result else { continue };
+        let pga = row.pga.ok_or_else(|| Error::Parse {
+            path: path.to_path_buf(),
+            line,
+            message: "column `pga` = \"\": expected a number".into(),
+        })?;
+        rows.push(PlotRow {
+            case: row.case,
+            pga,
+            record: row.record as u64,
+            overturned: o.overturned,
+            uplifted: o.uplifted,
+            theta_max_over_theta_c: o.theta_max_over_theta_c,
+            mu_motion: o.mu_motion,
+            mu_impact: o.mu_impact,
+            mu_impact_eq5: has_eq5.then_some(o.mu_impact_eq5),
+            impacts: o.impacts,
         });
     }
-    rows.sort_by(|a, b| {
-        a.case
-            .total_cmp(&b.case)
-            .then(a.pga.total_cmp(&b.pga))
-            .then(a.record.cmp(&b.record))
-    });
+    sort(&mut rows);
     Ok(rows)
 }
 
-/// Reads `fragility_curves.csv` (as written by [`crate::fragility`]) by
-/// header name (the case columns and `im, im_value, p, p_lo, p_hi`): the
-/// fitted probability and its 90 % band on an IM grid. Only curves fitted
-/// against PGA (`im` = `pga`) are kept, since the figure draws them over the
-/// PGA stripes; an empty band (no bootstrap) reads as the curve itself.
-/// Returns the points sorted by case, limit state (in the file's order:
-/// a case's limit states in order of severity) and IM.
-///
-/// This is the one place that reads the fragility file's layout.
+/// Reads `fragility_curves.csv` ([`read_curves_csv`]): the fitted
+/// probability and its 90 % band on an IM grid. Only curves fitted against
+/// PGA are kept, since the figure draws them over the PGA stripes; an empty
+/// band (no bootstrap) reads as the curve itself. Returns the points sorted
+/// by case, limit state (in the file's order: a case's limit states in
+/// order of severity) and IM.
 pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
-    let (mut table, [im_name, im, p, lo, hi]) = OutcomesReader::open(
-        path,
-        ["im", "im_value", "p", "p_lo", "p_hi"],
-        "the fragility figure",
-    )?;
-    let limit_state = table.column("limit_state");
-    let mut points = Vec::new();
-    while let Some(row) = table.next_row()? {
-        if row.field(im_name) != "pga" {
-            continue;
-        }
-        let p = row.number(p)?;
-        let band = |i: usize| {
-            if row.field(i).is_empty() {
-                Ok(p)
-            } else {
-                row.number(i)
-            }
-        };
-        points.push(CurvePoint {
-            case: row.case()?,
-            limit_state: limit_state
-                .map_or("overturning", |i| row.field(i))
-                .to_string(),
-            im: row.number(im)?,
-            p,
-            p_lo: band(lo)?,
-            p_hi: band(hi)?,
-        });
-    }
+    let mut points: Vec<CurvePoint> = read_curves_csv(path)?
+        .into_iter()
+        .filter(|r| r.im == IntensityMeasure::Pga)
+        .map(|r| CurvePoint {
+            case: r.case,
+            limit_state: r.limit_state,
+            im: r.im_value,
+            p: r.p,
+            p_lo: r.band.map_or(r.p, |b| b.0),
+            p_hi: r.band.map_or(r.p, |b| b.1),
+        })
+        .collect();
     // Limit states keep the file's order (a case's, in order of severity).
     let mut order: Vec<String> = Vec::new();
     for p in &points {
@@ -233,20 +213,37 @@ pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
     Ok(points)
 }
 
-/// The distinct values of `values`, sorted (values equal as `f64` are one,
-/// and so are NaNs: the placeholder of a drawn parameter).
-pub fn distinct(values: impl IntoIterator<Item = f64>) -> Vec<f64> {
-    let mut v: Vec<f64> = values.into_iter().collect();
-    v.sort_by(f64::total_cmp);
-    v.dedup_by(|a, b| same(*a, *b));
+/// The distinct values of `values`, sorted (drawn last, once).
+pub fn distinct(values: impl IntoIterator<Item = Param<f64>>) -> Vec<Param<f64>> {
+    let mut v: Vec<Param<f64>> = values.into_iter().collect();
+    v.sort_by(Param::total_cmp);
+    v.dedup();
     v
 }
 
-/// The distinct friction models of `values`, infinite first.
-pub fn distinct_friction(values: impl IntoIterator<Item = Friction>) -> Vec<Friction> {
-    let mut v: Vec<Friction> = values.into_iter().collect();
+/// The distinct fixed values of `values`, sorted (drawn ones left out).
+pub fn distinct_fixed(values: impl IntoIterator<Item = Param<f64>>) -> Vec<f64> {
+    distinct(values)
+        .into_iter()
+        .filter_map(Param::fixed)
+        .collect()
+}
+
+/// The distinct numbers of `values`, sorted.
+pub fn distinct_numbers(values: impl IntoIterator<Item = f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = values.into_iter().collect();
+    v.sort_by(f64::total_cmp);
+    v.dedup();
+    v
+}
+
+/// The distinct friction models of `values`, infinite first, drawn last.
+pub fn distinct_friction(
+    values: impl IntoIterator<Item = Param<Friction>>,
+) -> Vec<Param<Friction>> {
+    let mut v: Vec<Param<Friction>> = values.into_iter().collect();
     v.sort_by(cmp_friction);
-    v.dedup_by(|a, b| same_friction(a, b));
+    v.dedup();
     v
 }
 
@@ -271,14 +268,14 @@ mod tests {
         .unwrap();
         let rows = read_outcomes(&path).unwrap();
         assert_eq!(rows.len(), 2);
-        assert_eq!(rows[0].case.friction, Friction::Infinite);
+        assert_eq!(rows[0].case.friction, Param::Fixed(Friction::Infinite));
         assert!(rows[0].uplifted && !rows[0].overturned);
         assert_eq!(
             rows[1].case.friction,
-            Friction::Coulomb {
+            Param::Fixed(Friction::Coulomb {
                 mu_s: 0.7,
                 mu_k: 0.6
-            }
+            })
         );
         assert_eq!(rows[1].impacts, 4);
         // a file from before the eq. (5) column reads, without it

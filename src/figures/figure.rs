@@ -1,11 +1,9 @@
 //! The [`Figure`] trait and [`save`]: one figure drawn on any plotters
 //! backend, written as SVG or PNG by file extension, atomically.
 
-use std::ffi::OsString;
 use std::fs;
 use std::io;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::prelude::{
@@ -105,34 +103,28 @@ pub fn save<F: Figure + ?Sized>(figure: &F, path: &Path) -> Result<()> {
         source,
     };
 
-    let tmp = temp_path(path, format);
-    let result = (|| {
-        match format {
-            Format::Svg => {
-                let mut svg = String::new();
-                {
-                    let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-                    figure.draw(&root, &style).map_err(drawing_error)?;
-                    root.present().map_err(drawing_error)?;
-                }
-                fs::write(&tmp, svg)?;
-            }
-            Format::Png => {
-                // Creating the file first reports a missing directory or a
-                // permission problem as the I/O error it is; the backend then
-                // overwrites it, choosing the encoder by the `.png` extension.
-                fs::File::create(&tmp)?;
-                let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+    // The temporary file keeps the extension: the PNG encoder is chosen by it.
+    crate::io_util::write_atomic_path(path, |tmp| match format {
+        Format::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
                 figure.draw(&root, &style).map_err(drawing_error)?;
                 root.present().map_err(drawing_error)?;
             }
+            fs::write(tmp, svg)
         }
-        fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result.map_err(io_err)
+        Format::Png => {
+            // Creating the file first reports a missing directory or a
+            // permission problem as the I/O error it is; the backend then
+            // overwrites it.
+            fs::File::create(tmp)?;
+            let root = BitMapBackend::new(tmp, size).into_drawing_area();
+            figure.draw(&root, &style).map_err(drawing_error)?;
+            root.present().map_err(drawing_error)
+        }
+    })
+    .map_err(io_err)
 }
 
 /// Wraps a plotters error as an I/O error (plotters reports file and encoding
@@ -141,19 +133,4 @@ fn drawing_error<E: std::error::Error + Send + Sync + 'static>(
     err: DrawingAreaErrorKind<E>,
 ) -> io::Error {
     io::Error::other(format!("drawing the figure failed: {err}"))
-}
-
-/// A fresh hidden name next to `path` that keeps the format's extension (the
-/// PNG encoder is chosen by it): `dir/.name.<pid>-<n>.tmp.<ext>`.
-fn temp_path(path: &Path, format: Format) -> PathBuf {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let mut name = OsString::from(".");
-    name.push(path.file_name().unwrap_or_else(|| "figure".as_ref()));
-    name.push(format!(
-        ".{}-{n}.tmp.{}",
-        std::process::id(),
-        format.extension()
-    ));
-    path.with_file_name(name)
 }

@@ -19,11 +19,13 @@ use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
 use plotters::style::{BLACK, Color};
 
-use super::data::{StudyData, distinct, distinct_friction, friction_label, same};
+use super::data::{
+    StudyData, distinct, distinct_friction, distinct_numbers, friction_label, param_label,
+};
 use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
-use super::style::{PAGE_WIDTH_IN, Style, tick_label};
-use crate::outcomes_csv::CaseKey;
+use super::style::{PAGE_WIDTH_IN, Style};
+use crate::case::{Case, Param};
 use crate::solver::Friction;
 
 /// Figure height (in), before legend rows beyond the first.
@@ -62,10 +64,10 @@ pub struct FragilityPanel {
 pub struct FragilityFigure {
     /// Title.
     pub title: String,
-    /// Restitution values, ascending.
-    pub restitutions: Vec<f64>,
-    /// Friction models, infinite first.
-    pub frictions: Vec<Friction>,
+    /// Restitution values, ascending (drawn last).
+    pub restitutions: Vec<Param<f64>>,
+    /// Friction models, infinite first (drawn last).
+    pub frictions: Vec<Param<Friction>>,
     /// Whether fitted curves were available.
     pub fitted: bool,
     /// Panels, by aspect ratio then width.
@@ -86,7 +88,7 @@ impl FragilityFigure {
             .iter()
             .map(|r| r.case)
             .chain(curves.iter().map(|c| c.case));
-        let cases: Vec<CaseKey> = cases.collect();
+        let cases: Vec<Case> = cases.collect();
         let restitutions = distinct(cases.iter().map(|c| c.restitution));
         let frictions = distinct_friction(cases.iter().map(|c| c.friction));
         let blocks = distinct_blocks(&cases);
@@ -108,7 +110,7 @@ impl FragilityFigure {
             let mut series = Vec::new();
             for (ie, &e) in restitutions.iter().enumerate() {
                 for (jf, f) in frictions.iter().enumerate() {
-                    let case = CaseKey {
+                    let case = Case {
                         aspect,
                         width,
                         restitution: e,
@@ -125,14 +127,15 @@ impl FragilityFigure {
                         })
                         .collect();
                     let mine: Vec<_> = rows.iter().filter(|r| r.case == case).collect();
-                    let observed: Vec<(f64, f64, usize)> = distinct(mine.iter().map(|r| r.pga))
-                        .into_iter()
-                        .map(|pga| {
-                            let at: Vec<_> = mine.iter().filter(|r| r.pga == pga).collect();
-                            let k = at.iter().filter(|r| r.overturned).count();
-                            (pga, k as f64 / at.len() as f64, at.len())
-                        })
-                        .collect();
+                    let observed: Vec<(f64, f64, usize)> =
+                        distinct_numbers(mine.iter().map(|r| r.pga))
+                            .into_iter()
+                            .map(|pga| {
+                                let at: Vec<_> = mine.iter().filter(|r| r.pga == pga).collect();
+                                let k = at.iter().filter(|r| r.overturned).count();
+                                (pga, k as f64 / at.len() as f64, at.len())
+                            })
+                            .collect();
                     if fits.iter().all(Vec::is_empty) && observed.is_empty() {
                         continue;
                     }
@@ -151,9 +154,9 @@ impl FragilityFigure {
                 }
             }
             let mut label = format!("H/B = {}", param_label(aspect));
-            if several_widths || width.is_nan() {
+            if several_widths || width.is_drawn() {
                 label.push_str(&format!(", 2B = {}", param_label(width)));
-                if !width.is_nan() {
+                if !width.is_drawn() {
                     label.push_str(" m");
                 }
             }
@@ -221,16 +224,6 @@ impl FragilityFigure {
     }
 }
 
-/// A case parameter for a label: its value, or `drawn` when it is drawn per
-/// analysis (NaN in the pooled case).
-fn param_label(x: f64) -> String {
-    if x.is_nan() {
-        "drawn".to_string()
-    } else {
-        tick_label(x)
-    }
-}
-
 /// How much lighter than its case's colour limit state `k` of `n` (in order
 /// of severity) is drawn: the most severe not at all, the mildest 0.6.
 fn severity_tint(k: usize, n: usize) -> f64 {
@@ -246,11 +239,11 @@ pub fn restitution_colour(i: usize) -> plotters::style::RGBColor {
     super::style::PALETTE[i % super::style::PALETTE.len()]
 }
 
-/// The distinct (aspect, width) pairs, sorted.
-fn distinct_blocks(cases: &[CaseKey]) -> Vec<(f64, f64)> {
-    let mut v: Vec<(f64, f64)> = cases.iter().map(|c| (c.aspect, c.width)).collect();
+/// The distinct (aspect, width) pairs, sorted (drawn last).
+pub(crate) fn distinct_blocks(cases: &[Case]) -> Vec<(Param<f64>, Param<f64>)> {
+    let mut v: Vec<(Param<f64>, Param<f64>)> = cases.iter().map(|c| (c.aspect, c.width)).collect();
     v.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    v.dedup_by(|a, b| same(a.0, b.0) && same(a.1, b.1));
+    v.dedup();
     v
 }
 

@@ -9,31 +9,34 @@
 //! the paper's eq. (5) (`mu_impact_eq5`), which is what the paper's μ_imp
 //! column reports, on the same log axis as (b) since the paper's values span
 //! 0.1–10⁴. Every panel carries the paper's eq. (8),
-//! μ = 3 cosθc sinθc/(1 + 3cos²θc), and its small-angle form 0.75·B/H;
-//! (a) and (c) carry the paper's table values for the study's blocks (open
-//! squares, one per table row, set [`PAPER_DODGE`] of the axis to the right
-//! of their B/H so that they do not hide this study's means). For an
-//! `outcomes.csv` written before the eq. (5) column existed, panel (c) is
-//! left out and the paper's μ_imp values go to panel (b).
+//! μ = 3 cosθc sinθc/(1 + 3cos²θc), and its small-angle form 0.75·B/H.
+//! Published values may be set beside this study's means
+//! ([`DemandSeries::reference`], drawn as open squares set
+//! [`REFERENCE_DODGE`] of the axis to the right of their B/H so that they do
+//! not hide the means, with [`FrictionDemandFigure::reference_label`] in the
+//! legend): the paper layer puts its Tables 1–3 there for the paper's study.
+//! For an `outcomes.csv` written before the eq. (5) column existed, panel
+//! (c) is left out.
 
+use crate::detmath as dm;
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
 use plotters::style::{BLACK, Color, RGBColor};
 
-use super::data::{OutcomeRow, StudyData, distinct};
+use super::data::{PlotRow, StudyData, distinct, distinct_fixed, distinct_numbers, param_label};
 use super::figure::{DrawResult, Figure};
 use super::fragility::restitution_colour;
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
+use crate::case::Param;
 use crate::solver::Friction;
-use crate::study::paper::TABLES;
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 3.3;
 /// Panel margins: 30 pt for the y tick labels, 10 pt on the right.
 const MARGINS: Margins = Margins::new(30.0, 10.0);
-/// Horizontal offset of the paper's markers, as a fraction of the B/H axis.
-pub const PAPER_DODGE: f64 = 0.02;
+/// Horizontal offset of the reference markers, as a fraction of the B/H axis.
+pub const REFERENCE_DODGE: f64 = 0.02;
 /// Points on each reference curve.
 const REFERENCE_POINTS: usize = 120;
 
@@ -42,12 +45,15 @@ const REFERENCE_POINTS: usize = 120;
 pub struct DemandSeries {
     /// Legend label (`0.6 g`, `e = 0.3`).
     pub label: String,
+    /// What the series is for: its PGA (g) in panel (a), its e in (b), (c).
+    pub at: Param<f64>,
     /// Line colour.
     pub colour: RGBColor,
     /// (B/H, mean) of this study, B/H ascending.
     pub means: Vec<(f64, f64)>,
-    /// (B/H, value) of the paper's table rows in this series.
-    pub paper: Vec<(f64, f64)>,
+    /// (B/H, value) of published results in this series (see
+    /// [`FrictionDemandFigure::reference_label`]).
+    pub reference: Vec<(f64, f64)>,
 }
 
 /// The friction-demand figure's data.
@@ -57,20 +63,22 @@ pub struct FrictionDemandFigure {
     pub title: String,
     /// Panel (a): μ_mot, a series per PGA.
     pub motion: Vec<DemandSeries>,
-    /// Panel (b): μ_imp, a series per restitution (with the paper's values
-    /// only when there is no panel (c)).
+    /// Panel (b): μ_imp, a series per restitution.
     pub impact: Vec<DemandSeries>,
-    /// Panel (c): the paper's eq. (5), a series per restitution, with the
-    /// paper's μ_imp values; empty when the study's file has no such column.
+    /// Panel (c): the paper's eq. (5), a series per restitution; empty when
+    /// the study's file has no such column.
     pub eq5: Vec<DemandSeries>,
     /// Largest B/H of the study.
     pub b_over_h_max: f64,
+    /// Legend label of the reference values (drawn when any series has
+    /// some), e.g. `paper, Tables 1–3`.
+    pub reference_label: Option<String>,
 }
 
 /// The paper's eq. (8) as a function of B/H: the impulse ratio of a rock
 /// impact without slip, 3 cosθc sinθc/(1 + 3 cos²θc), θc = atan(B/H).
 pub fn eq8(b_over_h: f64) -> f64 {
-    let (s, c) = b_over_h.atan().sin_cos();
+    let (s, c) = dm::sin_cos(dm::atan(b_over_h));
     3.0 * c * s / (1.0 + 3.0 * c * c)
 }
 
@@ -99,16 +107,10 @@ pub fn level_colour(i: usize, n: usize) -> RGBColor {
 }
 
 /// The PGA levels drawn as lines: all of them if there are at most
-/// [`MAX_LEVELS`]; otherwise the paper's four (0.3, 0.6, 0.9, 1.2 g) if the
-/// study has them all, so that its tables can be compared; otherwise
-/// [`PICKED_LEVELS`] spread over the range.
+/// [`MAX_LEVELS`]; otherwise [`PICKED_LEVELS`] spread over the range.
 pub fn shown_levels(levels: &[f64]) -> Vec<f64> {
     if levels.len() <= MAX_LEVELS {
-        return levels.to_vec();
-    }
-    let paper = distinct(TABLES.iter().map(|r| r.pga));
-    if paper.iter().all(|p| levels.contains(p)) {
-        paper
+        levels.to_vec()
     } else {
         pick_levels(levels, PICKED_LEVELS)
     }
@@ -125,21 +127,14 @@ impl FrictionDemandFigure {
         let rows: Vec<_> = data
             .outcomes
             .iter()
-            .filter(|r| r.case.friction == Friction::Infinite && !r.overturned)
+            .filter(|r| r.case.friction == INFINITE && !r.overturned)
             .collect();
-        if !data
-            .outcomes
-            .iter()
-            .any(|r| r.case.friction == Friction::Infinite)
-        {
+        if !data.outcomes.iter().any(|r| r.case.friction == INFINITE) {
             return None;
         }
-        let all_inf = data
-            .outcomes
-            .iter()
-            .filter(|r| r.case.friction == Friction::Infinite);
-        let aspects = distinct(all_inf.clone().map(|r| r.case.aspect));
-        let levels = shown_levels(&distinct(all_inf.clone().map(|r| r.pga)));
+        let all_inf = data.outcomes.iter().filter(|r| r.case.friction == INFINITE);
+        let aspects = distinct_fixed(all_inf.clone().map(|r| r.case.aspect));
+        let levels = shown_levels(&distinct_numbers(all_inf.clone().map(|r| r.pga)));
         let es = distinct(all_inf.clone().map(|r| r.case.restitution));
         let widths = distinct(all_inf.map(|r| r.case.width));
 
@@ -148,6 +143,7 @@ impl FrictionDemandFigure {
             .enumerate()
             .map(|(i, &pga)| DemandSeries {
                 label: format!("{} g", tick_label(pga)),
+                at: Param::Fixed(pga),
                 colour: level_colour(i, levels.len()),
                 means: aspects
                     .iter()
@@ -155,58 +151,50 @@ impl FrictionDemandFigure {
                     .filter_map(|&a| {
                         mean(
                             rows.iter()
-                                .filter(|r| r.case.aspect == a && r.pga == pga && r.mu_motion > 0.0)
+                                .filter(|r| {
+                                    r.case.aspect == Param::Fixed(a)
+                                        && r.pga == pga
+                                        && r.mu_motion > 0.0
+                                })
                                 .map(|r| r.mu_motion),
                         )
                         .map(|m| (1.0 / a, m))
                     })
                     .collect(),
-                paper: TABLES
-                    .iter()
-                    .filter(|p| p.pga == pga && aspects.contains(&p.aspect))
-                    .filter_map(|p| p.mu_motion.map(|m| (1.0 / p.aspect, m)))
-                    .collect(),
+                reference: Vec::new(),
             })
             .collect();
         let has_eq5 = rows.iter().all(|r| r.mu_impact_eq5.is_some());
-        let impact_series =
-            |value: &dyn Fn(&OutcomeRow) -> f64, paper: bool| -> Vec<DemandSeries> {
-                es.iter()
-                    .enumerate()
-                    .map(|(i, &e)| DemandSeries {
-                        label: format!("e = {}", tick_label(e)),
-                        colour: restitution_colour(i),
-                        means: aspects
-                            .iter()
-                            .rev()
-                            .filter_map(|&a| {
-                                mean(
-                                    rows.iter()
-                                        .filter(|r| {
-                                            r.case.aspect == a
-                                                && r.case.restitution == e
-                                                && r.impacts > 0
-                                        })
-                                        .map(|r| value(r)),
-                                )
-                                .map(|m| (1.0 / a, m))
-                            })
-                            .collect(),
-                        paper: if paper {
-                            TABLES
-                                .iter()
-                                .filter(|p| p.restitution == e && aspects.contains(&p.aspect))
-                                .filter_map(|p| p.mu_impact.map(|m| (1.0 / p.aspect, m)))
-                                .collect()
-                        } else {
-                            Vec::new()
-                        },
-                    })
-                    .collect()
-            };
-        let impact = impact_series(&|r| r.mu_impact, !has_eq5);
+        let impact_series = |value: &dyn Fn(&PlotRow) -> f64| -> Vec<DemandSeries> {
+            es.iter()
+                .enumerate()
+                .map(|(i, &e)| DemandSeries {
+                    label: format!("e = {}", param_label(e)),
+                    at: e,
+                    colour: restitution_colour(i),
+                    means: aspects
+                        .iter()
+                        .rev()
+                        .filter_map(|&a| {
+                            mean(
+                                rows.iter()
+                                    .filter(|r| {
+                                        r.case.aspect == Param::Fixed(a)
+                                            && r.case.restitution == e
+                                            && r.impacts > 0
+                                    })
+                                    .map(|r| value(r)),
+                            )
+                            .map(|m| (1.0 / a, m))
+                        })
+                        .collect(),
+                    reference: Vec::new(),
+                })
+                .collect()
+        };
+        let impact = impact_series(&|r| r.mu_impact);
         let eq5 = if has_eq5 {
-            impact_series(&|r| r.mu_impact_eq5.unwrap_or(0.0), true)
+            impact_series(&|r| r.mu_impact_eq5.unwrap_or(0.0))
         } else {
             Vec::new()
         };
@@ -220,38 +208,25 @@ impl FrictionDemandFigure {
             impact,
             eq5,
             b_over_h_max: aspects.first().map_or(0.5, |a| 1.0 / a),
+            reference_label: None,
         })
     }
-}
 
-impl FrictionDemandFigure {
-    /// The figure without the paper's values (for a study that is not the
-    /// paper's set-up, whose cells only share the paper's grid values): no
-    /// open squares, and no legend entry for them.
-    pub fn without_paper(mut self) -> Self {
-        for s in self
-            .motion
-            .iter_mut()
-            .chain(&mut self.impact)
-            .chain(&mut self.eq5)
-        {
-            s.paper.clear();
-        }
-        self
-    }
-
-    /// Whether any panel carries a value of the paper's tables.
-    pub fn has_paper(&self) -> bool {
+    /// Whether any panel carries a reference value.
+    pub fn has_reference(&self) -> bool {
         self.motion
             .iter()
             .chain(&self.impact)
             .chain(&self.eq5)
-            .any(|s| !s.paper.is_empty())
+            .any(|s| !s.reference.is_empty())
     }
 }
 
-/// Draws each series' means (line and filled circles) and the paper's values
-/// (open squares, moved right by `dodge`) on `chart`.
+/// Infinite friction, as a case parameter.
+const INFINITE: Param<Friction> = Param::Fixed(Friction::Infinite);
+
+/// Draws each series' means (line and filled circles) and the reference
+/// values (open squares, moved right by `dodge`) on `chart`.
 macro_rules! draw_series_set {
     ($chart:expr, $series:expr, $style:expr, $dodge:expr) => {{
         for s in $series.iter() {
@@ -261,7 +236,7 @@ macro_rules! draw_series_set {
         for s in $series.iter() {
             markers!(
                 $chart,
-                s.paper.iter().map(|&(x, y)| (x + $dodge, y)),
+                s.reference.iter().map(|&(x, y)| (x + $dodge, y)),
                 s.colour,
                 Marker::Square,
                 false,
@@ -297,10 +272,14 @@ impl Figure for FrictionDemandFigure {
                 "this study, mean",
             ),
         ];
-        if self.has_paper() {
+        if let Some(label) = self
+            .reference_label
+            .as_ref()
+            .filter(|_| self.has_reference())
+        {
             shared.push(Entry::new(
                 Sample::Point(BLACK, Marker::Square, false),
-                "paper, Tables 1–3",
+                label.clone(),
             ));
         }
         let frame = Frame::new(root, style, &self.title, &shared, MARGINS)?;
@@ -357,7 +336,7 @@ impl Figure for FrictionDemandFigure {
         let (lo, hi) = panels[1..]
             .iter()
             .flat_map(|(_, series)| series.iter())
-            .flat_map(|s| s.means.iter().chain(&s.paper))
+            .flat_map(|s| s.means.iter().chain(&s.reference))
             .map(|p| p.1)
             .filter(|v| *v > 0.0 && v.is_finite())
             .fold((f64::INFINITY, 0.0_f64), |(l, h), v| (l.min(v), h.max(v)));
@@ -370,7 +349,7 @@ impl Figure for FrictionDemandFigure {
             if k == 0 {
                 let hi = series
                     .iter()
-                    .flat_map(|s| s.means.iter().chain(&s.paper))
+                    .flat_map(|s| s.means.iter().chain(&s.reference))
                     .map(|p| p.1)
                     .fold(0.0_f64, f64::max);
                 let y_hi = hi.max(0.75 * x_max) * 1.08;
@@ -387,7 +366,7 @@ impl Figure for FrictionDemandFigure {
                     Dash::Dashed,
                     style
                 );
-                draw_series_set!(chart, series, style, x_max * PAPER_DODGE);
+                draw_series_set!(chart, series, style, x_max * REFERENCE_DODGE);
             } else {
                 let y_lo = lo.min(eq8(self.b_over_h_max)) * 0.6;
                 let mut chart = frame
@@ -406,7 +385,7 @@ impl Figure for FrictionDemandFigure {
                     Dash::Dashed,
                     style
                 );
-                draw_series_set!(chart, series, style, x_max * PAPER_DODGE);
+                draw_series_set!(chart, series, style, x_max * REFERENCE_DODGE);
             }
         }
         Ok(())
@@ -433,20 +412,12 @@ mod tests {
     }
 
     #[test]
-    fn eq5_panel_carries_the_papers_impact_values_when_the_column_exists() {
+    fn eq5_panel_exists_when_the_column_does() {
         // With mu_impact_eq5 read, panel (c) has a series per e with this
-        // study's mean of it and the paper's μ_imp rows (H/B = 4: four per
-        // e), and panel (b) none of the paper's; without the column (a file
-        // from before it), no panel (c) and the paper's values sit in (b).
-        use crate::figures::data::OutcomeRow;
-        use crate::outcomes_csv::CaseKey;
-        let row = |e: f64, eq5: Option<f64>| OutcomeRow {
-            case: CaseKey {
-                aspect: 4.0,
-                width: 0.5,
-                restitution: e,
-                friction: Friction::Infinite,
-            },
+        // study's mean of it; without the column (a file from before it),
+        // no panel (c). No reference values unless a layer sets them.
+        let row = |e: f64, eq5: Option<f64>| PlotRow {
+            case: crate::case::Case::fixed(4.0, 0.5, e, Friction::Infinite),
             pga: 0.6,
             record: 0,
             overturned: false,
@@ -464,27 +435,21 @@ mod tests {
         let f = FrictionDemandFigure::from_study(&with).unwrap();
         assert_eq!(f.eq5.len(), 2);
         assert_eq!(f.eq5[1].means, vec![(0.25, 250.0)]);
-        assert_eq!(f.eq5[1].paper.len(), 4);
-        assert!(f.eq5[1].paper.contains(&(0.25, 9550.0)));
-        assert!(f.impact.iter().all(|s| s.paper.is_empty()));
         assert_eq!(f.impact[1].means, vec![(0.25, 0.4)]);
+        assert!(!f.has_reference());
         let without = StudyData {
             outcomes: vec![row(0.0, None), row(0.9, None)],
             curves: None,
         };
         let f = FrictionDemandFigure::from_study(&without).unwrap();
         assert!(f.eq5.is_empty());
-        assert_eq!(f.impact[1].paper.len(), 4);
     }
 
     #[test]
-    fn many_levels_are_thinned_to_the_papers_or_spread() {
-        // Up to five levels are all drawn; a fine grid containing the
-        // paper's four levels shows those; otherwise four spread levels.
+    fn many_levels_are_thinned_to_spread_ones() {
+        // Up to five levels are all drawn; otherwise four spread levels.
         let few = [0.3, 0.6, 0.9];
         assert_eq!(shown_levels(&few), few.to_vec());
-        let fine: Vec<f64> = (1..=15).map(|k| k as f64 / 10.0).collect();
-        assert_eq!(shown_levels(&fine), vec![0.3, 0.6, 0.9, 1.2]);
         let odd: Vec<f64> = (1..=10).map(|k| k as f64 * 0.25).collect();
         assert_eq!(shown_levels(&odd), vec![0.25, 1.0, 1.75, 2.5]);
     }

@@ -1,26 +1,47 @@
 //! A time history of one analysis: ground acceleration and θ/θc against
 //! time, with the block's mode shaded behind both panels and the impacts
-//! marked.
+//! marked. The time axis is zoomed to the active part of the record.
 //!
-//! The analysis is chosen, not hand-picked: of the records of a
-//! [`HistoryCase`], the one whose run shows the most modes (each for at
-//! least [`MIN_MODE_S`]) is drawn, preferring runs that do not overturn and
-//! then the longest motion; ties go to the lowest record index. The time
-//! axis is zoomed to the active part of the record.
+//! The analysis is chosen, not hand-picked ([`HistoryChoice`]). By default
+//! it is one of the study's own analyses ([`HistoryFigure::from_study`]),
+//! re-solved with its time history:
+//!
+//! 1. the case: the one asked for (by its [`Case::id`]), else the first
+//!    case, in canonical order, with a run that rocked (θmax/θc ≥
+//!    [`ROCKED`]) without overturning, else the first case;
+//! 2. the stripe: the one asked for, else the stripe nearest (in ln IM) the
+//!    median of the case's fitted curve of its most severe limit state
+//!    (where a rocking block is most telling: some runs fall, some stand),
+//!    else the lowest stripe where a run overturned, else the highest;
+//! 3. the record: at that case and stripe, the run with the largest
+//!    θmax/θc that did not overturn (else the largest overall); ties go to
+//!    the lowest record index.
+//!
+//! Or one block under the first records of a synthetic ensemble at one PGA
+//! ([`HistoryCase`]): the run that shows the most modes (each for at least
+//! [`MIN_MODE_S`]) is drawn, preferring runs that do not overturn and then
+//! the longest motion; ties go to the lowest record index. The paper layer
+//! draws its illustrative block so.
 
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, Rectangle};
 use plotters::style::{BLACK, Color, RGBColor};
 
+use super::data::{PlotRow, StudyData};
 use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
 use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
+use crate::case::{Case, Field, Param};
+use crate::detmath as dm;
 use crate::error::{Error, Result};
+use crate::io_util::sig3;
 use crate::motion::{Record, SynthesisSettings, Synthesizer};
 use crate::outcome::{Mode, Outcome};
+use crate::outcomes_csv::{Column, OutcomesFile};
 use crate::solver::{Analysis, Block, Friction, History, SolverSettings, simulate};
-use crate::spec::Intensity;
-use crate::study::Source;
+use crate::spec::{Intensity, Motions, Study};
+use crate::study::{Source, plan};
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Figure height (in).
@@ -33,42 +54,48 @@ pub const MIN_MODE_S: f64 = 0.01;
 const ZOOM_PAD_S: f64 = 1.0;
 /// Velocity jump (relative to √(gR)) above which an event is an impact.
 const IMPACT_JUMP: f64 = 1e-9;
+/// θmax/θc from which a run counts as having rocked, for the choice of the
+/// case.
+pub const ROCKED: f64 = 0.1;
 
-/// Which analyses the history figure chooses from.
-#[derive(Clone, Debug, PartialEq)]
-pub struct HistoryCase {
-    /// Aspect ratio H/B (default: 2).
-    pub aspect: f64,
-    /// Base width 2B, m (default: 0.5).
-    pub width: f64,
-    /// Coefficient of restitution e (default: 0.6).
-    pub restitution: f64,
-    /// Static friction μs (default: 0.6, above B/H = 0.5: the block rocks
-    /// from rest, and slides only after impacts and during slide-rock).
-    pub mu_s: f64,
-    /// Kinetic friction μk (default: 0.4).
-    pub mu_k: f64,
-    /// Peak ground acceleration, g (default: 0.9).
-    pub pga: f64,
-    /// Ensemble seed (default: 1, the study runner's default).
-    pub seed: u64,
-    /// Records 0..`records` are tried (default: 25).
-    pub records: u64,
+/// Which analysis the history figure draws.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum HistoryChoice {
+    /// One of the study's analyses, chosen as the module docs of
+    /// `figures::history` say.
+    #[default]
+    Chosen,
+    /// One of the study's analyses at this case (its [`Case::id`]) and, if
+    /// given, this stripe (the level, in the study's unit).
+    At {
+        /// The case's id.
+        case: String,
+        /// The stripe's level.
+        level: Option<f64>,
+    },
+    /// One block under the first records of a synthetic ensemble.
+    Case(HistoryCase),
 }
 
-impl Default for HistoryCase {
-    fn default() -> Self {
-        HistoryCase {
-            aspect: 2.0,
-            width: 0.5,
-            restitution: 0.6,
-            mu_s: 0.6,
-            mu_k: 0.4,
-            pga: 0.9,
-            seed: 1,
-            records: 25,
-        }
-    }
+/// One block at one PGA, over records 0..`records` of an ensemble.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryCase {
+    /// Aspect ratio H/B.
+    pub aspect: f64,
+    /// Base width 2B, m.
+    pub width: f64,
+    /// Coefficient of restitution e.
+    pub restitution: f64,
+    /// Static friction μs.
+    pub mu_s: f64,
+    /// Kinetic friction μk.
+    pub mu_k: f64,
+    /// Peak ground acceleration, g.
+    pub pga: f64,
+    /// Ensemble seed.
+    pub seed: u64,
+    /// Records 0..`records` are tried.
+    pub records: u64,
 }
 
 /// A stretch of time in one mode.
@@ -115,7 +142,125 @@ pub fn mode_colour(mode: Mode) -> RGBColor {
     }
 }
 
+/// Where the history's analysis comes from: the study (when known) and its
+/// motions as the figures see them (see `FigureOptions`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct HistorySource<'a> {
+    /// Which analysis.
+    pub choice: &'a HistoryChoice,
+    /// The study, when known: its motions and solver settings.
+    pub study: Option<&'a Study>,
+    /// Generator settings of a synthetic study (`g` for record files).
+    pub synthesis: &'a SynthesisSettings,
+    /// Ensemble seed of a synthetic study.
+    pub seed: u64,
+    /// Record files of a study of recorded motions.
+    pub record_files: &'a [PathBuf],
+    /// Case fields the study draws per analysis.
+    pub pooled: &'a [Field],
+}
+
 impl HistoryFigure {
+    /// The history of `options.choice` for the study folder `dir` whose
+    /// data the figures read (`data`): one of the study's analyses,
+    /// re-solved with its time history (see the [module docs](self)), or a
+    /// [`HistoryCase`]. The study's motions and solver settings are
+    /// `options.study`'s; without a study (a folder with no manifest), a
+    /// synthetic PGA study of `options.synthesis` and `options.seed` with
+    /// the default solver settings.
+    ///
+    /// Errors: a case or stripe asked for that the study does not have, or
+    /// a record or analysis that cannot be made.
+    pub(crate) fn from_study(
+        dir: &Path,
+        data: &StudyData,
+        options: &HistorySource,
+    ) -> Result<Self> {
+        let (case_id, level) = match options.choice {
+            HistoryChoice::Case(case) => {
+                return if options.record_files.is_empty() {
+                    Self::compute(case, options.synthesis)
+                } else {
+                    let records = options
+                        .record_files
+                        .iter()
+                        .take(case.records.max(1) as usize)
+                        .map(|p| crate::motion::read_record(p, options.synthesis.g))
+                        .collect::<Result<Vec<_>>>()?;
+                    let names: Vec<String> = options
+                        .record_files
+                        .iter()
+                        .map(|p| {
+                            p.file_name().map_or_else(
+                                || p.display().to_string(),
+                                |f| f.to_string_lossy().into_owned(),
+                            )
+                        })
+                        .collect();
+                    Self::compute_recorded(case, &records, &names, options.synthesis.g)
+                };
+            }
+            HistoryChoice::Chosen => (None, None),
+            HistoryChoice::At { case, level } => (Some(case.as_str()), *level),
+        };
+        let chosen = choose_run(dir, data, options, case_id, level)?;
+        let solver = options
+            .study
+            .map_or_else(SolverSettings::default, |s| s.solver);
+        let (record, g) = match options.study {
+            Some(study) => {
+                let mut source = Source::new(study)?;
+                let r = source.record(&study.intensity, chosen.level, chosen.record, study.g)?;
+                (r, study.g)
+            }
+            None => {
+                let mut synth = Synthesizer::new(options.synthesis)?;
+                let pga = options.synthesis.pga_from_g(chosen.level);
+                let r = synth.generate(options.seed, chosen.record as u64, pga)?;
+                (r, options.synthesis.g)
+            }
+        };
+        let (Param::Fixed(aspect), Param::Fixed(width), Param::Fixed(e), Param::Fixed(friction)) = (
+            chosen.own.aspect,
+            chosen.own.width,
+            chosen.own.restitution,
+            chosen.own.friction,
+        ) else {
+            unreachable!("an analysis's own parameters are fixed")
+        };
+        let mut analysis = Analysis::new(Block::new(width, aspect, g)?, e);
+        analysis.friction = friction;
+        // Three figures: a drawn value has all its digits in outcomes.csv.
+        let friction = match friction {
+            Friction::Infinite => "μ = ∞".to_string(),
+            Friction::Coulomb { mu_s, mu_k } => format!("μₛ = {}, μₖ = {}", sig3(mu_s), sig3(mu_k)),
+        };
+        // The record as the study names it: its file, or its index and seed.
+        let record_name = match options.study.map(|s| &s.motions) {
+            Some(Motions::Files(files)) => files.get(chosen.record).map_or_else(
+                || format!("record {}", chosen.record),
+                |f| {
+                    Path::new(&f.given)
+                        .file_name()
+                        .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
+                },
+            ),
+            Some(Motions::Synthetic { seed, .. }) => {
+                format!("record {} of seed {seed}", chosen.record)
+            }
+            None => format!("record {} of seed {}", chosen.record, options.seed),
+        };
+        let title = format!(
+            "H/B = {}, 2B = {} m, e = {}, {friction}: {record_name} at {} ({})",
+            sig3(aspect),
+            sig3(width),
+            sig3(e),
+            chosen.level_text,
+            chosen.why
+        );
+        Self::of_run(&analysis, &record, &solver, g, title, chosen.record as u64)
+    }
+
     /// Runs the case's records, chooses one (see the module docs) and
     /// extracts what the figure draws.
     pub fn compute(case: &HistoryCase, motion: &SynthesisSettings) -> Result<Self> {
@@ -204,8 +349,32 @@ impl HistoryFigure {
         }
         let index = best.map_or(0, |(_, i)| i);
         let record = record_at(index)?;
+        let title = format!(
+            "H/B = {}, 2B = {} m, e = {}, μₛ = {}, μₖ = {}: {} at {} g",
+            tick_label(case.aspect),
+            tick_label(case.width),
+            tick_label(case.restitution),
+            tick_label(case.mu_s),
+            tick_label(case.mu_k),
+            label(index),
+            tick_label(case.pga),
+        );
+        Self::of_run(&analysis, &record, &solver, g, title, index)
+    }
+
+    /// The figure of one run: `analysis` under `record`, solved with its
+    /// time history.
+    fn of_run(
+        analysis: &Analysis,
+        record: &Record,
+        solver: &SolverSettings,
+        g: f64,
+        title: String,
+        index: u64,
+    ) -> Result<Self> {
+        let block = &analysis.block;
         let mut history = History::default();
-        let outcome = simulate(&analysis, &record, &solver, Some(&mut history))?;
+        let outcome = simulate(analysis, record, solver, Some(&mut history))?;
 
         let rows = &history.rows;
         let end = outcome.end_time;
@@ -272,16 +441,6 @@ impl HistoryFigure {
             .filter(|r| inside(r.t))
             .map(|r| (r.t, r.theta / block.theta_c))
             .collect();
-        let title = format!(
-            "H/B = {}, 2B = {} m, e = {}, μₛ = {}, μₖ = {}: {} at {} g",
-            tick_label(case.aspect),
-            tick_label(case.width),
-            tick_label(case.restitution),
-            tick_label(case.mu_s),
-            tick_label(case.mu_k),
-            label(index),
-            tick_label(case.pga),
-        );
         Ok(HistoryFigure {
             title,
             window,
@@ -293,6 +452,180 @@ impl HistoryFigure {
             outcome,
         })
     }
+}
+
+/// The analysis [`HistoryFigure::from_study`] draws.
+struct ChosenRun {
+    /// Its own block (drawn parameters as drawn).
+    own: Case,
+    /// Its record's index.
+    record: usize,
+    /// Its level, in the study's unit (g for PGA studies).
+    level: f64,
+    /// The level for the title (`0.6 g`).
+    level_text: String,
+    /// Why it was chosen, for the title.
+    why: String,
+}
+
+/// Chooses the analysis to draw (see the [module docs](self)) from the
+/// study's data, and reads its own block and level back from
+/// `dir/outcomes.csv`.
+fn choose_run(
+    dir: &Path,
+    data: &StudyData,
+    options: &HistorySource,
+    case_id: Option<&str>,
+    level: Option<f64>,
+) -> Result<ChosenRun> {
+    let rows = &data.outcomes;
+    let mut cases: Vec<Case> = rows.iter().map(|r| r.case).collect();
+    cases.dedup();
+    let case = match case_id {
+        Some(id) => *cases.iter().find(|c| c.id() == id).ok_or_else(|| {
+            Error::invalid(
+                "history case",
+                id,
+                &format!(
+                    "the id of one of the study's cases ({})",
+                    cases.iter().map(Case::id).collect::<Vec<_>>().join(", ")
+                ),
+            )
+        })?,
+        None => cases
+            .iter()
+            .find(|c| {
+                rows.iter()
+                    .any(|r| r.case == **c && !r.overturned && r.theta_max_over_theta_c >= ROCKED)
+            })
+            .or(cases.first())
+            .copied()
+            .ok_or_else(|| Error::invalid("history", "(no analyses)", "a successful analysis"))?,
+    };
+    let mine: Vec<_> = rows.iter().filter(|r| r.case == case).collect();
+    let mut stripes: Vec<f64> = mine.iter().map(|r| r.pga).collect();
+    stripes.sort_by(f64::total_cmp);
+    stripes.dedup();
+    // The case's fitted median of its most severe limit state: where its
+    // curve crosses 1/2.
+    let median = data.curves.as_ref().and_then(|curves| {
+        let last = curves
+            .iter()
+            .filter(|c| c.case == case)
+            .map(|c| &c.limit_state)
+            .next_back()?;
+        let pts: Vec<_> = curves
+            .iter()
+            .filter(|c| c.case == case && &c.limit_state == last)
+            .collect();
+        pts.windows(2)
+            .find(|w| w[0].p < 0.5 && w[1].p >= 0.5)
+            .map(|w| w[0].im + (0.5 - w[0].p) / (w[1].p - w[0].p) * (w[1].im - w[0].im))
+    });
+    let (pga, why) = match level {
+        Some(l) => {
+            let Some(&s) = stripes.iter().find(|&&s| s == l) else {
+                return Err(Error::invalid(
+                    "history level",
+                    l,
+                    &format!(
+                        "one of the case's stripes ({})",
+                        stripes
+                            .iter()
+                            .map(|s| s.to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ));
+            };
+            (s, "the stripe asked for".to_string())
+        }
+        None => match median {
+            Some(m) if m > 0.0 => {
+                let s = *stripes
+                    .iter()
+                    .min_by(|a, b| {
+                        (dm::ln(**a) - dm::ln(m))
+                            .abs()
+                            .total_cmp(&(dm::ln(**b) - dm::ln(m)).abs())
+                    })
+                    .expect("the case has analyses");
+                (
+                    s,
+                    format!("stripe nearest its median {} g", tick_label(round3(m))),
+                )
+            }
+            _ => match mine
+                .iter()
+                .filter(|r| r.overturned)
+                .map(|r| r.pga)
+                .reduce(f64::min)
+            {
+                Some(s) => (s, "lowest stripe with an overturn".to_string()),
+                None => (
+                    *stripes.last().expect("the case has analyses"),
+                    "highest stripe".to_string(),
+                ),
+            },
+        },
+    };
+    let at: Vec<&PlotRow> = mine.iter().copied().filter(|r| r.pga == pga).collect();
+    // The largest θmax/θc of `runs`, the lowest record on a tie (rows are
+    // sorted by record).
+    let best = |runs: Vec<&PlotRow>| -> Option<PlotRow> {
+        runs.into_iter()
+            .fold(None::<&PlotRow>, |best, r| match best {
+                Some(b) if b.theta_max_over_theta_c >= r.theta_max_over_theta_c => Some(b),
+                _ => Some(r),
+            })
+            .copied()
+    };
+    let standing: Vec<&PlotRow> = at.iter().copied().filter(|r| !r.overturned).collect();
+    let (run, which) = match best(standing) {
+        Some(r) => (r, "largest θmax/θc not overturned"),
+        None => (
+            best(at).expect("the stripe has analyses"),
+            "largest θmax/θc",
+        ),
+    };
+    // Its own block and level, from outcomes.csv.
+    let pooled = options.pooled;
+    let cols = options.study.map(plan::columns);
+    let mut table = OutcomesFile::open(&dir.join("outcomes.csv"), &[Column::Pga], "the history")?;
+    while let Some((_, row)) = table.next_row()? {
+        if row.record as u64 == run.record
+            && row.pga == Some(run.pga)
+            && row.case.pooled(pooled) == case
+            && row.result.is_ok()
+        {
+            let level = match &cols {
+                Some(cols) => row.level(cols).unwrap_or(run.pga),
+                None => run.pga,
+            };
+            let level_text = match options.study.map(|s| &s.intensity) {
+                Some(Intensity::Pgv(_)) => format!("PGV {} m/s", tick_label(level)),
+                Some(Intensity::Scale(_)) => format!("scale {}", tick_label(level)),
+                _ => format!("{} g", tick_label(level)),
+            };
+            return Ok(ChosenRun {
+                own: row.case,
+                record: row.record,
+                level,
+                level_text,
+                why: format!("{which}, {why}"),
+            });
+        }
+    }
+    Err(Error::invalid(
+        "history",
+        run.record,
+        "a run of outcomes.csv",
+    ))
+}
+
+/// `x` to three decimals, for a title.
+fn round3(x: f64) -> f64 {
+    (x * 1000.0).round() / 1000.0
 }
 
 impl Figure for HistoryFigure {

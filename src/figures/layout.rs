@@ -7,6 +7,7 @@
 //! never as polylines, and every line *sample* is black: the only coloured
 //! polylines in a figure are its data curves, which keeps them countable.
 
+use crate::detmath as dm;
 use plotters::chart::{ChartBuilder, ChartContext, MeshStyle};
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
@@ -506,8 +507,8 @@ pub fn log_tick_label(v: f64) -> String {
     if v.is_nan() || v <= 0.0 {
         return String::new();
     }
-    let e = v.log10().floor();
-    let m = v / 10f64.powf(e);
+    let e = dm::log10(v).floor();
+    let m = v / dm::powf(10.0, e);
     if [1.0, 2.0, 5.0].iter().any(|k| (m - k).abs() < 1e-6) {
         tick_label(v)
     } else {

@@ -13,10 +13,11 @@
 //! [`study_figures`] (the CLI's `rockfrag figures DIR`). Each is a plain data
 //! struct built once from the folder's [`StudyData`] ([`SpectrumFigure`],
 //! [`HistoryFigure`], [`FragilityFigure`], [`FrictionDemandFigure`],
-//! [`RestitutionFigure`]) and drawn by [`Figure`]; the CSV files are read by
-//! header name through [`crate::outcomes_csv::OutcomesReader`], the seed
-//! paper's Tables 1–3 come from the study's summary, and the shared titles,
-//! legends and markers from one layout module.
+//! [`RestitutionFigure`]) and drawn by [`Figure`]; the stage files are read
+//! through their row types ([`crate::outcomes_csv::OutcomesFile`],
+//! [`crate::fragility::read_curves_csv`]), and the shared titles, legends
+//! and markers come from one layout module. Published values to compare
+//! with are added by a layer above (the paper's, for its own study).
 //!
 //! ```no_run
 //! use rockfrag::motion::Record;
@@ -38,17 +39,16 @@ mod restitution;
 mod risk;
 mod spectrum;
 pub mod style;
-mod work_precision;
 
-pub use batch::{FigureOptions, FiguresReport, study_figures};
-pub use data::{CurvePoint, OutcomeRow, StudyData};
+pub use batch::{FigureOptions, FiguresReport, StudyFigures, study_figures, study_of_folder};
+pub use data::{CurvePoint, PlotRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::FragilityFigure;
 pub use friction::FrictionDemandFigure;
-pub use history::{HistoryCase, HistoryFigure, ModeInterval, mode_colour};
+pub use history::{HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, mode_colour};
 pub use motion::plot_record;
 pub use restitution::RestitutionFigure;
+pub(crate) use restitution::trend_text;
 pub use risk::{RiskFigure, RiskPanel, RiskSeries};
 pub use spectrum::SpectrumFigure;
 pub use style::Style;
-pub use work_precision::plot_work_precision;

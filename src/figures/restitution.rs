@@ -1,28 +1,33 @@
-//! The paper's claim that restitution stabilises the block, tested: against
-//! e, (top row) the fraction of records that overturn and (bottom row) the
-//! mean θmax/θc of the runs that did not, one column per block, one colour
-//! per PGA level, infinite friction solid with filled points beside each
-//! Coulomb model dashed with open points. The paper's Tables 1–3 (infinite
-//! friction, 25 records) are drawn as open squares: # OT/25 on top, the
-//! mean θmax/θc below.
+//! The trend with restitution: against e, (top row) the fraction of
+//! records that overturn and (bottom row) the mean θmax/θc of the runs that
+//! did not, one column per block, one colour per PGA level, infinite
+//! friction solid with filled points beside each Coulomb model dashed with
+//! open points. The title states the trend of overturning over e
+//! (Cochran–Armitage). Published values may be drawn as open squares
+//! ([`RestitutionPanel::reference`], labelled
+//! [`RestitutionFigure::reference_label`]): the paper layer draws the seed
+//! paper's Tables 1–3 there for its study.
 //!
-//! The paper counted as overturned both the runs that reached θ = π/2 and
-//! those its program stopped at a lift-off; this study's fraction counts
-//! only the former (the `overturned` column).
+//! The fraction counts only runs that reached θ = π/2 (the `overturned`
+//! column); the trend in the title counts overturned or uplifted runs, the
+//! seed paper's convention, so that it compares with the paper's.
 
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend};
 use plotters::style::{BLACK, Color};
 
-use super::data::{StudyData, distinct, distinct_friction, friction_label};
+use super::data::{
+    StudyData, distinct, distinct_fixed, distinct_friction, distinct_numbers, friction_label,
+    param_label,
+};
 use super::figure::{DrawResult, Figure};
+use super::fragility::distinct_blocks;
 use super::friction::{level_colour, shown_levels};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style, tick_label};
-use crate::outcomes_csv::CaseKey;
+use crate::case::{Case, Param};
 use crate::solver::Friction;
 use crate::stats::{cochran_armitage, p_text};
-use crate::study::paper::{RECORDS, TABLES};
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 4.6;
@@ -50,10 +55,15 @@ pub struct RestitutionSeries {
 pub struct RestitutionPanel {
     /// Heading, e.g. `H/B = 4`.
     pub label: String,
+    /// The block's H/B.
+    pub aspect: Param<f64>,
+    /// The block's 2B.
+    pub width: Param<f64>,
     /// Series, by friction then level.
     pub series: Vec<RestitutionSeries>,
-    /// The paper's (level index, e, # OT/25, mean θmax/θc) for this block.
-    pub paper: Vec<(usize, f64, f64, Option<f64>)>,
+    /// Published (level index, e, fraction overturned, mean θmax/θc) for
+    /// this block, drawn as open squares.
+    pub reference: Vec<(usize, f64, f64, Option<f64>)>,
 }
 
 /// The restitution figure's data.
@@ -63,26 +73,32 @@ pub struct RestitutionFigure {
     pub title: String,
     /// PGA levels drawn (g), ascending.
     pub levels: Vec<f64>,
+    /// Every PGA level of the study (g), ascending.
+    pub all_levels: Vec<f64>,
     /// Friction models, infinite first.
-    pub frictions: Vec<Friction>,
+    pub frictions: Vec<Param<Friction>>,
     /// Columns, by aspect ratio then width.
     pub panels: Vec<RestitutionPanel>,
+    /// The values of e, ascending.
+    pub restitutions: Vec<f64>,
     /// Largest e.
     pub e_max: f64,
+    /// Whether the title states this study's trend over e.
+    pub has_trend: bool,
+    /// Legend label of the reference values, e.g. `paper (μ = ∞)`.
+    pub reference_label: Option<String>,
 }
 
 impl RestitutionFigure {
     /// Groups the study's outcomes by block, PGA level, friction and e.
     pub fn from_study(data: &StudyData) -> RestitutionFigure {
         let rows = &data.outcomes;
-        let all_levels = distinct(rows.iter().map(|r| r.pga));
+        let all_levels = distinct_numbers(rows.iter().map(|r| r.pga));
         let levels = shown_levels(&all_levels);
         let frictions = distinct_friction(rows.iter().map(|r| r.case.friction));
-        let es = distinct(rows.iter().map(|r| r.case.restitution));
-        let mut blocks: Vec<(f64, f64)> =
-            rows.iter().map(|r| (r.case.aspect, r.case.width)).collect();
-        blocks.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-        blocks.dedup_by(|a, b| super::data::same(a.0, b.0) && super::data::same(a.1, b.1));
+        let es = distinct_fixed(rows.iter().map(|r| r.case.restitution));
+        let cases: Vec<Case> = rows.iter().map(|r| r.case).collect();
+        let blocks = distinct_blocks(&cases);
         let several_widths = distinct(blocks.iter().map(|b| b.1)).len() > 1;
         let mut panels = Vec::new();
         let (mut n_min, mut n_max) = (usize::MAX, 0);
@@ -93,10 +109,10 @@ impl RestitutionFigure {
                     let mut overturned = Vec::new();
                     let mut theta = Vec::new();
                     for &e in &es {
-                        let case = CaseKey {
+                        let case = Case {
                             aspect,
                             width,
-                            restitution: e,
+                            restitution: Param::Fixed(e),
                             friction: *f,
                         };
                         let at: Vec<_> = rows
@@ -129,29 +145,16 @@ impl RestitutionFigure {
                     }
                 }
             }
-            let paper = TABLES
-                .iter()
-                .filter(|p| {
-                    p.aspect == aspect && p.restitution <= es.last().copied().unwrap_or(1.0)
-                })
-                .filter_map(|p| {
-                    let il = levels.iter().position(|&l| l == p.pga)?;
-                    Some((
-                        il,
-                        p.restitution,
-                        p.overturned as f64 / RECORDS as f64,
-                        p.theta_max_over_theta_c,
-                    ))
-                })
-                .collect();
-            let mut label = format!("H/B = {}", tick_label(aspect));
+            let mut label = format!("H/B = {}", param_label(aspect));
             if several_widths {
-                label.push_str(&format!(", 2B = {} m", tick_label(width)));
+                label.push_str(&format!(", 2B = {} m", param_label(width)));
             }
             panels.push(RestitutionPanel {
                 label,
+                aspect,
+                width,
                 series,
-                paper,
+                reference: Vec::new(),
             });
         }
         let mut title =
@@ -177,56 +180,37 @@ impl RestitutionFigure {
         }
         // The trend over e as summary.md tests it: Cochran–Armitage on the
         // counts (overturned or uplifted, the paper's convention) pooled over
-        // blocks and levels, infinite friction; the paper's beside it.
+        // blocks and levels, infinite friction.
+        let infinite = Param::Fixed(Friction::Infinite);
         let pooled: Vec<(u64, u64)> = es
             .iter()
             .map(|&e| {
-                let at = rows
-                    .iter()
-                    .filter(|r| r.case.restitution == e && r.case.friction == Friction::Infinite);
+                let at = rows.iter().filter(|r| {
+                    r.case.restitution == Param::Fixed(e) && r.case.friction == infinite
+                });
                 at.fold((0, 0), |(k, n), r| {
                     (k + (r.overturned || r.uplifted) as u64, n + 1)
                 })
             })
             .collect();
-        let trend = |k: &[u64], n: &[u64]| {
-            cochran_armitage(k, n, &es).map(|t| format!("Z = {:.2}, p = {}", t.z, p_text(t.p)))
-        };
         let ks: Vec<u64> = pooled.iter().map(|p| p.0).collect();
         let ns: Vec<u64> = pooled.iter().map(|p| p.1).collect();
-        if let Some(ours) = trend(&ks, &ns) {
+        let ours = trend_text(&ks, &ns, &es);
+        if let Some(ours) = &ours {
             title.push_str(&format!(
                 "; trend over e (μ = ∞, overturned or uplifted): {ours}"
             ));
-            let aspects: Vec<f64> = blocks.iter().map(|b| b.0).collect();
-            let published: Vec<(u64, u64)> = es
-                .iter()
-                .map(|&e| {
-                    let at: Vec<_> = TABLES
-                        .iter()
-                        .filter(|p| p.restitution == e && aspects.contains(&p.aspect))
-                        .filter(|p| all_levels.contains(&p.pga))
-                        .collect();
-                    let k = at.iter().map(|p| p.overturned as u64).sum();
-                    (
-                        k,
-                        (aspects.len() * all_levels.len()) as u64 * RECORDS as u64,
-                    )
-                })
-                .collect();
-            let has_paper = panels.iter().any(|p| !p.paper.is_empty());
-            let kp: Vec<u64> = published.iter().map(|p| p.0).collect();
-            let np: Vec<u64> = published.iter().map(|p| p.1).collect();
-            if let Some(theirs) = trend(&kp, &np).filter(|_| has_paper) {
-                title.push_str(&format!(", paper's {theirs}"));
-            }
         }
         RestitutionFigure {
             title,
             levels,
+            all_levels,
             frictions,
             panels,
             e_max: es.last().copied().unwrap_or(1.0),
+            restitutions: es,
+            has_trend: ours.is_some(),
+            reference_label: None,
         }
     }
 
@@ -244,12 +228,20 @@ impl RestitutionFigure {
                 friction_label(f),
             ));
         }
-        entries.push(Entry::new(
-            Sample::Point(BLACK, Marker::Square, false),
-            "paper (μ = ∞)",
-        ));
+        if let Some(label) = &self.reference_label {
+            entries.push(Entry::new(
+                Sample::Point(BLACK, Marker::Square, false),
+                label.clone(),
+            ));
+        }
         entries
     }
+}
+
+/// The Cochran–Armitage trend of `k` of `n` over the scores `e`, as the
+/// figures state it (`Z = −3.05, p = 0.002`); `None` when undefined.
+pub fn trend_text(k: &[u64], n: &[u64], e: &[f64]) -> Option<String> {
+    cochran_armitage(k, n, e).map(|t| format!("Z = {:.2}, p = {}", t.z, p_text(t.p)))
 }
 
 impl Figure for RestitutionFigure {
@@ -278,7 +270,7 @@ impl Figure for RestitutionFigure {
                 p.series
                     .iter()
                     .flat_map(|s| s.theta.iter().map(|t| t.1))
-                    .chain(p.paper.iter().filter_map(|q| q.3))
+                    .chain(p.reference.iter().filter_map(|q| q.3))
             })
             .fold(0.0_f64, f64::max);
         let theta_top = if theta_max > 0.0 {
@@ -317,7 +309,7 @@ impl Figure for RestitutionFigure {
                     let line = colour.stroke_width(style.ipx(LINE_PT));
                     curve!(chart, points(s), line, Dash::nth(s.friction), style);
                 }
-                for q in &panel.paper {
+                for q in &panel.reference {
                     let colour = level_colour(q.0, self.levels.len());
                     let value = if row == 0 { Some(q.2) } else { q.3 };
                     markers!(

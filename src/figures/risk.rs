@@ -8,6 +8,7 @@
 //! slope smoothed between levels, see [`crate::risk`]). A case without a fit has
 //! only its hazard curve and says "no fit".
 
+use crate::detmath as dm;
 use plotters::coord::Shift;
 use plotters::prelude::{
     BindKeyPoints, DrawingArea, DrawingBackend, IntoLogRange, LineSeries, PathElement, Polygon,
@@ -85,15 +86,15 @@ impl RiskFigure {
         // the hazard's levels.
         let lo = fitted
             .iter()
-            .map(|&(m, b)| m * (-3.5 * b).exp())
+            .map(|&(m, b)| m * dm::exp(-3.5 * b))
             .fold(h0, f64::min);
         let hi = fitted
             .iter()
-            .map(|&(m, b)| m * (3.5 * b).exp())
+            .map(|&(m, b)| m * dm::exp(3.5 * b))
             .fold(h1, f64::max);
         let grid = |a: f64, b: f64, n: usize| -> Vec<f64> {
             (0..n)
-                .map(|i| a * (b / a).powf(i as f64 / (n - 1) as f64))
+                .map(|i| a * dm::powf(b / a, i as f64 / (n - 1) as f64))
                 .collect()
         };
         let ims = grid(lo, hi, SAMPLES);
@@ -130,8 +131,7 @@ impl RiskFigure {
             let (Some((m, b)), Some(integral)) = (r.curve.fit, r.integral) else {
                 continue;
             };
-            let normal = statrs::distribution::Normal::standard();
-            let p = |x: f64| statrs::distribution::ContinuousCDF::cdf(&normal, (x / m).ln() / b);
+            let p = |x: f64| dm::norm_cdf(dm::ln(x / m) / b);
             let density = deaggregation(hazard, m, b, &ims);
             let top = deaggregation(hazard, m, b, &[integral.peak_im])[0]
                 .max(density.iter().copied().fold(0.0, f64::max));
@@ -208,7 +208,7 @@ fn colour(i: usize) -> plotters::style::RGBColor {
 /// 1, 2, 5 × powers of ten in [lo, hi].
 fn log_ticks(lo: f64, hi: f64, multiples: &[f64]) -> Vec<f64> {
     let mut v = Vec::new();
-    let mut decade = 10f64.powf(lo.log10().floor());
+    let mut decade = dm::powf(10.0, dm::log10(lo).floor());
     while decade <= hi {
         for m in multiples {
             let t = m * decade;
@@ -260,7 +260,7 @@ impl Figure for RiskFigure {
             layout::mesh(&mut chart, style)
                 .x_desc(self.im_label.as_str())
                 .x_label_formatter(&|v| tick_label(*v))
-                .y_label_formatter(&|v| format!("1e{}", v.log10().round()))
+                .y_label_formatter(&|v| format!("1e{}", dm::log10(*v).round()))
                 .draw()?;
             chart
                 .configure_secondary_axes()

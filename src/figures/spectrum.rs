@@ -19,6 +19,7 @@
 //! periodogram averaged in 1/20-decade bins, then over the records), so the
 //! figure shows the study's own motions.
 
+use crate::detmath as dm;
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, IntoLogRange};
 use plotters::style::{BLACK, Color};
@@ -73,7 +74,7 @@ impl SpectrumFigure {
 
         // stationary process: one period, components on DFT bins
         let n = synth.period_len();
-        let k_min = (f_lo / settings.df).round() as usize;
+        let k_min = (f_lo / settings.frequency_step()).round() as usize;
         let mut planner = RealFftPlanner::<f64>::new();
         let fft = planner.plan_fft_forward(n);
         let mut input = fft.make_input_vec();
@@ -118,7 +119,7 @@ impl SpectrumFigure {
 
         let target = (0..TARGET_POINTS)
             .map(|i| {
-                let f = f_lo * (f_hi / f_lo).powf(i as f64 / (TARGET_POINTS - 1) as f64);
+                let f = f_lo * dm::powf(f_hi / f_lo, i as f64 / (TARGET_POINTS - 1) as f64);
                 (f, settings.psd.density(f))
             })
             .collect();
@@ -144,9 +145,9 @@ impl SpectrumFigure {
             .map(|r| 0.5 / r.dt)
             .fold(f64::INFINITY, f64::min);
         let f_hi = RECORDED_F_MAX.min(nyquist);
-        let decades = (f_hi / RECORDED_F_MIN).log10();
+        let decades = dm::log10(f_hi / RECORDED_F_MIN);
         let n_bins = (decades * BINS_PER_DECADE).ceil().max(1.0) as usize;
-        let bin_of = |f: f64| ((f / RECORDED_F_MIN).log10() * BINS_PER_DECADE).floor();
+        let bin_of = |f: f64| (dm::log10(f / RECORDED_F_MIN) * BINS_PER_DECADE).floor();
         let (mut sum, mut count) = (vec![0.0; n_bins], vec![0usize; n_bins]);
         let mut planner = RealFftPlanner::<f64>::new();
         for r in records {
@@ -179,7 +180,7 @@ impl SpectrumFigure {
             .filter(|&b| count[b] > 0)
             .map(|b| {
                 // the bin's geometric centre
-                let f = RECORDED_F_MIN * 10f64.powf((b as f64 + 0.5) / BINS_PER_DECADE);
+                let f = RECORDED_F_MIN * dm::powf(10.0, (b as f64 + 0.5) / BINS_PER_DECADE);
                 (f.min(f_hi), sum[b] / count[b] as f64)
             })
             .collect();
@@ -203,7 +204,7 @@ fn thin_log(points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
     points
         .into_iter()
         .filter(|&(f, _)| {
-            let cell = (f.log10() * MARKERS_PER_DECADE).floor();
+            let cell = (dm::log10(f) * MARKERS_PER_DECADE).floor();
             let keep = cell > last;
             last = last.max(cell);
             keep

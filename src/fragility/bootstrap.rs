@@ -6,6 +6,7 @@
 //! number of threads. The same seed gives the same record draws in every case
 //! with the same records (common random numbers across cases).
 
+use crate::detmath as dm;
 use std::collections::BTreeMap;
 
 use rand::{RngExt, SeedableRng};
@@ -64,7 +65,7 @@ impl BootstrapSummary {
 /// Bootstraps the fit of `case`: `replicates` resamples by `unit`, replicate
 /// r seeded from (`seed`, r), intervals at two-sided level `confidence`
 /// (e.g. 0.9 → 5th and 95th percentiles), curve bands on `grid`. Fits the
-/// case's first limit state ([`Analysis::exceeds`](super::Analysis::exceeds)`(0)`,
+/// case's first limit state ([`Trial::exceeds`](super::Trial::exceeds)`(0)`,
 /// overturning unless limit states were given).
 pub fn bootstrap(
     case: &CaseData,
@@ -177,7 +178,7 @@ fn summarise(
 
 /// The seed of replicate r: SplitMix64's finaliser applied to (seed, r), so
 /// neighbouring replicates get unrelated streams.
-pub fn replicate_seed(seed: u64, replicate: u64) -> u64 {
+pub(crate) fn replicate_seed(seed: u64, replicate: u64) -> u64 {
     const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut z = seed
         .wrapping_add(GOLDEN)
@@ -202,7 +203,7 @@ fn std_dev(v: &[f64]) -> Option<f64> {
     (v.len() >= 2).then(|| {
         let n = v.len() as f64;
         let mean = v.iter().sum::<f64>() / n;
-        (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+        (v.iter().map(|x| dm::powi(x - mean, 2)).sum::<f64>() / (n - 1.0)).sqrt()
     })
 }
 
@@ -219,15 +220,15 @@ struct Plan {
 
 impl Plan {
     fn new(case: &CaseData, limit_state: usize) -> Self {
-        let mut levels: Vec<f64> = case.analyses.iter().map(|a| a.im).collect();
+        let mut levels: Vec<f64> = case.trials.iter().map(|a| a.im).collect();
         levels.sort_by(f64::total_cmp);
         levels.dedup();
-        let mut stripes: Vec<f64> = case.analyses.iter().map(|a| a.pga).collect();
+        let mut stripes: Vec<f64> = case.trials.iter().map(|a| a.pga).collect();
         stripes.sort_by(f64::total_cmp);
         stripes.dedup();
         let mut by_record = vec![Vec::new(); case.records.len()];
         let mut by_stripe = vec![Vec::new(); stripes.len()];
-        for a in &case.analyses {
+        for a in &case.trials {
             let g = levels.partition_point(|&x| x < a.im);
             let s = stripes.partition_point(|&x| x < a.pga);
             by_record[a.record].push((g, a.exceeds(limit_state)));

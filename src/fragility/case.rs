@@ -9,8 +9,8 @@ use super::bootstrap::{BootstrapSummary, bootstrap, bootstrap_common_beta};
 use super::data::{CaseData, Outcomes, read_outcomes_for};
 use super::fit::{LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal};
 use super::options::{FragilityOptions, IntensityMeasure};
+use crate::case::Case;
 use crate::error::{Error, Result};
-use crate::outcomes_csv::CaseKey;
 
 /// A fitted curve sampled on a grid.
 #[derive(Clone, Debug, PartialEq)]
@@ -44,8 +44,8 @@ impl BetaModel {
 /// Everything known about one case's fragility for one limit state.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CaseFit {
-    /// The block configuration.
-    pub key: CaseKey,
+    /// The case (drawn or pooled parameters marked drawn).
+    pub key: Case,
     /// The limit state's name (`overturning` unless limit states were given).
     pub limit_state: String,
     /// The intensity measure of the fit.
@@ -77,7 +77,7 @@ pub struct CaseFit {
 }
 
 /// Fits one case, one fit per limit state of `options` (bit k of
-/// [`Analysis::exceeded`](super::Analysis::exceeded) being limit state k):
+/// [`Trial::exceeded`](super::Trial::exceeded) being limit state k):
 /// maximum likelihood for each alone; if two of the fitted curves cross
 /// within the case's grid (0, largest intensity] ([`curves_cross`]), the
 /// fitted limit states are refitted jointly with one β ([`fit_common_beta`]),
@@ -157,9 +157,9 @@ fn separate(case: &CaseData, k: usize, name: &str, options: &FragilityOptions) -
         key: case.key,
         limit_state: name.to_string(),
         im: options.im,
-        n_analyses: case.analyses.len(),
-        n_overturned: case.analyses.iter().filter(|a| a.overturned).count(),
-        n_exceeded: case.analyses.iter().filter(|a| a.exceeds(k)).count(),
+        n_analyses: case.trials.len(),
+        n_overturned: case.trials.iter().filter(|a| a.overturned).count(),
+        n_exceeded: case.trials.iter().filter(|a| a.exceeds(k)).count(),
         n_records: case.n_records(),
         n_stripes: case.n_stripes(),
         n_failed: case.failed,
@@ -191,7 +191,7 @@ fn bootstrap_limit_state(
     }
     // The bootstrap resamples limit state 0: move bit k there.
     let mut view = case.clone();
-    for a in &mut view.analyses {
+    for a in &mut view.trials {
         a.exceeded = u64::from(a.exceeds(k));
     }
     bootstrap(

@@ -6,13 +6,14 @@ use std::path::Path;
 
 use super::fit::Observation;
 use super::options::{FragilityOptions, IntensityMeasure, LimitState};
+use crate::case::{Case, Field};
 use crate::error::{Error, Result};
-use crate::outcomes_csv::{CaseKey, Column, MeasureKind, OutcomesReader, Pooled};
-use crate::solver::Friction;
+use crate::outcomes_csv::{Column, MeasureKind, OutcomesFile};
 
-/// One successful analysis of a case.
+/// One successful analysis of a case, as the fit sees it: a binomial trial
+/// at its intensity.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Analysis {
+pub struct Trial {
     /// The record, as an index into [`CaseData::records`].
     pub record: usize,
     /// The stripe's PGA (g): analyses with the same PGA form a stripe.
@@ -26,7 +27,7 @@ pub struct Analysis {
     pub exceeded: u64,
 }
 
-impl Analysis {
+impl Trial {
     /// Whether the analysis exceeded limit state `k`.
     pub fn exceeds(&self, k: usize) -> bool {
         self.exceeded >> k & 1 == 1
@@ -36,12 +37,12 @@ impl Analysis {
 /// All analyses of one case.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CaseData {
-    /// The block configuration.
-    pub key: CaseKey,
+    /// The case (drawn or pooled parameters marked drawn).
+    pub key: Case,
     /// Record names as they appear in `outcomes.csv`, in order of first appearance.
     pub records: Vec<String>,
     /// The successful analyses.
-    pub analyses: Vec<Analysis>,
+    pub trials: Vec<Trial>,
     /// Rows of this case skipped because the analysis failed (`error` not
     /// empty or `status` not `ok`).
     pub failed: usize,
@@ -51,7 +52,7 @@ impl CaseData {
     /// Number of distinct records with at least one successful analysis.
     pub fn n_records(&self) -> usize {
         let mut seen = vec![false; self.records.len()];
-        for a in &self.analyses {
+        for a in &self.trials {
             seen[a.record] = true;
         }
         seen.iter().filter(|&&s| s).count()
@@ -60,7 +61,7 @@ impl CaseData {
     /// The analyses grouped by equal intensity, in increasing intensity:
     /// trials and exceedances of limit state `k` at each (what is fitted).
     pub fn observations(&self, k: usize) -> Vec<Observation> {
-        let mut sorted = self.analyses.clone();
+        let mut sorted = self.trials.clone();
         sorted.sort_by(|x, y| x.im.total_cmp(&y.im));
         let mut observations: Vec<Observation> = Vec::new();
         for a in &sorted {
@@ -82,7 +83,7 @@ impl CaseData {
 
     /// Number of stripes (distinct PGA levels) with at least one successful analysis.
     pub fn n_stripes(&self) -> usize {
-        let mut levels: Vec<u64> = self.analyses.iter().map(|a| a.pga.to_bits()).collect();
+        let mut levels: Vec<u64> = self.trials.iter().map(|a| a.pga.to_bits()).collect();
         levels.sort_unstable();
         levels.dedup();
         levels.len()
@@ -92,24 +93,21 @@ impl CaseData {
 /// The cases of an `outcomes.csv`, in order of first appearance.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcomes {
-    /// The intensity measure stored in [`Analysis::im`].
+    /// The intensity measure stored in [`Trial::im`].
     pub im: IntensityMeasure,
-    /// The limit states whose exceedance [`Analysis::exceeded`] records, in
+    /// The limit states whose exceedance [`Trial::exceeded`] records, in
     /// order of increasing severity.
     pub limit_states: Vec<LimitState>,
     /// One entry per case.
     pub cases: Vec<CaseData>,
-    /// Failed rows whose case could not be read (counted, not attributed).
-    pub failed_unattributed: usize,
 }
 
-/// Reads `outcomes.csv` with [`OutcomesReader`], keeping what the fragility
-/// fit needs: `pga`, `record`, `overturned` (and `pgv` for the PGV intensity
-/// measure). A failed analysis (see [`Row::failed`](crate::outcomes_csv::Row::failed))
-/// is skipped and counted in [`CaseData::failed`], or in
-/// [`Outcomes::failed_unattributed`] if its case cannot be read.
+/// Reads `outcomes.csv` ([`OutcomesFile`]), keeping what the fragility fit
+/// needs: `pga`, `record`, `overturned` (and `pgv` for the PGV intensity
+/// measure). A failed analysis is skipped and counted in
+/// [`CaseData::failed`].
 pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
-    read_outcomes_with(path, im, &[LimitState::overturning()], Pooled::default())
+    read_outcomes_with(path, im, &[LimitState::overturning()], &[])
 }
 
 /// Reads `outcomes.csv` for the intensity measure and limit states of
@@ -119,28 +117,20 @@ pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
 /// above any threshold.
 pub fn read_outcomes_for(path: &Path, options: &FragilityOptions) -> Result<Outcomes> {
     options.validate()?;
-    read_outcomes_with(path, options.im, &options.limit_states(), options.pool)
+    read_outcomes_with(path, options.im, &options.limit_states(), &options.pool)
 }
 
 fn read_outcomes_with(
     path: &Path,
     im: IntensityMeasure,
     limit_states: &[LimitState],
-    pool: Pooled,
+    pool: &[Field],
 ) -> Result<Outcomes> {
-    let (mut table, [pga_col, record_col, overturned_col]) = OutcomesReader::open(
-        path,
-        [Column::Pga, Column::Record, Column::Overturned],
-        "the fragility fit",
-    )?;
-    let pgv = table.column(Column::Pgv);
-    if im == IntensityMeasure::Pgv && pgv.is_none() {
-        return Err(
-            table.header_error("no `pgv` column, which the PGV intensity measure needs".into())
-        );
+    let mut required = vec![Column::Pga, Column::Record, Column::Overturned];
+    if im == IntensityMeasure::Pgv {
+        required.push(Column::Pgv);
     }
-
-    // (column index, kind, threshold) of each limit state's measure.
+    // The column and kind of each limit state's measure.
     let mut measures = Vec::with_capacity(limit_states.len());
     for ls in limit_states {
         let Some((column, kind)) = ls.column() else {
@@ -150,98 +140,83 @@ fn read_outcomes_with(
                 "a numeric or yes/no column of outcomes.csv",
             ));
         };
-        let Some(i) = table.column(column) else {
+        measures.push((column, kind, ls.exceeds.unwrap_or(0.0)));
+    }
+    let mut table = OutcomesFile::open(path, &required, "the fragility fit")?;
+    for (ls, &(column, _, _)) in limit_states.iter().zip(&measures) {
+        if !table.has(column) {
             return Err(table.header_error(format!(
                 "no `{}` column, which limit state {:?} needs",
                 ls.measure, ls.name
             )));
-        };
-        measures.push((i, kind, ls.exceeds.unwrap_or(0.0)));
+        }
     }
 
     let mut out = Outcomes {
         im,
         limit_states: limit_states.to_vec(),
         cases: Vec::new(),
-        failed_unattributed: 0,
     };
-    let mut case_index: HashMap<KeyBits, usize> = HashMap::new();
+    let mut case_index: HashMap<Case, usize> = HashMap::new();
     let mut record_index: Vec<HashMap<String, usize>> = Vec::new();
-    while let Some(row) = table.next_row()? {
-        let failed = row.failed();
+    while let Some((line, row)) = table.next_row()? {
         // The analysis's own parameters, and the case it pools into.
-        let own = match row.case() {
-            Ok(key) => key,
-            Err(_) if failed => {
-                out.failed_unattributed += 1;
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
+        let own = row.case;
         let key = own.pooled(pool);
-        let c = *case_index.entry(KeyBits::of(&key)).or_insert_with(|| {
+        let c = *case_index.entry(key).or_insert_with(|| {
             out.cases.push(CaseData {
                 key,
                 records: Vec::new(),
-                analyses: Vec::new(),
+                trials: Vec::new(),
                 failed: 0,
             });
             record_index.push(HashMap::new());
             out.cases.len() - 1
         });
         let case = &mut out.cases[c];
-        if failed {
+        let Ok(outcome) = &row.result else {
             case.failed += 1;
             continue;
-        }
-        let pga = row.positive(pga_col)?;
+        };
+        let positive = |x: Option<f64>, column: Column| {
+            x.filter(|v| v.is_finite() && *v > 0.0).ok_or_else(|| {
+                table.error_at(
+                    line,
+                    format!("column `{column}`: expected a finite number > 0"),
+                )
+            })
+        };
+        let pga = positive(row.pga, Column::Pga)?;
         let value = match im {
             IntensityMeasure::Pga => pga,
-            IntensityMeasure::PgaOverTan => pga * own.aspect,
-            IntensityMeasure::Pgv => row.positive(pgv.expect("checked above"))?,
+            IntensityMeasure::PgaOverTan => {
+                pga * own.aspect.fixed().expect("an analysis's aspect is fixed")
+            }
+            IntensityMeasure::Pgv => positive(row.pgv, Column::Pgv)?,
         };
-        let overturned = row.boolean(overturned_col)?;
         let mut exceeded = 0u64;
-        for (k, &(i, kind, threshold)) in measures.iter().enumerate() {
-            let above = overturned
-                || match kind {
-                    MeasureKind::Flag => row.boolean(i)?,
-                    MeasureKind::Number if row.field(i).is_empty() => false,
-                    MeasureKind::Number => row.number(i)? > threshold,
+        for (k, &(column, kind, threshold)) in measures.iter().enumerate() {
+            let above = outcome.overturned
+                || match (kind, column.measure(outcome)) {
+                    (MeasureKind::Flag, v) => v == Some(1.0),
+                    (MeasureKind::Number, None) => false,
+                    (MeasureKind::Number, Some(v)) => v > threshold,
                 };
             exceeded |= u64::from(above) << k;
         }
-        let name = row.text(record_col)?;
+        let name = row.record.to_string();
         let records = &mut case.records;
-        let record = *record_index[c].entry(name.to_string()).or_insert_with(|| {
-            records.push(name.to_string());
+        let record = *record_index[c].entry(name.clone()).or_insert_with(|| {
+            records.push(name);
             records.len() - 1
         });
-        case.analyses.push(Analysis {
+        case.trials.push(Trial {
             record,
             pga,
             im: value,
-            overturned,
+            overturned: outcome.overturned,
             exceeded,
         });
     }
     Ok(out)
-}
-
-/// Hashable identity of a case (bit patterns of its numbers; + 0.0 turns
-/// −0.0 into 0.0, so the two are one case).
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-struct KeyBits([u64; 3], Option<[u64; 2]>);
-
-impl KeyBits {
-    fn of(k: &CaseKey) -> Self {
-        let bits = |x: f64| (x + 0.0).to_bits();
-        KeyBits(
-            [bits(k.aspect), bits(k.width), bits(k.restitution)],
-            match k.friction {
-                Friction::Infinite => None,
-                Friction::Coulomb { mu_s, mu_k } => Some([bits(mu_s), bits(mu_k)]),
-            },
-        )
-    }
 }

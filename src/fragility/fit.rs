@@ -15,8 +15,7 @@
 //! approached as β → 0 (or β → −∞ for reversed data), which is reported as an
 //! [`Unfit`] reason, never as a number.
 
-use statrs::distribution::{ContinuousCDF, Normal};
-use statrs::function::factorial::ln_binomial;
+use crate::detmath::{self as dm, ln_binomial};
 
 /// Overturning counts at one intensity level.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,7 +47,7 @@ pub struct LognormalFit {
 impl LognormalFit {
     /// Median capacity θ = exp(−a/b), in the IM's unit.
     pub fn median(&self) -> f64 {
-        (-self.a / self.b).exp()
+        dm::exp(-self.a / self.b)
     }
 
     /// Logarithmic standard deviation β = 1/b.
@@ -61,7 +60,7 @@ impl LognormalFit {
         if im <= 0.0 {
             0.0
         } else {
-            std_normal().cdf(self.a + self.b * im.ln())
+            dm::norm_cdf(self.a + self.b * dm::ln(im))
         }
     }
 
@@ -192,6 +191,57 @@ impl std::fmt::Display for Unfit {
     }
 }
 
+/// Why a curve could not be fitted, in words a user reads, from its
+/// `status` keyword ([`Unfit::status`]).
+pub fn unfit_words(status: &str) -> String {
+    match status {
+        "no-data" => "no successful analysis".to_string(),
+        "none-overturned" => "no analysis exceeded it, so its median lies beyond the \
+                              strongest stripe"
+            .to_string(),
+        "all-overturned" => "every analysis exceeded it, so its median lies below the \
+                             weakest stripe"
+            .to_string(),
+        "single-im-level" => "every analysis is at one intensity".to_string(),
+        "separated" => "no analysis exceeded it below some stripe and every one did above, \
+                        so the data say it is a step (β = 0) somewhere between them"
+            .to_string(),
+        "decreasing" => "it becomes less likely as the intensity grows".to_string(),
+        "no-convergence" => "the fit did not converge".to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// What to try for a curve that could not be fitted: its `status` keyword
+/// in words ([`unfit_words`]) and the remedy, naming the intensities the
+/// analyses spanned (`im_range`) where that helps.
+pub fn unfit_advice(status: &str, im_range: Option<(f64, f64)>) -> String {
+    let range = im_range.map_or(String::new(), |(lo, hi)| {
+        format!(
+            " ({}–{} here)",
+            crate::io_util::sig3(lo),
+            crate::io_util::sig3(hi)
+        )
+    });
+    let words = unfit_words(status);
+    match status {
+        "no-data" => "every analysis failed: see the `error` column of outcomes.csv".to_string(),
+        "none-overturned" => {
+            format!("{words}; run stripes above the strongest{range}, where it is exceeded")
+        }
+        "all-overturned" => {
+            format!("{words}; run stripes below the weakest{range}, where it is not")
+        }
+        "single-im-level" => "run at least two intensity levels".to_string(),
+        "separated" => format!(
+            "{words}; run stripes between those two levels, or more records, so that some \
+             stripe has runs on both sides"
+        ),
+        "decreasing" => format!("{words}; check the limit state's measure and threshold"),
+        _ => format!("{words}; refit with more records or stripes"),
+    }
+}
+
 /// Relative tolerance on the Newton step that declares convergence.
 const TOLERANCE: f64 = 1e-12;
 /// Iteration cap (Newton on a concave likelihood needs 5–15).
@@ -230,7 +280,8 @@ pub fn fit_lognormal(observations: &[Observation]) -> Result<LognormalFit, Unfit
             );
             assert!(o.overturned <= o.trials, "overturned > trials");
             Group {
-                u: o.im.ln(),
+                im: o.im,
+                u: dm::ln(o.im),
                 n: o.trials as f64,
                 z: o.overturned as f64,
             }
@@ -331,7 +382,8 @@ pub fn fit_common_beta(sets: &[&[Observation]]) -> Result<Vec<LognormalFit>, Unf
             obs.iter()
                 .filter(|o| o.trials > 0)
                 .map(|o| Group {
-                    u: o.im.ln(),
+                    im: o.im,
+                    u: dm::ln(o.im),
                     n: o.trials as f64,
                     z: o.overturned as f64,
                 })
@@ -437,10 +489,10 @@ pub fn fit_common_beta(sets: &[&[Observation]]) -> Result<Vec<LognormalFit>, Unf
 
 /// Probabilities within this of 0 or 1 are too close to tell curves apart:
 /// a crossing there does not count ([`curves_cross`]).
-pub const CROSSING_TOLERANCE: f64 = 1e-3;
+pub(crate) const CROSSING_TOLERANCE: f64 = 1e-3;
 
 /// Whether two fitted curves cross at an intensity in (0, `im_max`] where
-/// their common probability is in ([`CROSSING_TOLERANCE`], 1 − it): two
+/// their common probability is in (10⁻³, 1 − 10⁻³): two
 /// lognormal curves with β₁ ≠ β₂ meet once, where
 /// (u − ln θ₁)/β₁ = (u − ln θ₂)/β₂, i.e. u* = (β₂ ln θ₁ − β₁ ln θ₂)/(β₂ − β₁);
 /// curves with equal β never cross. A meeting in a tail (both near 0 or 1)
@@ -450,11 +502,11 @@ pub fn curves_cross(first: &LognormalFit, second: &LognormalFit, im_max: f64) ->
     if b1 == b2 {
         return false;
     }
-    let (m1, m2) = (first.median().ln(), second.median().ln());
+    let (m1, m2) = (dm::ln(first.median()), dm::ln(second.median()));
     let u_star = (b2 * m1 - b1 * m2) / (b2 - b1);
-    let p = first.probability(u_star.exp());
+    let p = first.probability(dm::exp(u_star));
     u_star.is_finite()
-        && u_star <= im_max.ln()
+        && u_star <= dm::ln(im_max)
         && p > CROSSING_TOLERANCE
         && p < 1.0 - CROSSING_TOLERANCE
 }
@@ -496,6 +548,9 @@ fn cholesky_solve(l: &[Vec<f64>], g: &[f64]) -> Vec<f64> {
 
 #[derive(Clone, Copy, Debug)]
 struct Group {
+    /// The intensity, as given (for messages: e^ln x need not give x back).
+    im: f64,
+    /// ln of the intensity.
     u: f64,
     n: f64,
     z: f64,
@@ -516,8 +571,10 @@ fn check_identifiable(groups: &[Group]) -> Result<(), Unfit> {
     }
     let u_min = groups.iter().map(|g| g.u).fold(f64::INFINITY, f64::min);
     let u_max = groups.iter().map(|g| g.u).fold(f64::NEG_INFINITY, f64::max);
+    // the intensity of a group at u, as the data gave it
+    let im_at = |u: f64| groups.iter().find(|g| g.u == u).map_or(f64::NAN, |g| g.im);
     if u_min == u_max {
-        return Err(Unfit::SingleLevel { im: u_min.exp() });
+        return Err(Unfit::SingleLevel { im: im_at(u_min) });
     }
     // Largest / smallest u with a survivor, and with an overturn.
     let surv = groups.iter().filter(|g| g.z < g.n).map(|g| g.u);
@@ -528,8 +585,8 @@ fn check_identifiable(groups: &[Group]) -> Result<(), Unfit> {
     let last_overturn = over.fold(f64::NEG_INFINITY, f64::max);
     if last_survival <= first_overturn {
         return Err(Unfit::Separated {
-            last_survival: last_survival.exp(),
-            first_overturn: first_overturn.exp(),
+            last_survival: im_at(last_survival),
+            first_overturn: im_at(first_overturn),
         });
     }
     if last_overturn <= first_survival {
@@ -541,11 +598,10 @@ fn check_identifiable(groups: &[Group]) -> Result<(), Unfit> {
 /// Starting point: weighted least squares of the probits of the smoothed
 /// fractions Φ⁻¹((z + ½)/(n + 1)) on u − ū; a flat slope if that is not > 0.
 fn start(groups: &[Group], u_bar: f64) -> [f64; 2] {
-    let normal = std_normal();
     let (mut sw, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
     for g in groups {
         let x = g.u - u_bar;
-        let y = normal.inverse_cdf((g.z + 0.5) / (g.n + 1.0));
+        let y = dm::norm_inv_cdf((g.z + 0.5) / (g.n + 1.0));
         sw += g.n;
         sy += g.n * y;
         sxx += g.n * x * x;
@@ -580,7 +636,7 @@ fn evaluate(groups: &[Group], [c, b]: [f64; 2], u_bar: f64) -> Evaluation {
         let (mut s, mut w) = (0.0, 0.0);
         if g.z > 0.0 {
             let lc = ln_cdf(eta);
-            let r = (ln_pdf(eta) - lc).exp(); // φ/Φ, the inverse Mills ratio
+            let r = dm::exp(ln_pdf(eta) - lc); // φ/Φ, the inverse Mills ratio
             e.loglik += g.z * lc;
             s += g.z * r;
             w += g.z * r * (eta + r);
@@ -588,7 +644,7 @@ fn evaluate(groups: &[Group], [c, b]: [f64; 2], u_bar: f64) -> Evaluation {
         let m = g.n - g.z;
         if m > 0.0 {
             let lc = ln_cdf(-eta);
-            let r = (ln_pdf(eta) - lc).exp(); // φ/(1 − Φ)
+            let r = dm::exp(ln_pdf(eta) - lc); // φ/(1 − Φ)
             e.loglik += m * lc;
             s -= m * r;
             w += m * r * (r - eta);
@@ -624,10 +680,6 @@ fn invert(m: &[[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
     ])
 }
 
-pub(crate) fn std_normal() -> Normal {
-    Normal::standard()
-}
-
 /// ln φ(x).
 fn ln_pdf(x: f64) -> f64 {
     const LN_SQRT_2PI: f64 = 0.918_938_533_204_672_7;
@@ -638,18 +690,17 @@ fn ln_pdf(x: f64) -> f64 {
 /// asymptotic series Φ(x) = φ(x)/|x| (1 − 1/x² + 3/x⁴ − …) below −30, where
 /// Φ(x) < 5e-198 nears underflow.
 fn ln_cdf(x: f64) -> f64 {
-    let normal = std_normal();
     if x > 0.0 {
-        (-normal.cdf(-x)).ln_1p()
+        dm::ln_1p(-dm::norm_cdf(-x))
     } else if x >= -30.0 {
-        normal.cdf(x).ln()
+        dm::ln(dm::norm_cdf(x))
     } else {
         let y = 1.0 / (x * x);
         // Σ (−1)ᵏ (2k−1)!! yᵏ, k = 0..6: the next term is < 2e-17 at x = −30.
         let series = 1.0
             - y * (1.0
                 - 3.0 * y * (1.0 - 5.0 * y * (1.0 - 7.0 * y * (1.0 - 9.0 * y * (1.0 - 11.0 * y)))));
-        ln_pdf(x) - (-x).ln() + series.ln()
+        ln_pdf(x) - dm::ln(-x) + dm::ln(series)
     }
 }
 
@@ -684,7 +735,7 @@ mod tests {
             (below - above).abs() < 1e-12 * above.abs(),
             "{below} {above}"
         );
-        assert!((ln_cdf(1.0) - std_normal().cdf(1.0).ln()).abs() < 1e-15);
+        assert!((ln_cdf(1.0) - dm::ln(dm::norm_cdf(1.0))).abs() < 1e-15);
         assert!(ln_cdf(-1000.0).is_finite());
     }
 
@@ -693,21 +744,25 @@ mod tests {
     fn score_and_information_match_finite_differences() {
         let groups = [
             Group {
+                im: dm::exp(-1.5),
                 u: -1.5,
                 n: 10.0,
                 z: 1.0,
             },
             Group {
+                im: dm::exp(-0.7),
                 u: -0.7,
                 n: 10.0,
                 z: 5.0,
             },
             Group {
+                im: dm::exp(0.2),
                 u: 0.2,
                 n: 8.0,
                 z: 8.0,
             },
             Group {
+                im: dm::exp(0.5),
                 u: 0.5,
                 n: 3.0,
                 z: 0.0,
@@ -758,7 +813,8 @@ mod tests {
         let groups: Vec<Group> = obs
             .iter()
             .map(|o| Group {
-                u: o.im.ln(),
+                im: o.im,
+                u: dm::ln(o.im),
                 n: o.trials as f64,
                 z: o.overturned as f64,
             })

@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! outcomes.csv ─▶ data: cases, stripes, records ─▶ fit: probit MLE (θ, β, SEs)
-//!   ─▶ bootstrap: resample records, refit ─▶ output: fragility.csv,
+//!   ─▶ bootstrap: resample records, refit ─▶ files: fragility.csv,
 //!      fragility_curves.csv, fragility_bootstrap.csv (each replicate's θ, β)
 //!   ─▶ nrml: fragility.xml (OpenQuake NRML 0.5)
 //! ```
@@ -77,29 +77,28 @@
 mod bootstrap;
 mod case;
 mod data;
+mod files;
 mod fit;
 mod nrml;
 mod options;
-mod output;
+mod report;
 
-pub use crate::outcomes_csv::CaseKey;
-pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile, replicate_seed};
+pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile};
 pub use case::{BetaModel, CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
-pub use data::{Analysis, CaseData, Outcomes, read_outcomes, read_outcomes_for};
+pub use data::{CaseData, Outcomes, Trial, read_outcomes, read_outcomes_for};
+pub use files::{
+    BOOTSTRAP_HEADER, BootstrapRow, CURVES_HEADER, CurveRow, FRAGILITY_HEADER, FragilityRow,
+    OutputPaths, read_bootstrap_csv, read_curves_csv, read_fragility_csv, write_outputs,
+};
 pub use fit::{
-    CROSSING_TOLERANCE, LognormalFit, Observation, Unfit, curves_cross, fit_common_beta,
-    fit_lognormal,
+    LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal, unfit_advice,
+    unfit_words,
 };
 pub use nrml::{
-    ASSET_CATEGORY, LOSS_CATEGORY, NrmlEntry, NrmlFunction, OVERTURNING, lognormal_to_moments,
-    moments_to_lognormal, nrml_model_string, nrml_string, openquake_imt, overturning_entry,
-    write_nrml,
+    IML_SIGMAS, NrmlEntry, NrmlFunction, NrmlShape, lognormal_to_moments, model_range,
+    moments_to_lognormal, nrml_model_string, nrml_string, write_nrml,
 };
 pub use options::{
     BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_LIMIT_STATES,
 };
-pub(crate) use output::key_fields;
-pub use output::{
-    BOOTSTRAP_HEADER, CURVES_HEADER, FRAGILITY_HEADER, OutputPaths, write_bootstrap_csv,
-    write_curves_csv, write_fragility_csv, write_outputs,
-};
+pub use report::{FitReport, fit_and_write};

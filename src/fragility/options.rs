@@ -3,8 +3,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::case::Field;
 use crate::error::{Error, Result};
-use crate::outcomes_csv::{Column, MeasureKind, Pooled};
+use crate::outcomes_csv::{Column, MeasureKind};
 
 /// Most limit states a fit accepts (each analysis keeps its exceedances as
 /// the bits of a `u64`).
@@ -50,7 +51,7 @@ impl LimitState {
 
 /// The intensity measure the curves are fitted against.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(try_from = "String", into = "String")]
 pub enum IntensityMeasure {
     /// Peak ground acceleration, in g (default).
     #[default]
@@ -62,14 +63,16 @@ pub enum IntensityMeasure {
     PgaOverTan,
 }
 
+crate::io_util::named!(IntensityMeasure, "im" {
+    Pga => "pga",
+    Pgv => "pgv",
+    PgaOverTan => "pga-over-tan",
+});
+
 impl IntensityMeasure {
-    /// Name used in the CLI and the CSV files.
-    pub fn name(self) -> &'static str {
-        match self {
-            IntensityMeasure::Pga => "pga",
-            IntensityMeasure::Pgv => "pgv",
-            IntensityMeasure::PgaOverTan => "pga-over-tan",
-        }
+    /// The measure named `name` ([`IntensityMeasure::name`]).
+    pub fn from_name(name: &str) -> Option<IntensityMeasure> {
+        name.parse().ok()
     }
 
     /// Unit of the intensity (`1` for dimensionless).
@@ -94,7 +97,7 @@ pub struct FragilityOptions {
     /// What a replicate resamples (default: whole records, shared across stripes).
     pub unit: BootstrapUnit,
     /// Seed of the bootstrap; replicate r draws from a generator seeded with
-    /// [`replicate_seed`](super::replicate_seed)`(seed, r)` (default: 1).
+    /// `replicate_seed(seed, r)`, a splitmix of the two (default: 1).
     pub seed: u64,
     /// Two-sided confidence level of the intervals and bands, in (0, 1)
     /// (default: 0.9, i.e. the 5th and 95th percentiles).
@@ -111,7 +114,7 @@ pub struct FragilityOptions {
     /// analysis (its `[uncertainty]`, filled in when the spec is read), or
     /// any a user chooses (`rockfrag fragility --pool`). Not a spec field.
     #[serde(skip)]
-    pub pool: Pooled,
+    pub pool: Vec<Field>,
 }
 
 impl Default for FragilityOptions {
@@ -124,7 +127,7 @@ impl Default for FragilityOptions {
             confidence: 0.9,
             grid_points: 101,
             limit_state: Vec::new(),
-            pool: Pooled::default(),
+            pool: Vec::new(),
         }
     }
 }
@@ -263,9 +266,14 @@ pub fn is_nrml_name(w: &str) -> bool {
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
+crate::io_util::named!(BootstrapUnit, "resample" {
+    Records => "records",
+    Analyses => "analyses",
+});
+
 /// What a bootstrap replicate resamples.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(try_from = "String", into = "String")]
 pub enum BootstrapUnit {
     /// Whole records (default): as many records as the case has are drawn
     /// with replacement, and a drawn record brings its analyses at *every*

@@ -2,6 +2,7 @@
 //!
 //! Only the shape matters: records are scaled to a target PGA afterwards.
 
+use crate::detmath as dm;
 use crate::error::{Error, Result};
 
 /// A deterministic time-modulating function c(t), t in seconds from the
@@ -114,8 +115,8 @@ impl Envelope {
     pub fn value(&self, t: f64) -> f64 {
         match *self {
             Envelope::PaperEq7 => {
-                let a = 0.038 * (-16.0 * (t - 14.5).powi(2) / 25.0).exp();
-                let b = 0.0073 * (-16.0 * (t - 13.5).powi(2) / 400.0).exp();
+                let a = 0.038 * dm::exp(-16.0 * dm::powi(t - 14.5, 2) / 25.0);
+                let b = 0.0073 * dm::exp(-16.0 * dm::powi(t - 13.5, 2) / 400.0);
                 (a + b).sqrt()
             }
             Envelope::Unit => 1.0,
@@ -143,9 +144,9 @@ impl Envelope {
                     return 0.0;
                 }
                 let x_end = t_end / t_peak;
-                let b = end_level.ln() / (x_end.ln() + 1.0 - x_end);
+                let b = dm::ln(end_level) / (dm::ln(x_end) + 1.0 - x_end);
                 let x = t / t_peak;
-                (b * (x.ln() + 1.0 - x)).exp()
+                dm::exp(b * (dm::ln(x) + 1.0 - x))
             }
         }
     }

@@ -8,9 +8,10 @@
 //! Every parse error names the file and the 1-based line
 //! ([`Error::Parse`]).
 
+use crate::detmath as dm;
 use std::fs;
-use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::io::Write;
+use std::path::Path;
 
 use super::record::{Record, integrate_linear};
 use crate::error::{Error, Result};
@@ -452,9 +453,9 @@ fn rounding_of(token: &str) -> f64 {
     match mantissa.find('.') {
         Some(i) => {
             let decimals = (mantissa.len() - i - 1) as i32;
-            0.5 * 10f64.powi(exponent - decimals)
+            0.5 * dm::powi(10.0, exponent - decimals)
         }
-        None if exponent != 0 => 0.5 * 10f64.powi(exponent),
+        None if exponent != 0 => 0.5 * dm::powi(10.0, exponent),
         None => 0.0,
     }
 }
@@ -671,39 +672,10 @@ pub fn write_csv(path: impl AsRef<Path>, record: &Record) -> Result<()> {
     write_atomic(path.as_ref(), |w| write_csv_to(w, record))
 }
 
-/// Writes through `f` into a temporary file beside `path`, syncs it and
-/// renames it onto `path`; removes the temporary file on failure.
-fn write_atomic(
-    path: &Path,
-    f: impl FnOnce(&mut BufWriter<fs::File>) -> std::io::Result<()>,
-) -> Result<()> {
-    let Some(file_name) = path.file_name() else {
-        return Err(io_err(
-            path,
-            std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file path"),
-        ));
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp",
-        file_name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let mut w = BufWriter::new(fs::File::create(&tmp)?);
-        f(&mut w)?;
-        let file = w.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        drop(file);
-        fs::rename(&tmp, path)
-    })();
-    result.map_err(|e| {
-        let _ = fs::remove_file(&tmp);
-        io_err(path, e)
-    })
+/// Writes through `f` atomically ([`crate::io_util::write_atomic`]),
+/// naming `path` in an error.
+fn write_atomic(path: &Path, f: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    crate::io_util::write_atomic(path, f).map_err(|e| io_err(path, e))
 }
 
 #[cfg(test)]
@@ -752,7 +724,7 @@ mod tests {
 
     /// Reads `text` as the record file `name` in a fresh folder; returns the
     /// result and the file's path.
-    fn read_text_as(name: &str, text: &str) -> (Result<Record>, PathBuf) {
+    fn read_text_as(name: &str, text: &str) -> (Result<Record>, std::path::PathBuf) {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(name);
         fs::write(&path, text).unwrap();

@@ -10,6 +10,7 @@
 //! f in Hz; S is **one-sided** in Hz: the variance of the process is
 //! ∫₀^∞ S(f) df, in (m/s²)².
 
+use crate::detmath as dm;
 use crate::error::{Error, Result};
 
 /// Parameters of the Clough–Penzien spectrum, eq. (6). Defaults: the paper's
@@ -55,10 +56,10 @@ impl CloughPenzien {
     pub fn density(&self, f: f64) -> f64 {
         let rg = f / self.f_g;
         let r2 = f / self.f_2;
-        let dg = (2.0 * self.xi_g * rg).powi(2);
-        let d2 = (2.0 * self.xi_2 * r2).powi(2);
-        let kanai_tajimi = (1.0 + dg) / ((1.0 - rg * rg).powi(2) + dg);
-        let high_pass = r2.powi(4) / ((1.0 - r2 * r2).powi(2) + d2);
+        let dg = dm::powi(2.0 * self.xi_g * rg, 2);
+        let d2 = dm::powi(2.0 * self.xi_2 * r2, 2);
+        let kanai_tajimi = (1.0 + dg) / (dm::powi(1.0 - rg * rg, 2) + dg);
+        let high_pass = dm::powi(r2, 4) / (dm::powi(1.0 - r2 * r2, 2) + d2);
         self.s0 * kanai_tajimi * high_pass
     }
 

@@ -1,7 +1,7 @@
 //! The columns of `outcomes.csv`: their one definition.
 //!
 //! [`Column`] names every column the file can have; the lists below give
-//! their order. The writer ([`super::write`]) writes the columns of a
+//! their order. The writer ([`super::OutcomeRow::write_field`]) writes the columns of a
 //! [`Columns`] in the order of [`Columns::list`], and every reader finds
 //! them by [`Column::name`], so a column is added, renamed or moved here
 //! and nowhere else.
@@ -87,7 +87,7 @@ pub enum Column {
     Error,
 }
 
-/// The case columns: one block configuration ([`super::CaseKey`]).
+/// The case columns: one block configuration ([`crate::case::Case`]).
 pub const CASE: [Column; 6] = [
     Column::Aspect,
     Column::Width,
@@ -95,16 +95,6 @@ pub const CASE: [Column; 6] = [
     Column::Friction,
     Column::MuS,
     Column::MuK,
-];
-
-/// The case columns' names, in order.
-pub const CASE_COLUMNS: [&str; 6] = [
-    Column::Aspect.name(),
-    Column::Width.name(),
-    Column::Restitution.name(),
-    Column::Friction.name(),
-    Column::MuS.name(),
-    Column::MuK.name(),
 ];
 
 /// The record columns after the case (without the optional `record_file`).
@@ -162,16 +152,7 @@ pub enum MeasureKind {
 impl Column {
     /// The column named `name`, among every column a file can have.
     pub fn from_name(name: &str) -> Option<Column> {
-        Columns {
-            pgv: true,
-            files: true,
-            scale: true,
-            time_in_mode: true,
-            stats: true,
-        }
-        .list()
-        .into_iter()
-        .find(|c| c.name() == name)
+        Columns::ALL.list().into_iter().find(|c| c.name() == name)
     }
 
     /// Whether the column can be a limit state's measure, and as what: the
@@ -289,6 +270,136 @@ impl Column {
     }
 }
 
+/// What a column's values are, for a reader that types them (Python's
+/// `read_outcomes`: booleans, whole numbers, floats or text).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ValueKind {
+    /// `true` or `false`.
+    Flag,
+    /// A whole number ≥ 0.
+    Count,
+    /// A number; empty when absent (a time that did not occur, a failed
+    /// analysis's outcome).
+    Number,
+    /// Text.
+    Text,
+}
+
+impl Column {
+    /// The kind of the column's values.
+    pub fn value_kind(self) -> ValueKind {
+        match self {
+            Column::Overturned | Column::Uplifted | Column::Moved => ValueKind::Flag,
+            Column::Record
+            | Column::Impacts
+            | Column::Flights
+            | Column::Uplifts
+            | Column::LiftoffHolds
+            | Column::EnergyGains
+            | Column::Settles
+            | Column::StickHolds
+            | Column::RhsCalls
+            | Column::StepsAccepted
+            | Column::StepsRejected
+            | Column::Events => ValueKind::Count,
+            Column::Friction | Column::RecordFile | Column::Status | Column::Error => {
+                ValueKind::Text
+            }
+            _ => ValueKind::Number,
+        }
+    }
+
+    /// Sets this outcome column's field of `o` from its text (the inverse
+    /// of [`Column::write_value`]); a column that is not an outcome column
+    /// is ignored. Errors: what was expected.
+    pub fn read_value(self, o: &mut Outcome, text: &str) -> Result<(), &'static str> {
+        fn flag(t: &str) -> Result<bool, &'static str> {
+            match t {
+                "true" | "1" => Ok(true),
+                "false" | "0" => Ok(false),
+                _ => Err("true or false"),
+            }
+        }
+        fn count(t: &str) -> Result<u64, &'static str> {
+            t.parse().map_err(|_| "a whole number ≥ 0")
+        }
+        fn num(t: &str) -> Result<f64, &'static str> {
+            t.parse().map_err(|_| "a number")
+        }
+        fn opt(t: &str) -> Result<Option<f64>, &'static str> {
+            if t.is_empty() {
+                Ok(None)
+            } else {
+                num(t).map(Some)
+            }
+        }
+        let s = &mut o.stats;
+        match self {
+            Column::Overturned => o.overturned = flag(text)?,
+            Column::OverturnTime => o.overturn_time = opt(text)?,
+            Column::Uplifted => o.uplifted = flag(text)?,
+            Column::Moved => o.moved = flag(text)?,
+            Column::ThetaMaxOverThetaC => o.theta_max_over_theta_c = num(text)?,
+            Column::MuMotion => o.mu_motion = num(text)?,
+            Column::MuImpact => o.mu_impact = num(text)?,
+            Column::MuImpactEq5 => o.mu_impact_eq5 = num(text)?,
+            Column::Impacts => o.impacts = count(text)?,
+            Column::Flights => o.flights = count(text)?,
+            Column::Uplifts => o.uplifts = count(text)?,
+            Column::LiftoffHolds => o.liftoff_holds = count(text)?,
+            Column::EnergyGains => o.energy_gains = count(text)?,
+            Column::Settles => o.settles = count(text)?,
+            Column::SlipMax => o.slip_max = num(text)?,
+            Column::SlipFinal => o.slip_final = num(text)?,
+            Column::StickHolds => o.stick_holds = count(text)?,
+            Column::EndTime => o.end_time = num(text)?,
+            Column::FirstImpactTime => o.first_impact_time = opt(text)?,
+            Column::TimeIn(mode) => o.time_in_mode[mode.index()] = num(text)?,
+            Column::RhsCalls => s.rhs_calls = count(text)?,
+            Column::StepsAccepted => s.steps_accepted = count(text)?,
+            Column::StepsRejected => s.steps_rejected = count(text)?,
+            Column::Events => s.events = count(text)?,
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// This outcome column's value of `o` as a number, for a limit state's
+    /// measure: a flag is 1 or 0, a count or number itself, an absent time
+    /// `None`; `None` for a column that is not an outcome column.
+    pub fn measure(self, o: &Outcome) -> Option<f64> {
+        let s = &o.stats;
+        let flag = |b: bool| Some(if b { 1.0 } else { 0.0 });
+        match self {
+            Column::Overturned => flag(o.overturned),
+            Column::OverturnTime => o.overturn_time,
+            Column::Uplifted => flag(o.uplifted),
+            Column::Moved => flag(o.moved),
+            Column::ThetaMaxOverThetaC => Some(o.theta_max_over_theta_c),
+            Column::MuMotion => Some(o.mu_motion),
+            Column::MuImpact => Some(o.mu_impact),
+            Column::MuImpactEq5 => Some(o.mu_impact_eq5),
+            Column::Impacts => Some(o.impacts as f64),
+            Column::Flights => Some(o.flights as f64),
+            Column::Uplifts => Some(o.uplifts as f64),
+            Column::LiftoffHolds => Some(o.liftoff_holds as f64),
+            Column::EnergyGains => Some(o.energy_gains as f64),
+            Column::Settles => Some(o.settles as f64),
+            Column::SlipMax => Some(o.slip_max),
+            Column::SlipFinal => Some(o.slip_final),
+            Column::StickHolds => Some(o.stick_holds as f64),
+            Column::EndTime => Some(o.end_time),
+            Column::FirstImpactTime => o.first_impact_time,
+            Column::TimeIn(mode) => Some(o.time_in_mode[mode.index()]),
+            Column::RhsCalls => Some(s.rhs_calls as f64),
+            Column::StepsAccepted => Some(s.steps_accepted as f64),
+            Column::StepsRejected => Some(s.steps_rejected as f64),
+            Column::Events => Some(s.events as f64),
+            _ => None,
+        }
+    }
+}
+
 impl AsRef<str> for Column {
     fn as_ref(&self) -> &str {
         self.name()
@@ -319,6 +430,16 @@ pub struct Columns {
 }
 
 impl Columns {
+    /// Every optional column: the layout that lists every column a file can
+    /// have.
+    pub const ALL: Columns = Columns {
+        pgv: true,
+        files: true,
+        scale: true,
+        time_in_mode: true,
+        stats: true,
+    };
+
     /// The outcome columns of a successful row, in order: [`OUTCOME`], then
     /// [`TIME_IN_MODE`] and [`STATS`] when present.
     pub fn outcome(&self) -> Vec<Column> {

@@ -1,19 +1,22 @@
 //! `outcomes.csv`: the table of per-analysis outcomes that a study writes
-//! and the fragility fit, the figures and `merge` read. One row per
-//! analysis, in the canonical order of units and cases (see
-//! [`crate::study::Case`] and [`crate::study::Unit`]).
+//! and the summary, the fragility fit, the figures, `merge` and Python read.
+//! One row per analysis, in the canonical order of units and cases (see
+//! [`crate::study::Unit`]; cases in the order of the study's grid lists,
+//! aspect, then width, then e, then friction).
 //!
 //! Columns, in order (the bracketed ones only when the study uses them):
 //!
 //! ```text
 //! aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,[record_file],
-//! status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,
+//! [scale],status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,
 //! mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,
 //! energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,
 //! [t_rest,t_slide,t_rock,t_slide_rock,t_flight],
 //! [rhs_calls,steps_accepted,steps_rejected,events],error
 //! ```
 //!
+//! - the case columns are the analysis's own block ([`crate::case`]): a
+//!   parameter drawn per analysis has its drawn value;
 //! - `friction` is `inf` or `coulomb` (then `mu_s`, `mu_k` are set, else empty);
 //! - `pga` (g) and `pgv` (m/s): one is the study's intensity level, the
 //!   other the scaled record's measured peak (PGV for PGA studies, PGA for
@@ -29,16 +32,12 @@
 //!   `f64` values, and the same run gives the same bytes.
 //!
 //! The columns are defined once, in [`Column`] and the lists [`CASE`],
-//! [`OUTCOME`], [`TIME_IN_MODE`] and [`STATS`]; the writer ([`Columns::write_row`]) and every reader
-//! ([`OutcomesReader`], used by the study's summary, the fragility fit and
-//! the figures) take them from there.
+//! [`OUTCOME`], [`TIME_IN_MODE`] and [`STATS`]; a row is one type,
+//! [`OutcomeRow`], written by [`Columns::write_row`] and read by
+//! [`OutcomesFile`] beside it.
 
-mod case;
 mod columns;
-mod read;
-mod write;
+mod row;
 
-pub use case::{CaseKey, Pooled, cmp_friction, param_text, same, same_friction};
-pub use columns::{CASE, CASE_COLUMNS, Column, Columns, MeasureKind, OUTCOME, STATS, TIME_IN_MODE};
-pub use read::{OutcomesReader, Row};
-pub use write::RecordInfo;
+pub use columns::{CASE, Column, Columns, MeasureKind, OUTCOME, STATS, TIME_IN_MODE, ValueKind};
+pub use row::{OutcomeRow, OutcomesFile, RecordInfo};

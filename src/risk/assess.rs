@@ -1,6 +1,7 @@
 //! Every fitted curve of a study integrated over one hazard curve, with the
 //! bootstrap band of the rate.
 
+use crate::detmath as dm;
 use rayon::prelude::*;
 
 use super::hazard::HazardCurve;
@@ -79,7 +80,7 @@ impl RiskRow {
     /// Probability of exceeding the limit state at least once in `years`,
     /// 1 − exp(−λN) (Poisson occurrence).
     pub fn poe(&self, years: f64) -> Option<f64> {
-        self.rate().map(|r| -(-r * years).exp_m1())
+        self.rate().map(|r| -dm::exp_m1(-r * years))
     }
 
     /// Shares of the rate from below and above the hazard curve's ends

@@ -2,6 +2,7 @@
 //! site, read from OpenQuake's hazard-curve CSV or from a plain
 //! `iml,annual_rate` table.
 
+use crate::detmath as dm;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
@@ -114,9 +115,9 @@ impl HazardCurve {
     pub fn rate_at(&self, im: f64) -> f64 {
         let n = self.iml.len();
         let i = self.iml.partition_point(|&x| x <= im).clamp(1, n - 1) - 1;
-        let (u0, u1) = (self.iml[i].ln(), self.iml[i + 1].ln());
-        let (l0, l1) = (self.rate[i].ln(), self.rate[i + 1].ln());
-        (l0 + (l1 - l0) * (im.ln() - u0) / (u1 - u0)).exp()
+        let (u0, u1) = (dm::ln(self.iml[i]), dm::ln(self.iml[i + 1]));
+        let (l0, l1) = (dm::ln(self.rate[i]), dm::ln(self.rate[i + 1]));
+        dm::exp(l0 + (l1 - l0) * (dm::ln(im) - u0) / (u1 - u0))
     }
 }
 
@@ -331,7 +332,7 @@ fn read_openquake(path: &Path, lines: &[String], site: usize) -> Result<HazardCu
                     ),
                 )
             })?;
-        let rate = -(-poe).ln_1p() / t;
+        let rate = -dm::ln_1p(-poe) / t;
         precision.push(rate_precision(fields[c], poe, rate * t));
         points.push((line, x, rate));
     }
@@ -367,7 +368,7 @@ fn rate_precision(text: &str, poe: f64, lambda_t: f64) -> f64 {
         .skip_while(|&c| c == '0')
         .count()
         .max(1);
-    let half_ulp = 0.5 * poe * 10f64.powi(1 - digits as i32);
+    let half_ulp = 0.5 * poe * dm::powi(10.0, 1 - digits as i32);
     if lambda_t > 0.0 {
         half_ulp / ((1.0 - poe) * lambda_t)
     } else {

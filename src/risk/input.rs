@@ -1,17 +1,19 @@
 //! The fitted fragility a risk integral needs: `fragility.csv` (θ, β per case
 //! and limit state) and, if present, `fragility_bootstrap.csv` (each
-//! bootstrap replicate's θ, β), read by header name.
+//! bootstrap replicate's θ, β), read through their row types
+//! ([`FragilityRow`], [`crate::fragility::BootstrapRow`]).
 
 use std::path::{Path, PathBuf};
 
+use crate::case::Case;
 use crate::error::{Error, Result};
-use crate::outcomes_csv::{CaseKey, OutcomesReader};
+use crate::fragility::{FragilityRow, read_bootstrap_csv, read_fragility_csv};
 
 /// One row of `fragility.csv`: a case and limit state and its fit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FittedCurve {
-    /// The block configuration.
-    pub key: CaseKey,
+    /// The case.
+    pub key: Case,
     /// The limit state's name.
     pub limit_state: String,
     /// The IM the curve was fitted against (`pga`, `pgv`, `pga-over-tan`).
@@ -60,48 +62,55 @@ impl FittedFragility {
 /// (it was written by another fit).
 pub fn read_fragility(dir: &Path) -> Result<FittedFragility> {
     let path = dir.join("fragility.csv");
-    let (mut table, [ls, im, median, beta, status]) = OutcomesReader::open(
-        &path,
-        ["limit_state", "im", "median", "beta", "status"],
-        "the risk integral",
-    )?;
-    let unit = table.column("im_unit");
-    let mut curves: Vec<FittedCurve> = Vec::new();
-    while let Some(row) = table.next_row()? {
-        let status_text = row.text(status)?.to_string();
-        let fit = if status_text == "ok" {
-            Some((row.positive(median)?, row.positive(beta)?))
-        } else {
-            None
-        };
-        let curve = FittedCurve {
-            key: row.case()?,
-            limit_state: row.text(ls)?.to_string(),
-            im: row.text(im)?.to_string(),
-            im_unit: unit.map_or("", |u| row.field(u)).to_string(),
-            fit,
-            status: status_text,
-            replicates: Vec::new(),
-            replicates_unfit: 0,
-        };
-        if let Some(first) = curves.first().filter(|c| c.im != curve.im) {
-            return Err(row.error(
-                im,
-                &format!("the IM of the file's first row ({})", first.im),
-            ));
-        }
-        curves.push(curve);
-    }
-    if curves.is_empty() {
+    let rows = read_fragility_csv(&path)?;
+    let Some(first) = rows.first() else {
         return Err(Error::Parse {
             path,
             line: 2,
             message: "no rows: fit the study first (rockfrag fragility DIR)".into(),
         });
+    };
+    if let Some((i, other)) = rows.iter().enumerate().find(|(_, r)| r.im != first.im) {
+        return Err(Error::Parse {
+            path,
+            line: i + 2,
+            message: format!(
+                "column `im` = {:?}: expected the IM of the file's first row ({})",
+                other.im.name(),
+                first.im.name()
+            ),
+        });
     }
+    let mut curves: Vec<FittedCurve> = rows.iter().map(FittedCurve::from_row).collect();
     let boot_path = dir.join("fragility_bootstrap.csv");
     let bootstrap = if boot_path.exists() {
-        read_replicates(&boot_path, &mut curves)?;
+        for (b, line) in read_bootstrap_csv(&boot_path)?.into_iter().zip(2usize..) {
+            let Some(curve) = curves.get_mut(b.index) else {
+                return Err(Error::Parse {
+                    path: boot_path.clone(),
+                    line,
+                    message: format!(
+                        "column `case` = \"{}\": expected a row of fragility.csv (0 to {})",
+                        b.index,
+                        rows.len() - 1
+                    ),
+                });
+            };
+            if b.case != curve.key || b.limit_state != curve.limit_state {
+                return Err(Error::Conflict {
+                    path: boot_path.clone(),
+                    message: format!(
+                        "line {line}: case {} is {} {} here but {} {} in fragility.csv: the two \
+                         files come from different fits; rerun rockfrag fragility",
+                        b.index, b.case, b.limit_state, curve.key, curve.limit_state
+                    ),
+                });
+            }
+            match b.fit {
+                Ok(fit) => curve.replicates.push(fit),
+                Err(_) => curve.replicates_unfit += 1,
+            }
+        }
         Some(boot_path)
     } else {
         None
@@ -113,42 +122,18 @@ pub fn read_fragility(dir: &Path) -> Result<FittedFragility> {
     })
 }
 
-/// Adds the replicates of `fragility_bootstrap.csv` to `curves`.
-fn read_replicates(path: &Path, curves: &mut [FittedCurve]) -> Result<()> {
-    let (mut table, [case, ls, median, beta, status]) = OutcomesReader::open(
-        path,
-        ["case", "limit_state", "median", "beta", "status"],
-        "the risk integral's bootstrap band",
-    )?;
-    while let Some(row) = table.next_row()? {
-        let i = row.integer(case)? as usize;
-        let Some(curve) = curves.get_mut(i) else {
-            return Err(row.error(
-                case,
-                &format!("a row of fragility.csv (0 to {})", curves.len() - 1),
-            ));
-        };
-        if row.case()? != curve.key || row.field(ls) != curve.limit_state {
-            return Err(Error::Conflict {
-                path: path.to_path_buf(),
-                message: format!(
-                    "line {}: case {i} is {} {} here but {} {} in fragility.csv: the two \
-                     files come from different fits; rerun rockfrag fragility",
-                    row.line(),
-                    row.case()?,
-                    row.field(ls),
-                    curve.key,
-                    curve.limit_state
-                ),
-            });
-        }
-        if row.text(status)? == "ok" {
-            curve
-                .replicates
-                .push((row.positive(median)?, row.positive(beta)?));
-        } else {
-            curve.replicates_unfit += 1;
+impl FittedCurve {
+    /// The curve of a `fragility.csv` row, without its replicates.
+    pub fn from_row(row: &FragilityRow) -> FittedCurve {
+        FittedCurve {
+            key: row.case,
+            limit_state: row.limit_state.clone(),
+            im: row.im.name().to_string(),
+            im_unit: row.im.unit().to_string(),
+            fit: row.fit(),
+            status: row.status.clone(),
+            replicates: Vec::new(),
+            replicates_unfit: 0,
         }
     }
-    Ok(())
 }

@@ -1,7 +1,7 @@
 //! The risk integral λ_LS = ∫ P(LS | im) |dλ/dim| dim of a lognormal
 //! fragility over a hazard curve interpolated log–log (see [`crate::risk`]).
 
-use statrs::distribution::{ContinuousCDF, Normal};
+use crate::detmath as dm;
 
 use super::hazard::HazardCurve;
 
@@ -81,7 +81,6 @@ struct Integrand<'a> {
     ln_median: f64,
     beta: f64,
     pieces: Vec<(Part, Piece)>,
-    normal: Normal,
     /// Midpoints (in u) of the hazard's segments and their log-slopes.
     midpoints: Vec<(f64, f64)>,
     /// The log–log interpolated hazard.
@@ -90,8 +89,8 @@ struct Integrand<'a> {
 
 impl<'a> Integrand<'a> {
     fn new(hazard: &'a HazardCurve, median: f64, beta: f64) -> Integrand<'a> {
-        let u: Vec<f64> = hazard.iml.iter().map(|x| x.ln()).collect();
-        let l: Vec<f64> = hazard.rate.iter().map(|r| r.ln()).collect();
+        let u: Vec<f64> = hazard.iml.iter().map(|&x| dm::ln(x)).collect();
+        let l: Vec<f64> = hazard.rate.iter().map(|&r| dm::ln(r)).collect();
         let n = u.len();
         let segment = |i: usize| Piece {
             a: u[i],
@@ -100,7 +99,7 @@ impl<'a> Integrand<'a> {
             l_ref: l[i],
             k: -(l[i + 1] - l[i]) / (u[i + 1] - u[i]),
         };
-        let ln_median = median.ln();
+        let ln_median = dm::ln(median);
         let mut pieces = Vec::with_capacity(n + 1);
         // Below: the first segment's power law, down to where Φ has made
         // the integrand negligible (its peak is near z = −kβ).
@@ -133,7 +132,6 @@ impl<'a> Integrand<'a> {
             ln_median,
             beta,
             pieces,
-            normal: Normal::standard(),
             midpoints: (0..n - 1)
                 .map(|i| ((u[i] + u[i + 1]) / 2.0, segment(i).k))
                 .collect(),
@@ -155,20 +153,20 @@ impl<'a> Integrand<'a> {
             let ((u0, k0), (u1, k1)) = (m[j - 1], m[j]);
             k0 + (k1 - k0) * (u - u0) / (u1 - u0)
         };
-        let p = self.normal.cdf((u - self.ln_median) / self.beta);
+        let p = dm::norm_cdf((u - self.ln_median) / self.beta);
         if p == 0.0 {
             return 0.0;
         }
-        p * k * self.hazard.rate_at(u.exp())
+        p * k * self.hazard.rate_at(dm::exp(u))
     }
 
     /// P(LS | e^u)·(−dλ/du) on `piece`.
     fn value(&self, piece: &Piece, u: f64) -> f64 {
-        let p = self.normal.cdf((u - self.ln_median) / self.beta);
+        let p = dm::norm_cdf((u - self.ln_median) / self.beta);
         if p == 0.0 {
             return 0.0;
         }
-        p * piece.k * (piece.l_ref - piece.k * (u - piece.u_ref)).exp()
+        p * piece.k * dm::exp(piece.l_ref - piece.k * (u - piece.u_ref))
     }
 }
 
@@ -240,7 +238,7 @@ pub fn risk_integral(hazard: &HazardCurve, median: f64, beta: f64) -> RiskIntegr
         rate,
         below,
         above,
-        peak_im: peak(&f).exp(),
+        peak_im: dm::exp(peak(&f)),
         error,
     }
 }
@@ -255,10 +253,10 @@ pub fn annual_rate(hazard: &HazardCurve, median: f64, beta: f64) -> f64 {
 /// extended beyond its ends as the integral extends it.
 pub fn deaggregation(hazard: &HazardCurve, median: f64, beta: f64, ims: &[f64]) -> Vec<f64> {
     let f = Integrand::new(hazard, median, beta);
-    let first = hazard.iml[0].ln();
+    let first = dm::ln(hazard.iml[0]);
     ims.iter()
         .map(|&x| {
-            let u = x.ln();
+            let u = dm::ln(x);
             // Beyond the cuts: the outermost pieces' power laws (the same
             // as the first and last segments').
             let outer = if u < first {

@@ -6,11 +6,10 @@ use std::path::Path;
 use super::assess::{RiskOptions, RiskRow};
 use super::hazard::{HazardCurve, HazardSource};
 use crate::error::{Error, Result};
-use crate::fragility::key_fields;
-use crate::io_util::{number, write_atomic};
+use crate::io_util::{number, sig3, write_atomic};
 
-/// Header of `risk.csv`, one row per row of `fragility.csv` (same case
-/// columns and `limit_state`, same order). `median`, `beta` are the fit's
+/// Header of `risk.csv`, one row per row of `fragility.csv` (same
+/// `case_id`, case columns and `limit_state`, same order). `median`, `beta` are the fit's
 /// (unit of `im`, `im_unit`); `annual_rate` is λ_LS (1/yr) and
 /// `annual_rate_lo`, `annual_rate_hi` its bootstrap percentile band (empty
 /// without `fragility_bootstrap.csv`); `return_period` = 1/λ_LS (years);
@@ -19,7 +18,7 @@ use crate::io_util::{number, write_atomic};
 /// the fractions of λ_LS from beyond the hazard curve's lowest and highest
 /// levels; `boot_fitted` the replicates behind the band; `status` the fit's
 /// (`ok`, or why there is no curve and the numbers are empty).
-pub const RISK_HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
+pub const RISK_HEADER: &str = "case_id,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
 im_unit,median,beta,annual_rate,annual_rate_lo,annual_rate_hi,return_period,years,poe,peak_im,\
 share_below,share_above,boot_fitted,status";
 
@@ -32,7 +31,8 @@ pub fn write_risk_csv(path: &Path, rows: &[RiskRow], options: &RiskOptions) -> R
             let c = &r.curve;
             let shares = r.shares();
             let fields = [
-                key_fields(&c.key),
+                c.key.id(),
+                c.key.fields(),
                 c.limit_state.clone(),
                 c.im.clone(),
                 c.im_unit.clone(),
@@ -71,8 +71,8 @@ pub fn describe_hazard(h: &HazardCurve) -> String {
     let levels = format!(
         "{} levels, {} to {}",
         h.iml.len(),
-        sig(h.iml[0]),
-        sig(h.iml[h.iml.len() - 1])
+        sig3(h.iml[0]),
+        sig3(h.iml[h.iml.len() - 1])
     );
     match &h.source {
         HazardSource::OpenQuake {
@@ -120,7 +120,7 @@ pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOpt
             continue;
         };
         let band = r.band.map_or(String::new(), |b| {
-            format!(" [{}, {}]", sci(b.lo), sci(b.hi))
+            format!(" [{}, {}]", sig3(b.lo), sig3(b.hi))
         });
         let (below, above) = r.shares().unwrap_or_default();
         worst = (worst.0.max(below), worst.1.max(above));
@@ -128,10 +128,10 @@ pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOpt
             "| {} | {} | {}{band} | {} | {} | {} |\n",
             c.key,
             c.limit_state,
-            sci(rate),
-            sig(1.0 / rate),
-            sig(r.poe(options.years).unwrap_or(f64::NAN)),
-            sig(r.integral.map_or(f64::NAN, |i| i.peak_im)),
+            sig3(rate),
+            sig3(1.0 / rate),
+            sig3(r.poe(options.years).unwrap_or(f64::NAN)),
+            sig3(r.integral.map_or(f64::NAN, |i| i.peak_im)),
         ));
     }
     s.push_str(&format!(
@@ -141,86 +141,4 @@ pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOpt
         100.0 * worst.1
     ));
     s
-}
-
-/// Replaces the `## Risk` section of the markdown file at `path` (up to the
-/// next `## ` heading) with `section`, or appends it; atomically.
-///
-/// Errors: [`Error::Io`].
-pub fn update_summary(path: &Path, section: &str) -> Result<()> {
-    let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
-    let lines: Vec<&str> = text.lines().collect();
-    let start = lines.iter().position(|l| l.trim_end() == "## Risk");
-    let mut out: Vec<String> = Vec::new();
-    match start {
-        Some(i) => {
-            let end = lines[i + 1..]
-                .iter()
-                .position(|l| l.starts_with("## "))
-                .map_or(lines.len(), |j| i + 1 + j);
-            out.extend(lines[..i].iter().map(|l| l.to_string()));
-            out.extend(section.trim_end().lines().map(str::to_string));
-            if end < lines.len() {
-                out.push(String::new());
-                out.extend(lines[end..].iter().map(|l| l.to_string()));
-            }
-        }
-        None => {
-            out.extend(lines.iter().map(|l| l.to_string()));
-            while out.last().is_some_and(|l| l.trim().is_empty()) {
-                out.pop();
-            }
-            out.push(String::new());
-            out.extend(section.trim_end().lines().map(str::to_string));
-        }
-    }
-    write_atomic(path, |w| {
-        for l in &out {
-            writeln!(w, "{l}")?;
-        }
-        Ok(())
-    })
-    .map_err(Error::io(path))
-}
-
-/// Three significant digits, without exponent for ordinary magnitudes.
-pub fn sig(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return x.to_string();
-    }
-    if !(1e-3..1e6).contains(&x.abs()) {
-        return sci(x);
-    }
-    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
-    format!("{x:.digits$}")
-}
-
-/// Three significant digits in scientific notation, e.g. `1.23e-4`.
-pub fn sci(x: f64) -> String {
-    format!("{x:.2e}")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A second update replaces the first section instead of adding another,
-    /// and the sections after it survive.
-    #[test]
-    fn update_summary_replaces_its_section() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("summary.md");
-        std::fs::write(&path, "# Study\n\ntext\n\n## Tables\n\nrow\n").unwrap();
-        update_summary(&path, "## Risk\n\nfirst\n").unwrap();
-        update_summary(&path, "## Risk\n\nsecond\n").unwrap();
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(
-            text,
-            "# Study\n\ntext\n\n## Tables\n\nrow\n\n## Risk\n\nsecond\n"
-        );
-        std::fs::write(&path, "# S\n\n## Risk\n\nold\n\n## After\n\nkept\n").unwrap();
-        update_summary(&path, "## Risk\n\nnew\n").unwrap();
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(text, "# S\n\n## Risk\n\nnew\n\n## After\n\nkept\n");
-    }
 }

@@ -1,5 +1,6 @@
 //! Block geometry and the derived constants of the rocking problem.
 
+use crate::detmath as dm;
 use crate::error::{Error, Result};
 
 /// A symmetric rigid block of width 2B and height 2H on a rigid foundation.
@@ -54,11 +55,11 @@ impl Block {
         }
         let b = 0.5 * width;
         let h = aspect * b;
-        let r = b.hypot(h);
-        let theta_c = (b / h).atan();
+        let r = dm::hypot(b, h);
+        let theta_c = dm::atan(b / h);
         // sin θc, cos θc from θc itself, so that the rest→rock test agrees to
         // the last bit with eq. (1) evaluated at θ = 0
-        let (sin_c, cos_c) = theta_c.sin_cos();
+        let (sin_c, cos_c) = dm::sin_cos(theta_c);
         Ok(Block {
             b,
             h,
@@ -81,7 +82,7 @@ impl Block {
         if psi == 0.0 {
             (self.sin_c, self.cos_c)
         } else {
-            (self.theta_c - psi).sin_cos()
+            dm::sin_cos(self.theta_c - psi)
         }
     }
 
@@ -89,7 +90,7 @@ impl Block {
     /// mass when the block is rotated by θ (counter-clockwise positive).
     #[inline]
     pub fn corner_offset(&self, side: f64, theta: f64) -> (f64, f64) {
-        let (s, c) = theta.sin_cos();
+        let (s, c) = dm::sin_cos(theta);
         // body vector (side·B, −H) rotated by θ
         self.corner_offset_sc(side, s, c)
     }

@@ -23,7 +23,7 @@ use super::block::Block;
 
 /// Impact law for corner impacts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(try_from = "String", into = "String")]
 pub enum ImpactLaw {
     /// Newton restitution with no slip (the paper's law).
     #[default]
@@ -31,6 +31,8 @@ pub enum ImpactLaw {
     /// Poisson restitution of the plastic sticking impulse: never adds energy.
     Energetic,
 }
+
+crate::io_util::named!(ImpactLaw, "impact" { Newton => "newton", Energetic => "energetic" });
 
 /// Rigid-body velocity relative to the ground (per unit mass).
 #[derive(Clone, Copy, Debug, PartialEq)]

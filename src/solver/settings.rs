@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 /// Which rock equation to integrate.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(try_from = "String", into = "String")]
 pub enum Model {
     /// The paper's nonlinear eq. (1), integrated by the chosen [`Integrator`]
     /// (a Taylor series by default, or Dormand–Prince 5(4)).
@@ -21,7 +21,7 @@ pub enum Model {
 /// How the nonlinear rock equation is integrated (slide-rock always uses
 /// Dormand–Prince; the linearised model is closed-form).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(try_from = "String", into = "String")]
 pub enum Integrator {
     /// Taylor series of order 8 (`taylor::ORDER`) over each
     /// record sample (one sine and cosine per step, the series is its own
@@ -36,7 +36,7 @@ pub enum Integrator {
 /// What a rock impact (θ reaching 0 while rocking) leads to when e > 0 under
 /// infinite friction.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(try_from = "String", into = "String")]
 pub enum RockImpact {
     /// The impact law in full: with e > 0 the new corner rebounds and the old
     /// one lifts, so the block flies and rings down on the new corner, bounce
@@ -54,6 +54,10 @@ pub enum RockImpact {
     /// and e = 0 are unaffected.
     Rock,
 }
+
+crate::io_util::named!(Model, "model" { Nonlinear => "nonlinear", Linear => "linear" });
+crate::io_util::named!(Integrator, "integrator" { Taylor => "taylor", Dopri5 => "dopri5" });
+crate::io_util::named!(RockImpact, "rock_impact" { Bounce => "bounce", Rock => "rock" });
 
 /// Contact friction model.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

@@ -32,6 +32,8 @@
 //! relative at most, θmax and the event counts not at all.) The energy audit
 //! extends them to its own order ([`RockSeries::work`]).
 
+use crate::detmath as dm;
+
 /// Order of the series of ψ (terms τ⁰ … τ^ORDER).
 pub const ORDER: usize = 8;
 
@@ -193,7 +195,7 @@ impl RockSeries {
     pub fn step(&self, h_max: f64, tol_psi: f64, tol_dpsi: f64) -> f64 {
         let fits = |h: f64| {
             let (a, b) = (self.psi[ORDER].abs(), self.psi[ORDER - 1].abs());
-            let hk1 = h.powi(ORDER as i32 - 1);
+            let hk1 = dm::powi(h, ORDER as i32 - 1);
             let e_psi = a * hk1 * h + b * hk1;
             let e_dpsi = (ORDER as f64 * a * h + (ORDER - 1) as f64 * b) * hk1 / h;
             e_psi <= tol_psi && e_dpsi <= tol_dpsi
@@ -202,15 +204,25 @@ impl RockSeries {
             return h_max;
         }
         // each term bounded separately: |c_j| h^j ≤ tol/2 and j|c_j| h^(j−1) ≤ tol/2
-        let mut h = h_max;
-        for j in [ORDER - 1, ORDER] {
-            let c = self.psi[j].abs();
+        // for j = K − 1, K (K = ORDER): h ≤ x^(1/(K−2)), x^(1/(K−1)) (two
+        // bounds: one root of the smaller x) and x^(1/K); three `root`s take
+        // a third of the time of four `powf`s
+        let bound = |tol: f64, c: f64| {
             if c > 0.0 {
-                let jf = j as f64;
-                h = h.min((0.5 * tol_psi / c).powf(1.0 / jf));
-                h = h.min((0.5 * tol_dpsi / (jf * c)).powf(1.0 / (jf - 1.0)));
+                0.5 * tol / c
+            } else {
+                f64::INFINITY
             }
-        }
+        };
+        let (c1, c2) = (self.psi[ORDER - 1].abs(), self.psi[ORDER].abs());
+        let x_lo = bound(tol_dpsi, (ORDER - 1) as f64 * c1);
+        let x_mid = bound(tol_psi, c1).min(bound(tol_dpsi, ORDER as f64 * c2));
+        let x_hi = bound(tol_psi, c2);
+        let k = ORDER as u32;
+        let h = h_max
+            .min(dm::root(x_lo, k - 2))
+            .min(dm::root(x_mid, k - 1))
+            .min(dm::root(x_hi, k));
         0.9 * h
     }
 
@@ -288,14 +300,14 @@ mod tests {
         dpsi0: f64,
         f: &LinearForcing,
     ) -> RockSeries {
-        let (sin0, cos0) = (theta_c - psi0).sin_cos();
+        let (sin0, cos0) = dm::sin_cos(theta_c - psi0);
         RockSeries::new(sin0, cos0, k, s, psi0, dpsi0, f)
     }
 
     /// Reference: ψ̈ from eq. (1) integrated by classical RK4 with a tiny step.
     fn rk4(theta_c: f64, k: f64, s: f64, y: (f64, f64), f: &LinearForcing, t: f64) -> (f64, f64) {
         let acc = |tau: f64, p: f64| {
-            let (sp, cp) = (theta_c - p).sin_cos();
+            let (sp, cp) = dm::sin_cos(theta_c - p);
             k * (s * (f.a0 + f.a1 * tau) * cp - (f.v0 + f.v1 * tau) * sp)
         };
         let n = 20_000;
@@ -320,7 +332,7 @@ mod tests {
     #[test]
     fn accepted_steps_meet_their_tolerance() {
         let g = 9.81;
-        let (theta_c, r) = (0.25_f64.atan(), (0.25_f64 * 0.25 + 1.0).sqrt());
+        let (theta_c, r) = (dm::atan(0.25), (0.25_f64 * 0.25 + 1.0).sqrt());
         let k = 0.75 / r;
         let f = LinearForcing {
             a0: 1.0 * g,
@@ -338,7 +350,7 @@ mod tests {
                 assert!((p - pr).abs() <= tol, "tol {tol}: ψ {p} vs {pr}");
                 assert!((d - dr).abs() <= tol, "tol {tol}: ψ̇ {d} vs {dr}");
                 let (_, _, sn, cs) = series.full_at(h);
-                let (se, ce) = (theta_c - p).sin_cos();
+                let (se, ce) = dm::sin_cos(theta_c - p);
                 assert!((sn - se).abs() <= 10.0 * tol && (cs - ce).abs() <= 10.0 * tol);
             }
         }
@@ -350,7 +362,7 @@ mod tests {
     #[test]
     fn psi_bounds_contain_the_series() {
         let g = 9.81;
-        let (theta_c, r) = (0.25_f64.atan(), (0.25_f64 * 0.25 + 1.0).sqrt());
+        let (theta_c, r) = (dm::atan(0.25), (0.25_f64 * 0.25 + 1.0).sqrt());
         let f = LinearForcing {
             a0: 0.4 * g,
             a1: -30.0 * g,
@@ -379,7 +391,7 @@ mod tests {
                 // never looser than ψ0 ± Σ_{j≥1} |ψ_j| h^j (the exact range of
                 // the quadratic part lies inside ψ0 ± (|ψ1| h + |ψ2| h²))
                 let r: f64 = (1..=ORDER)
-                    .map(|j| series.psi[j].abs() * h.powi(j as i32))
+                    .map(|j| series.psi[j].abs() * dm::powi(h, j as i32))
                     .sum();
                 assert!(lo >= psi0 - r - 1e-15 && hi <= psi0 + r + 1e-15);
             }
@@ -398,7 +410,7 @@ mod tests {
     #[test]
     fn step_is_cut_when_the_tail_is_large() {
         let g = 9.81;
-        let (theta_c, r) = (0.25_f64.atan(), (0.25_f64 * 0.25 + 1.0).sqrt());
+        let (theta_c, r) = (dm::atan(0.25), (0.25_f64 * 0.25 + 1.0).sqrt());
         let f = LinearForcing {
             a0: 0.5 * g,
             a1: 0.0,

@@ -37,8 +37,8 @@ mod study;
 mod uncertainty;
 mod validate;
 
-pub use raw::{FrictionEntry, GridFile, OutputFile, SpecFile, UncertaintyFile};
+pub use raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, UncertaintyFile};
 pub use study::{
-    Draw, Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study,
-    Uncertainty, fnv1a64, friction_label,
+    Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study, Uncertainty,
+    fnv1a64, friction_label,
 };

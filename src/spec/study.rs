@@ -2,13 +2,13 @@
 //! in range. It is built only by [`SpecFile::validate`], and written back as
 //! canonical spec text by [`Study::to_toml`].
 
-use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile, UncertaintyFile};
+use super::raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, UncertaintyFile};
+use crate::case::{Case, Field, Param};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::SynthesisSettings;
-use crate::outcomes_csv::{Pooled, same, same_friction};
 use crate::solver::{Friction, SolverSettings};
-use crate::uncertainty::{Param, Value, analysis_seed, uniforms};
+use crate::uncertainty::{Property, Value, analysis_seed, uniforms};
 use std::path::{Path, PathBuf};
 
 /// The paper's study (Shenton and Jones), the default of `rockfrag run`.
@@ -18,8 +18,7 @@ pub const SHENTON_JONES_TOML: &str = include_str!("../../studies/shenton-jones.t
 pub const SHENTON_JONES_ORIGIN: &str = "shenton-jones.toml (built-in)";
 
 /// A validated study: everything a run needs, every value in range.
-/// Studies compare NaN placeholders (drawn parameters) equal.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Study {
     /// Study name (letters, digits, `.`, `_`, `-`).
     pub name: String,
@@ -31,16 +30,16 @@ pub struct Study {
     pub motions: Motions,
     /// Intensity levels.
     pub intensity: Intensity,
-    /// Base widths 2B, m. A parameter drawn under `[uncertainty]` has the
-    /// one placeholder value NaN in its list (and friction the one model
-    /// Coulomb with NaN coefficients): one case pools all its draws.
-    pub widths: Vec<f64>,
-    /// Aspect ratios H/B.
-    pub aspects: Vec<f64>,
-    /// Coefficients of restitution.
-    pub restitutions: Vec<f64>,
-    /// Friction models.
-    pub frictions: Vec<Friction>,
+    /// Base widths 2B, m: the grid's values, or the one [`Param::Drawn`]
+    /// when `[uncertainty]` draws the width (one case pools all its draws).
+    pub widths: Vec<Param<f64>>,
+    /// Aspect ratios H/B (or the one [`Param::Drawn`]).
+    pub aspects: Vec<Param<f64>>,
+    /// Coefficients of restitution (or the one [`Param::Drawn`]).
+    pub restitutions: Vec<Param<f64>>,
+    /// Friction models (or the one [`Param::Drawn`]: Coulomb friction with
+    /// μs or μk/μs drawn per analysis).
+    pub frictions: Vec<Param<Friction>>,
     /// Block parameters drawn per analysis, if any.
     pub uncertainty: Option<Uncertainty>,
     /// Solver settings.
@@ -51,105 +50,97 @@ pub struct Study {
     pub fragility: Option<FragilityOptions>,
 }
 
-impl PartialEq for Study {
-    fn eq(&self, other: &Study) -> bool {
-        let lists =
-            |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| same(*x, *y));
-        self.name == other.name
-            && self.description == other.description
-            && self.g == other.g
-            && self.motions == other.motions
-            && self.intensity == other.intensity
-            && lists(&self.widths, &other.widths)
-            && lists(&self.aspects, &other.aspects)
-            && lists(&self.restitutions, &other.restitutions)
-            && self.frictions.len() == other.frictions.len()
-            && self
-                .frictions
-                .iter()
-                .zip(&other.frictions)
-                .all(|(a, b)| same_friction(a, b))
-            && self.uncertainty == other.uncertainty
-            && self.solver == other.solver
-            && self.output == other.output
-            && self.fragility == other.fragility
-    }
-}
-
-/// The validated `[uncertainty]` table: what each analysis draws.
+/// The validated `[uncertainty]` table: what each analysis draws, per
+/// block property (`None`: from the grid).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Uncertainty {
     /// Seed of the draws.
     pub seed: u64,
-    /// The value of each parameter of [`Param::ALL`], in its order (`None`:
-    /// from the grid).
-    pub values: [Option<Value>; 5],
-}
-
-/// The block parameters of one analysis, after its draws.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Draw {
     /// Base width 2B, m.
-    pub width: f64,
+    pub width: Option<Value>,
     /// Aspect ratio H/B.
-    pub aspect: f64,
+    pub aspect: Option<Value>,
     /// Coefficient of restitution e.
-    pub restitution: f64,
-    /// Friction model.
-    pub friction: Friction,
+    pub restitution: Option<Value>,
+    /// Static friction coefficient μs (with `mu_k_over_mu_s`).
+    pub mu_s: Option<Value>,
+    /// μk/μs (with `mu_s`).
+    pub mu_k_over_mu_s: Option<Value>,
 }
 
 impl Uncertainty {
-    /// The value given for `param`, if any.
-    pub fn get(&self, param: Param) -> Option<&Value> {
-        let i = Param::ALL.iter().position(|&p| p == param).expect("listed");
-        self.values[i].as_ref()
-    }
-
-    /// Whether `param` is drawn (not fixed, not from the grid).
-    pub fn is_drawn(&self, param: Param) -> bool {
-        self.get(param).is_some_and(Value::is_drawn)
-    }
-
-    /// The case parameters that vary from analysis to analysis.
-    pub fn pooled(&self) -> Pooled {
-        Pooled {
-            width: self.is_drawn(Param::Width),
-            aspect: self.is_drawn(Param::Aspect),
-            restitution: self.is_drawn(Param::Restitution),
-            friction: self.is_drawn(Param::MuS) || self.is_drawn(Param::MuKOverMuS),
+    /// The value given for `property`, if any.
+    pub fn get(&self, property: Property) -> Option<&Value> {
+        match property {
+            Property::Width => self.width.as_ref(),
+            Property::Aspect => self.aspect.as_ref(),
+            Property::Restitution => self.restitution.as_ref(),
+            Property::MuS => self.mu_s.as_ref(),
+            Property::MuKOverMuS => self.mu_k_over_mu_s.as_ref(),
         }
     }
 
-    /// The parameters of the analysis of case `case` (index in canonical
-    /// order) on record `record` at level `level`, whose grid values are
-    /// `grid`: each parameter given here replaces the grid's, drawn from the
-    /// stream [`analysis_seed`]`(seed, record, level, case)`.
-    pub fn draw(&self, grid: Draw, record: usize, level: usize, case: usize) -> Draw {
+    /// Whether `property` is drawn (not fixed, not from the grid).
+    pub fn is_drawn(&self, property: Property) -> bool {
+        self.get(property).is_some_and(Value::is_drawn)
+    }
+
+    /// The case fields that vary from analysis to analysis, in column order.
+    pub fn drawn(&self) -> Vec<Field> {
+        let drawn = |p| self.is_drawn(p);
+        [
+            (Field::Aspect, drawn(Property::Aspect)),
+            (Field::Width, drawn(Property::Width)),
+            (Field::Restitution, drawn(Property::Restitution)),
+            (
+                Field::Friction,
+                drawn(Property::MuS) || drawn(Property::MuKOverMuS),
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(f, d)| d.then_some(f))
+        .collect()
+    }
+
+    /// The block of the analysis of case `case` (number `number` in
+    /// canonical order) on record `record` at level `level`: each property
+    /// given here replaces the case's, drawn from the stream
+    /// [`analysis_seed`]`(seed, record, level, number)`; the others keep the
+    /// case's fixed values. Every parameter of the result is fixed.
+    pub fn draw(&self, case: &Case, record: usize, level: usize, number: usize) -> Case {
         let u = uniforms(analysis_seed(
             self.seed,
             record as u64,
             level as u64,
-            case as u64,
+            number as u64,
         ));
-        let value = |i: usize, grid: f64| self.values[i].as_ref().map_or(grid, |v| v.at(u[i]));
-        let friction = match (&self.values[3], &self.values[4]) {
+        // One uniform per property, in the order of Property::ALL.
+        let value = |p: Property, grid: Param<f64>| match self.get(p) {
+            Some(v) => v.at(u[p.index()]),
+            None => grid
+                .fixed()
+                .expect("a parameter not drawn is fixed by the grid"),
+        };
+        let friction = match (&self.mu_s, &self.mu_k_over_mu_s) {
             (Some(s), Some(r)) => {
-                let mu_s = s.at(u[3]);
+                let mu_s = s.at(u[Property::MuS.index()]);
                 // μk = μs · (μk/μs): μk ≤ μs by construction.
                 Friction::Coulomb {
                     mu_s,
-                    mu_k: mu_s * r.at(u[4]),
+                    mu_k: mu_s * r.at(u[Property::MuKOverMuS.index()]),
                 }
             }
-            _ => grid.friction,
+            _ => case
+                .friction
+                .fixed()
+                .expect("friction not drawn is fixed by the grid"),
         };
-        Draw {
-            width: value(0, grid.width),
-            aspect: value(1, grid.aspect),
-            restitution: value(2, grid.restitution),
+        Case::fixed(
+            value(Property::Aspect, case.aspect),
+            value(Property::Width, case.width),
+            value(Property::Restitution, case.restitution),
             friction,
-        }
+        )
     }
 }
 
@@ -236,7 +227,7 @@ impl Study {
                 Some(*seed),
                 Some(*records),
                 Vec::new(),
-                Some(settings.clone()),
+                Some(MotionFile::from_settings(settings)),
             ),
             Motions::Files(files) => (
                 None,
@@ -245,12 +236,14 @@ impl Study {
                 None,
             ),
         };
-        let drawn = |p: Param| {
+        let drawn = |p: Property| {
             self.uncertainty
                 .as_ref()
                 .is_some_and(|u| u.get(p).is_some())
         };
-        let grid_list = |p: Param, v: &Vec<f64>| (!drawn(p)).then(|| v.clone());
+        let grid_list = |p: Property, v: &[Param<f64>]| {
+            (!drawn(p)).then(|| v.iter().filter_map(|x| x.fixed()).collect())
+        };
         let (pga, pgv, scale_factors) = match &self.intensity {
             Intensity::Pga(v) => (Some(v.clone()), None, None),
             Intensity::Pgv(v) => (None, Some(v.clone()), None),
@@ -265,22 +258,26 @@ impl Study {
             record_files,
             motion,
             grid: GridFile {
-                width: grid_list(Param::Width, &self.widths),
-                aspect: grid_list(Param::Aspect, &self.aspects),
-                restitution: grid_list(Param::Restitution, &self.restitutions),
-                friction: (!drawn(Param::MuS))
-                    .then(|| self.frictions.iter().map(|&f| FrictionEntry(f)).collect()),
+                width: grid_list(Property::Width, &self.widths),
+                aspect: grid_list(Property::Aspect, &self.aspects),
+                restitution: grid_list(Property::Restitution, &self.restitutions),
+                friction: (!drawn(Property::MuS)).then(|| {
+                    self.frictions
+                        .iter()
+                        .filter_map(|f| f.fixed().map(FrictionEntry))
+                        .collect()
+                }),
                 pga,
                 pgv,
                 scale_factors,
             },
             uncertainty: self.uncertainty.as_ref().map(|u| UncertaintyFile {
                 seed: Some(u.seed),
-                width: u.values[0],
-                aspect: u.values[1],
-                restitution: u.values[2],
-                mu_s: u.values[3],
-                mu_k_over_mu_s: u.values[4],
+                width: u.width,
+                aspect: u.aspect,
+                restitution: u.restitution,
+                mu_s: u.mu_s,
+                mu_k_over_mu_s: u.mu_k_over_mu_s,
             }),
             solver: self.solver,
             output: self.output,
@@ -299,11 +296,11 @@ impl Study {
         fnv1a64(self.to_toml().as_bytes())
     }
 
-    /// The case parameters drawn per analysis (none without `[uncertainty]`).
-    pub fn pooled(&self) -> Pooled {
+    /// The case fields drawn per analysis (none without `[uncertainty]`).
+    pub fn drawn(&self) -> Vec<Field> {
         self.uncertainty
             .as_ref()
-            .map_or(Pooled::default(), Uncertainty::pooled)
+            .map_or_else(Vec::new, Uncertainty::drawn)
     }
 
     /// Number of records per intensity level.
@@ -326,12 +323,14 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 }
 
 /// A friction model as text: `inf` or `coulomb(μs, μk)`; `coulomb(drawn)`
-/// when its coefficients are drawn per analysis (NaN, see [`Study::frictions`]).
-pub fn friction_label(f: Friction) -> String {
+/// when its coefficients are drawn per analysis.
+pub fn friction_label(f: Param<Friction>) -> String {
     match f {
-        Friction::Infinite => "inf".to_string(),
-        Friction::Coulomb { mu_s, .. } if mu_s.is_nan() => "coulomb(drawn)".to_string(),
-        Friction::Coulomb { mu_s, mu_k } => format!("coulomb(mu_s = {mu_s}, mu_k = {mu_k})"),
+        Param::Fixed(Friction::Infinite) => "inf".to_string(),
+        Param::Drawn => "coulomb(drawn)".to_string(),
+        Param::Fixed(Friction::Coulomb { mu_s, mu_k }) => {
+            format!("coulomb(mu_s = {mu_s}, mu_k = {mu_k})")
+        }
     }
 }
 

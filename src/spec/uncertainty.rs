@@ -5,7 +5,7 @@ use super::locate::Origin;
 use super::raw::{GridFile, UncertaintyFile};
 use super::study::Uncertainty;
 use crate::error::Result;
-use crate::uncertainty::{Param, Value};
+use crate::uncertainty::{Property, Value};
 
 /// Validates `[uncertainty]` against the `[grid]` as written: a parameter
 /// is on the grid or drawn, never both; `mu_s` and `mu_k_over_mu_s` come
@@ -42,11 +42,11 @@ pub(super) fn uncertainty(
         grid.friction.is_some(),
         grid.friction.is_some(),
     ];
-    for ((param, value), on_grid) in Param::ALL.into_iter().zip(&values).zip(on_grid) {
+    for ((param, value), on_grid) in Property::ALL.into_iter().zip(&values).zip(on_grid) {
         let Some(value) = value else { continue };
         let field = format!("uncertainty.{}", param.name());
         let grid_name = match param {
-            Param::MuS | Param::MuKOverMuS => "friction",
+            Property::MuS | Property::MuKOverMuS => "friction",
             p => p.name(),
         };
         if on_grid {
@@ -65,7 +65,10 @@ pub(super) fn uncertainty(
                 .validate(&field, lo, hi, what)
                 .map_err(|e| spec.nested("", e))?,
             Value::Fixed(x) => {
-                if matches!(param, Param::Width | Param::Aspect | Param::Restitution) {
+                if matches!(
+                    param,
+                    Property::Width | Property::Aspect | Property::Restitution
+                ) {
                     return Err(spec.bad(
                         &field,
                         x,
@@ -82,7 +85,8 @@ pub(super) fn uncertainty(
             }
         }
     }
-    match (&values[3], &values[4]) {
+    let [width, aspect, restitution, mu_s, mu_k_over_mu_s] = values;
+    match (&mu_s, &mu_k_over_mu_s) {
         (Some(_), None) => {
             return Err(spec.bad(
                 "uncertainty.mu_k_over_mu_s",
@@ -102,6 +106,10 @@ pub(super) fn uncertainty(
     }
     Ok(Some(Uncertainty {
         seed: table.seed.unwrap_or(seed),
-        values,
+        width,
+        aspect,
+        restitution,
+        mu_s,
+        mu_k_over_mu_s,
     }))
 }

@@ -5,15 +5,16 @@
 //! first. `[output]` holds only switches and needs no check.
 
 use super::locate::Origin;
-use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
+use super::raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile};
 use super::study::{Intensity, Motions, RecordFile, Study, Uncertainty, friction_label};
 use super::uncertainty::uncertainty;
+use crate::case::Param;
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
-use crate::motion::{G_STANDARD, SynthesisSettings};
+use crate::motion::{G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{Block, Friction, SolverSettings};
-use crate::uncertainty::{Param, Value};
+use crate::uncertainty::{Property, Value};
 use std::path::Path;
 
 /// Largest ensemble size accepted.
@@ -48,7 +49,7 @@ impl SpecFile {
         fragility(&spec, self.fragility.as_ref(), &self.output)?;
         let mut fragility_options = self.fragility;
         if let (Some(options), Some(u)) = (&mut fragility_options, &uncertainty) {
-            options.pool = u.pooled();
+            options.pool = u.drawn();
         }
 
         Ok(Study {
@@ -163,15 +164,30 @@ fn gravity(spec: &Origin, g: Option<f64>) -> Result<f64> {
 /// and `records`.
 fn synthetic(
     spec: &Origin,
-    motion: Option<SynthesisSettings>,
+    motion: Option<MotionFile>,
     seed: Option<u64>,
     records: Option<usize>,
     g: f64,
 ) -> Result<Motions> {
-    let mut settings = motion.unwrap_or_else(|| SynthesisSettings {
-        g,
-        ..SynthesisSettings::default()
-    });
+    let motion = motion.unwrap_or_default();
+    let base = match &motion.preset {
+        None => SynthesisSettings::default(),
+        Some(name) => preset(name).ok_or_else(|| {
+            spec.bad(
+                "motion.preset",
+                &format!("\"{name}\""),
+                &format!(
+                    "one of {}",
+                    PRESETS
+                        .iter()
+                        .map(|(n, _)| format!("\"{n}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )
+        })?,
+    };
+    let mut settings = motion.resolve(SynthesisSettings { g, ..base });
     if settings.g != g {
         return Err(spec.bad(
             "motion.g",
@@ -286,17 +302,17 @@ fn record_files(spec: &Origin, given: &[String], check_files: bool) -> Result<Ve
 
 /// The validated `[grid]`.
 struct Grid {
-    widths: Vec<f64>,
-    aspects: Vec<f64>,
-    restitutions: Vec<f64>,
+    widths: Vec<Param<f64>>,
+    aspects: Vec<Param<f64>>,
+    restitutions: Vec<Param<f64>>,
     intensity: Intensity,
-    frictions: Vec<Friction>,
+    frictions: Vec<Param<Friction>>,
 }
 
 /// `[grid]`: the block lists (every width–aspect pair must make a valid
 /// block under gravity `g`), the intensity levels and the friction models.
 /// A list left out takes its default, unless `[uncertainty]` gives the
-/// parameter: then the list is the one placeholder NaN (see [`Study::widths`]).
+/// parameter: then the list is the one [`Param::Drawn`] (see [`Study::widths`]).
 fn grid(
     spec: &Origin,
     grid: GridFile,
@@ -304,40 +320,44 @@ fn grid(
     recorded: bool,
     uncertain: Option<&Uncertainty>,
 ) -> Result<Grid> {
-    let given = |p: Param| uncertain.is_some_and(|u| u.get(p).is_some());
-    let list = |p: Param, values: Option<Vec<f64>>, default: &[f64]| match values {
+    let given = |p: Property| uncertain.is_some_and(|u| u.get(p).is_some());
+    let list = |p: Property, values: Option<Vec<f64>>, default: &[f64]| match values {
         Some(v) => Some(v),
         None if given(p) => None,
         None => Some(default.to_vec()),
     };
-    let checked =
-        |p: Param, values, default, ok: fn(f64) -> bool, expected| match list(p, values, default) {
-            Some(v) => grid_list(spec, p.name(), &v, ok, expected),
-            None => Ok(vec![f64::NAN]),
-        };
+    let checked = |p: Property, values, default, ok: fn(f64) -> bool, expected| match list(
+        p, values, default,
+    ) {
+        Some(v) => Ok(grid_list(spec, p.name(), &v, ok, expected)?
+            .into_iter()
+            .map(Param::Fixed)
+            .collect()),
+        None => Ok(vec![Param::Drawn]),
+    };
     let widths = checked(
-        Param::Width,
+        Property::Width,
         grid.width,
         &GridFile::WIDTH,
         |v| v > 0.0,
         "a positive base width 2B in m",
     )?;
     let aspects = checked(
-        Param::Aspect,
+        Property::Aspect,
         grid.aspect,
         &GridFile::ASPECT,
         |v| v > 0.0,
         "a positive aspect ratio H/B",
     )?;
     let restitutions = checked(
-        Param::Restitution,
+        Property::Restitution,
         grid.restitution,
         &GridFile::RESTITUTION,
         |v| (0.0..=1.0).contains(&v),
         "a coefficient of restitution in [0, 1]",
     )?;
-    for &w in widths.iter().filter(|w| !w.is_nan()) {
-        for &a in aspects.iter().filter(|a| !a.is_nan()) {
+    for w in widths.iter().filter_map(|w| w.fixed()) {
+        for a in aspects.iter().filter_map(|a| a.fixed()) {
             Block::new(w, a, g).map_err(|e| spec.nested("grid.", e))?;
         }
     }
@@ -345,21 +365,21 @@ fn grid(
         None => intensity(spec, grid.pga, grid.pgv)?,
         Some(factors) => scale_factors(spec, &factors, &grid.pga, &grid.pgv, recorded)?,
     };
-    let frictions = match (grid.friction, uncertain.and_then(|u| u.get(Param::MuS))) {
-        (Some(entries), _) => frictions(spec, &entries)?,
-        (None, None) => vec![Friction::Infinite],
+    let frictions = match (grid.friction, uncertain.and_then(|u| u.get(Property::MuS))) {
+        (Some(entries), _) => frictions(spec, &entries)?
+            .into_iter()
+            .map(Param::Fixed)
+            .collect(),
+        (None, None) => vec![Param::Fixed(Friction::Infinite)],
         (None, Some(mu_s)) => {
             let u = uncertain.expect("mu_s given");
-            let ratio = u.get(Param::MuKOverMuS).expect("validated beside mu_s");
+            let ratio = u.get(Property::MuKOverMuS).expect("validated beside mu_s");
             match (mu_s, ratio) {
-                (Value::Fixed(mu_s), Value::Fixed(r)) => vec![Friction::Coulomb {
+                (Value::Fixed(mu_s), Value::Fixed(r)) => vec![Param::Fixed(Friction::Coulomb {
                     mu_s: *mu_s,
                     mu_k: mu_s * r,
-                }],
-                _ => vec![Friction::Coulomb {
-                    mu_s: f64::NAN,
-                    mu_k: f64::NAN,
-                }],
+                })],
+                _ => vec![Param::Drawn],
             }
         }
     };
@@ -490,7 +510,7 @@ fn frictions(spec: &Origin, entries: &[FrictionEntry]) -> Result<Vec<Friction>> 
         if frictions.contains(&f) {
             return Err(spec.bad(
                 &format!("grid.friction[{i}]"),
-                &friction_label(f),
+                &friction_label(Param::Fixed(f)),
                 "a friction model not already in the list",
             ));
         }

@@ -3,7 +3,7 @@
 //! and what it counted.
 
 use super::plan::Shard;
-use super::summary::Counts;
+use super::tally::Counts;
 use crate::error::{Error, Result};
 use crate::spec::Study;
 use serde::{Deserialize, Serialize};
@@ -11,6 +11,15 @@ use std::path::Path;
 
 /// The git commit this library was built from, or `unknown`.
 pub const GIT_COMMIT: &str = env!("ROCKFRAG_GIT_COMMIT");
+
+/// What the same spec gives on a rerun, as the manifest states it.
+pub const REPRODUCIBILITY: &str = "outcomes.csv, fragility.csv, fragility_curves.csv, \
+fragility_bootstrap.csv, fragility.xml, risk.csv, summary.md and the figures are byte-identical \
+for the same rockfrag version and spec (spec_hash, and records_hash for record files) on any \
+platform with IEEE-754 double arithmetic (x86-64, AArch64, ...; any OS, C library or CPU), with \
+any thread count, and for any shard split once merged; this manifest's times and thread count \
+are the run's own. Every transcendental function is computed by rockfrag itself (libm crate), \
+none by the platform's math library; scripts/check-platforms.sh checks glibc against musl.";
 
 /// Contents of `manifest.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -30,6 +39,10 @@ pub struct Manifest {
     pub spec: serde_json::Value,
     /// rockfrag's version.
     pub rockfrag_version: String,
+    /// What a rerun reproduces ([`REPRODUCIBILITY`]); empty in manifests
+    /// written before it was recorded.
+    #[serde(default)]
+    pub reproducibility: String,
     /// Git commit of the build (`unknown` without git).
     pub git_commit: String,
     /// The shard this folder holds (1/1: the whole study).
@@ -75,6 +88,7 @@ impl Manifest {
             spec: serde_json::to_value(study.to_spec_file()).expect("spec serialises to JSON"),
             spec_toml,
             rockfrag_version: env!("CARGO_PKG_VERSION").to_string(),
+            reproducibility: REPRODUCIBILITY.to_string(),
             git_commit: GIT_COMMIT.to_string(),
             shard,
             threads: 0,

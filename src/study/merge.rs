@@ -10,7 +10,7 @@
 use super::files;
 use super::manifest::{self, Manifest};
 use super::plan::{self, Shard};
-use super::summary::Tally;
+use super::tally::Tally;
 use crate::error::{Error, Result};
 use crate::spec::Study;
 use std::io::{BufRead, BufReader};
@@ -181,12 +181,6 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
     }
 
     let tally = Tally::read(&out_csv, &study, Shard::WHOLE)?;
-    if study.output.summary {
-        let path = out.join(files::SUMMARY);
-        let text = tally.markdown(&study, Shard::WHOLE);
-        crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes()))
-            .map_err(Error::io(&path))?;
-    }
     let mut m = Manifest::new(&study, &first.spec_file, None, Shard::WHOLE);
     m.records_hash = first.records_hash.clone();
     let started = shards

@@ -1,12 +1,14 @@
 //! Running a study: every (case, record) pair of a [`Study`], on a local
-//! rayon pool, streamed to disk, resumable and shardable.
+//! rayon pool, streamed to disk, resumable and shardable; and the study's
+//! `summary.md` ([`write_summary`]), which the pipeline writes once the
+//! analyses are done.
 //!
 //! ```text
 //! Study ─▶ plan: cases × units (level, record), shard K/N
 //!   ─▶ chunks of units: records made in parallel, then every (unit, case)
 //!      solved in parallel, rows formatted in canonical order
 //!   ─▶ outcomes.csv.partial (append, fsync) + checkpoint.json (atomic)
-//!   ─▶ summary.md, manifest.json (atomic) ─▶ rename to outcomes.csv
+//!   ─▶ manifest.json (atomic) ─▶ rename to outcomes.csv
 //! ```
 //!
 //! Memory stays flat in the number of analyses: only one chunk of rows is
@@ -29,20 +31,21 @@ pub mod files;
 mod lock;
 mod manifest;
 mod merge;
-pub(crate) mod paper;
 pub(crate) mod plan;
 mod progress;
 mod source;
 mod summary;
+mod tally;
 
 pub use lock::RunLock;
 pub use manifest::Manifest;
 pub use merge::merge;
-pub use plan::{Case, Shard, Unit};
+pub use plan::{Shard, Unit};
 pub use source::Source;
-pub(crate) use summary::sig3;
-pub use summary::{Counts, Tally, is_papers};
+pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
+pub use tally::{Counts, Tally};
 
+use crate::case::Case;
 use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::Outcome;
@@ -115,6 +118,9 @@ pub struct RunReport {
     pub wall_seconds: f64,
     /// Worker threads used.
     pub threads: usize,
+    /// The statistics of the whole `outcomes.csv`, for `summary.md` (`None`
+    /// unless complete).
+    pub tally: Option<Tally>,
 }
 
 /// Progress of a run in progress (`checkpoint.json`).
@@ -259,20 +265,16 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         analyses_run,
         wall_seconds: 0.0,
         threads,
+        tally: None,
     };
     if ckpt.units_done < units.len() {
         report.wall_seconds = t0.elapsed().as_secs_f64();
         return Ok(report);
     }
 
-    // Every unit is done: the summary and counts come from the file itself.
+    // Every unit is done: the counts come from the file itself, read back
+    // and checked row by row against the plan.
     let tally = Tally::read(&partial_path, study, opts.shard)?;
-    if study.output.summary {
-        let path = dir.join(files::SUMMARY);
-        let text = tally.markdown(study, opts.shard);
-        crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes()))
-            .map_err(Error::io(&path))?;
-    }
     report.wall_seconds = t0.elapsed().as_secs_f64();
     manifest.threads = threads;
     manifest.set_times(ckpt.started_unix, manifest::now_unix());
@@ -286,7 +288,44 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     std::fs::remove_file(&ckpt_path).map_err(Error::io(&ckpt_path))?;
     report.complete = true;
     report.counts = tally.counts();
+    report.tally = Some(tally);
     Ok(report)
+}
+
+/// Writes `dir/summary.md` of `study` (shard `shard`) from `tally` (read
+/// from `dir/outcomes.csv` when `None`), with the fitted curves of
+/// `dir/fragility.csv` when it exists, the provenance of `dir/manifest.json`,
+/// and `extra` sections after the generic ones (a layer's: the paper's
+/// tables for its study). Atomic.
+pub fn write_summary(
+    dir: &Path,
+    study: &Study,
+    shard: Shard,
+    tally: Option<&Tally>,
+    extra: &[String],
+) -> Result<()> {
+    let read;
+    let tally = match tally {
+        Some(t) => t,
+        None => {
+            read = Tally::read(&dir.join(files::OUTCOMES), study, shard)?;
+            &read
+        }
+    };
+    let fragility = dir.join("fragility.csv");
+    let fits = if fragility.exists() {
+        Some(crate::fragility::read_fragility_csv(&fragility)?)
+    } else {
+        None
+    };
+    let manifest = Manifest::read(&dir.join(files::MANIFEST)).ok();
+    let path = dir.join(files::SUMMARY);
+    let mut text = tally.markdown(study, shard, fits.as_deref(), manifest.as_ref());
+    for section in extra {
+        text.push('\n');
+        text.push_str(section);
+    }
+    crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(Error::io(&path))
 }
 
 /// Solves one chunk of units and returns its rows, in canonical order.
@@ -329,18 +368,14 @@ fn run_chunk(
                 pgv: record.as_ref().ok().map(Record::pgv),
                 file: file_names[unit.record],
             };
-            let (key, result) = match case.analysis(study, &unit) {
-                Ok((key, analysis)) => (
-                    key,
-                    match record {
-                        Ok(r) => solve(&analysis, r, study),
-                        Err(e) => Err(format!("record: {e}")),
-                    },
-                ),
-                Err(e) => (case.key(), Err(format!("block: {e}"))),
+            let (own, analysis) = plan::analysis(study, case, ci, &unit);
+            let result = match (analysis, record) {
+                (Ok(analysis), Ok(r)) => solve(&analysis, r, study),
+                (Ok(_), Err(e)) => Err(format!("record: {e}")),
+                (Err(e), _) => Err(format!("block: {e}")),
             };
             let mut row = String::with_capacity(256);
-            cols.write_row(&mut row, &key, &info, &result);
+            cols.write_row(&mut row, &cols.row(own, &info, result));
             row
         })
         .collect();

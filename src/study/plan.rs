@@ -9,78 +9,45 @@
 //! theirs. Shard K/N owns the units with `unit mod N = K − 1` (round-robin,
 //! so every shard gets weak and strong levels alike).
 //!
-//! A parameter drawn under `[uncertainty]` is one placeholder (NaN) on its
-//! axis of cases; each analysis draws its own value ([`Case::analysis`]),
-//! from a stream keyed by (seed, record, level, case number), so the draws do
-//! not depend on which thread or shard runs the analysis.
+//! A parameter drawn under `[uncertainty]` is [`Param::Drawn`] on its axis
+//! of cases; each analysis draws its own value ([`analysis`]), from a stream
+//! keyed by (seed, record, level, case number), so the draws do not depend
+//! on which thread or shard runs the analysis.
 
+use crate::case::{Case, Param};
 use crate::error::{Error, Result};
-use crate::outcomes_csv::{CaseKey, Columns};
-use crate::solver::{Analysis, Block, Friction};
-use crate::spec::{Draw, Intensity, Motions, Study};
+use crate::outcomes_csv::Columns;
+use crate::solver::{Analysis, Block};
+use crate::spec::{Intensity, Motions, Study};
 use std::fmt;
 use std::str::FromStr;
 
-/// One block case of a study.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Case {
-    /// Aspect ratio H/B.
-    pub aspect: f64,
-    /// Base width 2B, m.
-    pub width: f64,
-    /// Coefficient of restitution e.
-    pub restitution: f64,
-    /// Friction model.
-    pub friction: Friction,
-    /// Indices into the study's grids: (aspect, width, restitution, friction).
-    pub index: [usize; 4],
-    /// Position of the case in canonical order.
-    pub number: usize,
-}
-
-impl Case {
-    /// The analysis of this case on unit `unit` of `study` (block at rest),
-    /// and the case columns of its row in `outcomes.csv`: the grid's values,
-    /// with the parameters of `[uncertainty]` drawn for this (record, level,
-    /// case). Fails only if drawn values make no valid block.
-    pub fn analysis(
-        &self,
-        study: &Study,
-        unit: &Unit,
-    ) -> crate::error::Result<(CaseKey, Analysis)> {
-        let grid = Draw {
-            width: self.width,
-            aspect: self.aspect,
-            restitution: self.restitution,
-            friction: self.friction,
-        };
-        let d = match &study.uncertainty {
-            Some(u) => u.draw(grid, unit.record, unit.level, self.number),
-            None => grid,
-        };
-        let block = Block::new(d.width, d.aspect, study.g)?;
-        let mut analysis = Analysis::new(block, d.restitution);
-        analysis.friction = d.friction;
-        let key = CaseKey {
-            aspect: d.aspect,
-            width: d.width,
-            restitution: d.restitution,
-            friction: d.friction,
-        };
-        Ok((key, analysis))
-    }
-
-    /// The case columns of this case: the grid's values, NaN for a drawn
-    /// parameter (the key every analysis of the case pools to, see
-    /// [`CaseKey::pooled`]).
-    pub fn key(&self) -> CaseKey {
-        CaseKey {
-            aspect: self.aspect,
-            width: self.width,
-            restitution: self.restitution,
-            friction: self.friction,
-        }
-    }
+/// The block's own parameters (every one fixed) on unit `unit` of
+/// `study`, for case `case` (number `number` in canonical order): the
+/// case's values, with the parameters of `[uncertainty]` drawn for this
+/// (record, level, case); and the analysis of that block (at rest), which
+/// fails only if drawn values make no valid block.
+pub fn analysis(
+    study: &Study,
+    case: &Case,
+    number: usize,
+    unit: &Unit,
+) -> (Case, crate::error::Result<Analysis>) {
+    let own = match &study.uncertainty {
+        Some(u) => u.draw(case, unit.record, unit.level, number),
+        None => *case,
+    };
+    let (Param::Fixed(aspect), Param::Fixed(width), Param::Fixed(e), Param::Fixed(friction)) =
+        (own.aspect, own.width, own.restitution, own.friction)
+    else {
+        unreachable!("a drawn parameter has a draw: {own}")
+    };
+    let analysis = Block::new(width, aspect, study.g).map(|block| {
+        let mut analysis = Analysis::new(block, e);
+        analysis.friction = friction;
+        analysis
+    });
+    (own, analysis)
 }
 
 /// The optional columns of `study`'s `outcomes.csv`.
@@ -95,20 +62,18 @@ pub fn columns(study: &Study) -> Columns {
 }
 
 /// Every case of `study`, in canonical order (aspect, then width, then e,
-/// then friction).
+/// then friction); a case's number is its position here.
 pub fn cases(study: &Study) -> Vec<Case> {
     let mut out = Vec::new();
-    for (ia, &aspect) in study.aspects.iter().enumerate() {
-        for (iw, &width) in study.widths.iter().enumerate() {
-            for (ie, &restitution) in study.restitutions.iter().enumerate() {
-                for (iff, &friction) in study.frictions.iter().enumerate() {
+    for &aspect in &study.aspects {
+        for &width in &study.widths {
+            for &restitution in &study.restitutions {
+                for &friction in &study.frictions {
                     out.push(Case {
                         aspect,
                         width,
                         restitution,
                         friction,
-                        index: [ia, iw, ie, iff],
-                        number: out.len(),
                     });
                 }
             }

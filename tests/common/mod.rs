@@ -1,7 +1,67 @@
 //! Helpers shared by the CLI tests: run the built binary, capture its output.
 #![allow(dead_code)] // each test binary uses a different subset of the helpers
 
+pub mod reference;
+
+use std::path::Path;
 use std::process::{Command, Output};
+
+/// A spec that uses most fields: recorded motions, widths, friction in its
+/// three forms (`inf`, table, pair), PGV levels, solver and output options.
+pub const RICH_SPEC: &str = r#"name = "rich"
+g = 9.80665
+record_files = ["record-a.csv"]
+[grid]
+width = [0.3, 0.5]
+aspect = [3]
+restitution = [0.5]
+friction = ["inf", { mu_s = 0.7, mu_k = 0.6 }, [0.5, 0.5]]
+pgv = [0.25, 0.5]
+[solver]
+model = "linear"
+impact = "energetic"
+[output]
+time_in_mode = true
+stats = true
+"#;
+
+/// The figures every synthetic study folder gets, in the order they are
+/// drawn.
+pub const FIGURES: [&str; 6] = [
+    "motion",
+    "spectrum",
+    "history",
+    "fragility",
+    "friction_demand",
+    "restitution",
+];
+
+/// `rockfrag run SPEC --out OUT`.
+pub fn run_spec(spec: &Path, out: &Path) -> Output {
+    rockfrag(&[
+        "run",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
+/// The binomial log-likelihood of lognormal fragility Φ(a + b ln x) for
+/// `obs` (im, trials, overturned), without its constant: what a fit
+/// maximises, for checks that a nudge of (a, b) lowers it.
+pub fn loglik(obs: &[rockfrag::fragility::Observation], a: f64, b: f64) -> f64 {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    let n = Normal::standard();
+    obs.iter()
+        .map(|o| {
+            let p = n.cdf(a + b * o.im.ln());
+            let z = o.overturned as f64;
+            let m = (o.trials - o.overturned) as f64;
+            (if z > 0.0 { z * p.ln() } else { 0.0 })
+                + if m > 0.0 { m * (1.0 - p).ln() } else { 0.0 }
+        })
+        .sum()
+}
 
 /// Runs `rockfrag` with the given arguments.
 pub fn rockfrag(args: &[&str]) -> Output {

@@ -3,6 +3,7 @@
 //! events (impact, lift-off and holds, slip, overturning) on the dense output.
 
 use super::{Event, RockState, Run, Segment, State, earliest};
+use crate::detmath as dm;
 use crate::error::{Error, Result};
 use crate::solver::block::Block;
 use crate::solver::physics as ph;
@@ -42,7 +43,7 @@ impl Run<'_> {
         let (t_stop, event, ye) =
             self.dopri_to_event("rock", rhs, *t, y, t_end, tol, |run, step, ta, tb| {
                 let path = |tt: f64| (step.component_at(0, tt), step.component_at(1, tt));
-                let trig = |tt: f64| (bl.theta_c - s * step.component_at(0, tt)).sin_cos();
+                let trig = |tt: f64| dm::sin_cos(bl.theta_c - s * step.component_at(0, tt));
                 let unknown = (f64::NEG_INFINITY, f64::INFINITY);
                 run.rock_events(rs, &path, &trig, unknown, &seg, ta, tb, 1)
             })?;
@@ -157,7 +158,7 @@ impl Run<'_> {
             let tau = tt - t0;
             let x = lam * tau;
             // one expm1 gives sinh, cosh and cosh − 1 without cancellation
-            let em = x.exp_m1();
+            let em = dm::exp_m1(x);
             let sh = 0.5 * (em + em / (1.0 + em));
             let chm1 = 0.5 * em * em / (1.0 + em); // cosh x − 1
             let ch = 1.0 + chm1;
@@ -173,7 +174,7 @@ impl Run<'_> {
         let n = 1 + (2.0 * lam * (t_end - t0)) as usize;
         self.out.stats.steps_accepted += 1;
         let (s, theta_c) = (rs.s, self.bl.theta_c);
-        let trig = |tt: f64| (theta_c - s * path(tt).0).sin_cos();
+        let trig = |tt: f64| dm::sin_cos(theta_c - s * path(tt).0);
         let unknown = (f64::NEG_INFINITY, f64::INFINITY);
         if let Some((te, ev)) = self.rock_events(rs, &path, &trig, unknown, seg, t0, t_end, n) {
             let (th, om) = path(te);

@@ -2,6 +2,7 @@
 //! pivot (Dormand–Prince).
 
 use super::{Event, Run, Segment, SlideRockState, SlideState, earliest};
+use crate::detmath as dm;
 use crate::error::Result;
 use crate::solver::physics as ph;
 use crate::solver::roots::brent;
@@ -40,8 +41,10 @@ impl Run<'_> {
             // ground and friction work: ∫ v·ẍ dτ (cubic integrand: 3-point Gauss is exact)
             self.work += gauss3(tau_end, |tau| vel(tau) * (acc0 + acc1 * tau));
         }
-        ss.x =
-            st.x + st.v * tau_end + 0.5 * acc0 * tau_end * tau_end + acc1 * tau_end.powi(3) / 6.0;
+        ss.x = st.x
+            + st.v * tau_end
+            + 0.5 * acc0 * tau_end * tau_end
+            + acc1 * dm::powi(tau_end, 3) / 6.0;
         ss.v = if found.is_some() { 0.0 } else { vel(tau_end) };
         *t = t0 + tau_end;
         if found.is_some() {

@@ -1,8 +1,10 @@
+#![allow(dead_code)] // each test binary uses a different subset of the problems
 //! Reference problems with known answers, shared by tests and benchmarks.
 
-use crate::motion::Record;
-use crate::solver::Block;
-use crate::solver::impact::Velocity;
+use rockfrag::detmath as dm;
+use rockfrag::motion::Record;
+use rockfrag::solver::Block;
+use rockfrag::solver::Velocity;
 
 /// Time for a block released from rest at θ0 (0 < θ0 < θc), with no ground
 /// motion, to reach θ = 0, from the energy integral
@@ -18,10 +20,10 @@ pub fn free_rocking_first_impact_time(block: &Block, theta0: f64) -> f64 {
     let integrand = |v: f64| {
         let th = theta0 * (1.0 - v * v);
         // cos(θc−θ0) − cos(θc−θ) = 2 sin(θc − (θ0+θ)/2) sin((θ0−θ)/2), no cancellation
-        let f = 2.0 * (tc - 0.5 * (theta0 + th)).sin() * (0.5 * (theta0 - th)).sin();
+        let f = 2.0 * dm::sin(tc - 0.5 * (theta0 + th)) * dm::sin(0.5 * (theta0 - th));
         if v == 0.0 {
             // limit v → 0: f ≈ sin(θc−θ0)·θ0 v²/… ⇒ 2θ0 v/√(2p² f) → 2θ0/√(2p² sin(θc−θ0) θ0)
-            2.0 * theta0 / (2.0 * p2 * (tc - theta0).sin() * theta0).sqrt()
+            2.0 * theta0 / (2.0 * p2 * dm::sin(tc - theta0) * theta0).sqrt()
         } else {
             2.0 * theta0 * v / (2.0 * p2 * f).sqrt()
         }
@@ -41,8 +43,8 @@ pub fn free_rocking_first_impact_time(block: &Block, theta0: f64) -> f64 {
 pub fn next_amplitude(block: &Block, theta_n: f64) -> f64 {
     let tc = block.theta_c;
     let delta = 1.0 - 1.5 * block.sin_c * block.sin_c;
-    let c = tc.cos() + delta * delta * ((tc - theta_n).cos() - tc.cos());
-    tc - c.acos()
+    let c = dm::cos(tc) + delta * delta * (dm::cos(tc - theta_n) - dm::cos(tc));
+    tc - dm::acos(c)
 }
 
 /// Rigid-body velocity just before a rock impact: rotating at ω1 about the

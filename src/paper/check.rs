@@ -40,14 +40,15 @@
 use rayon::prelude::*;
 use std::fmt::Write;
 
+use super::tables::{self as paper, PaperRow, Reading, readings};
+use crate::case::Param;
 use crate::error::{Error, Result};
+use crate::io_util::sig3;
 use crate::motion::SynthesisSettings;
 use crate::solver::{Friction, RockImpact, simulate};
 use crate::spec::{Motions, Study};
 use crate::stats::{binomial_log_likelihood, cochran_armitage, fisher_exact, p_text};
-use crate::study::paper::{self, PaperRow};
-pub use crate::study::paper::{Reading, readings};
-use crate::study::{Source, plan, sig3};
+use crate::study::{Source, plan};
 
 /// Options of [`check`].
 #[derive(Clone, Debug)]
@@ -75,13 +76,18 @@ impl Default for CheckOptions {
 
 /// The paper's grid: H/B, e and A_g, in its tables' order.
 const ASPECTS: [f64; 3] = [2.0, 4.0, 6.0];
-const RESTITUTIONS: [f64; 4] = [0.0, 0.3, 0.6, 0.9];
+pub(crate) const RESTITUTIONS: [f64; 4] = [0.0, 0.3, 0.6, 0.9];
 const PGAS: [f64; 4] = [0.3, 0.6, 0.9, 1.2];
 /// Number of (H/B, e, A_g) cells.
 const CELLS: usize = 48;
 
 fn cell_index(ai: usize, ei: usize, li: usize) -> usize {
     (ai * RESTITUTIONS.len() + ei) * PGAS.len() + li
+}
+
+/// The index into [`RESTITUTIONS`] of cell `ci` (see [`cell_index`]).
+pub(crate) fn cell_restitution(ci: usize) -> usize {
+    (ci / PGAS.len()) % RESTITUTIONS.len()
 }
 
 /// One (H/B, e, A_g) cell of one ensemble, in the paper's convention.
@@ -178,10 +184,10 @@ fn paper_study(settings: &SynthesisSettings, seed: u64) -> Study {
         seed,
         records: paper::RECORDS,
     };
-    study.frictions = vec![Friction::Infinite];
-    study.aspects = ASPECTS.to_vec();
-    study.restitutions = RESTITUTIONS.to_vec();
-    study.widths = vec![paper::WIDTH];
+    study.frictions = vec![Param::Fixed(Friction::Infinite)];
+    study.aspects = ASPECTS.map(Param::Fixed).to_vec();
+    study.restitutions = RESTITUTIONS.map(Param::Fixed).to_vec();
+    study.widths = vec![Param::Fixed(paper::WIDTH)];
     study.intensity = crate::spec::Intensity::Pga(PGAS.to_vec());
     study
 }
@@ -200,10 +206,12 @@ fn run_ensemble(study: &Study) -> Result<[Cell; CELLS]> {
                 let record = source.record(&study.intensity, level, unit.record, study.g)?;
                 cases
                     .iter()
-                    .map(|case| {
-                        let (_, analysis) = case.analysis(study, &unit)?;
+                    .enumerate()
+                    .map(|(number, case)| {
+                        let analysis = plan::analysis(study, case, number, &unit).1?;
                         let o = simulate(&analysis, &record, &study.solver, None)?;
-                        let [ai, _, ei, _] = case.index;
+                        // Cases are aspect-major, then e (one width, one friction).
+                        let (ai, ei) = (number / RESTITUTIONS.len(), number % RESTITUTIONS.len());
                         Ok((
                             cell_index(ai, ei, unit.level),
                             o.overturned || o.uplifted,
@@ -241,7 +249,7 @@ fn mean_sd(v: &[f64]) -> (f64, f64) {
     (m, var.sqrt())
 }
 
-/// The scores of one reading (see the [module docs](self)).
+/// The scores of one reading (see the module docs of `paper::check`).
 #[derive(Clone, Debug)]
 pub struct Scores {
     /// Overturn totals per e, one entry per ensemble: `totals[e][j]`.

@@ -20,12 +20,12 @@
 //! "Sensitivity"): the report therefore gives medians and maxima over the
 //! ensemble and counts outcome mismatches rather than trusting one run.
 
-use crate::error::Result;
-use crate::fragility::percentile;
-use crate::motion::{G_STANDARD, Record, SynthesisSettings, Synthesizer};
-use crate::outcome::Outcome;
-use crate::solver::{Analysis, Block, Friction, Integrator, Model, SolverSettings, simulate};
 use rayon::prelude::*;
+use rockfrag::Result;
+use rockfrag::fragility::percentile;
+use rockfrag::motion::{G_STANDARD, Record, SynthesisSettings, Synthesizer};
+use rockfrag::outcome::Outcome;
+use rockfrag::solver::{Analysis, Block, Friction, Integrator, Model, SolverSettings, simulate};
 use std::time::Instant;
 
 /// What the report covers. Plain data with documented defaults.
@@ -155,7 +155,7 @@ pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>>
     for &integrator in &opts.integrators {
         for &rtol in &opts.rtols {
             all.push((
-                format!("{} rtol={rtol:e}", integrator_name(integrator)),
+                format!("{} rtol={rtol:e}", integrator.name()),
                 SolverSettings {
                     integrator,
                     rtol,
@@ -212,14 +212,6 @@ pub fn work_precision(opts: &WorkPrecisionOptions) -> Result<Vec<SettingReport>>
         reports.push(summarise(label, set, only, &rows));
     }
     Ok(reports)
-}
-
-/// Short name of an integrator, as in the spec (`taylor`, `dopri5`).
-pub fn integrator_name(i: Integrator) -> &'static str {
-    match i {
-        Integrator::Taylor => "taylor",
-        Integrator::Dopri5 => "dopri5",
-    }
 }
 
 fn summarise(

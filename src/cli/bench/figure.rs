@@ -1,5 +1,6 @@
 //! The work–precision figure of `rockfrag bench`: error against cost.
 
+use rockfrag::detmath as dm;
 use std::path::Path;
 
 use plotters::coord::Shift;
@@ -9,11 +10,11 @@ use plotters::prelude::{
 };
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::figure::{DrawResult, Figure, save};
-use super::style::{COLUMN_WIDTH_IN, Style, tick_label};
-use crate::bench::SettingReport;
-use crate::error::Result;
-use crate::solver::{Integrator, Model};
+use super::report::SettingReport;
+use rockfrag::Result;
+use rockfrag::figures::style::{COLUMN_WIDTH_IN, Style, tick_label};
+use rockfrag::figures::{DrawResult, Figure, save};
+use rockfrag::solver::{Integrator, Model};
 
 /// Draws the median relative error of θmax/θc against the median time per
 /// analysis (log–log): each integrator of the nonlinear model as a line
@@ -61,7 +62,7 @@ impl Figure for WorkPrecision<'_> {
         // than a decade still has several labelled ticks
         let ticks = |lo: f64, hi: f64| -> Vec<f64> {
             let mut v = Vec::new();
-            let mut decade = 10f64.powf(lo.log10().floor());
+            let mut decade = dm::powf(10.0, dm::log10(lo).floor());
             while decade <= hi {
                 for m in [1.0, 2.0, 5.0] {
                     let t = m * decade;
@@ -78,8 +79,9 @@ impl Figure for WorkPrecision<'_> {
         let x_ticks = ticks(xl, xh);
         let y_ticks: Vec<f64> = ticks(yl, yh)
             .into_iter()
-            .filter(|t| {
-                (t.log10().round() - t.log10()).abs() < 1e-9 && t.log10().round() as i64 % 2 == 0
+            .filter(|&t| {
+                (dm::log10(t).round() - dm::log10(t)).abs() < 1e-9
+                    && dm::log10(t).round() as i64 % 2 == 0
             })
             .collect();
         let mut chart = ChartBuilder::on(root)
@@ -101,7 +103,7 @@ impl Figure for WorkPrecision<'_> {
             .x_desc("Median time per analysis (µs)")
             .y_desc("Median rel. error of θmax")
             .x_label_formatter(&|v| tick_label(*v))
-            .y_label_formatter(&|v| format!("1e{}", v.log10().round()))
+            .y_label_formatter(&|v| format!("1e{}", dm::log10(*v).round()))
             .draw()?;
         // one line per integrator, labelled at its loosest and tightest rtol
         let above = style.font(7.0).pos(Pos::new(HPos::Center, VPos::Bottom));

@@ -1,15 +1,13 @@
-//! Reading `outcomes.csv` back: the one place that parses its case columns,
-//! finds columns by header name, tells failed rows apart and words the
-//! errors. The fragility fit and the figures build their own records on top
-//! of [`OutcomesReader`]; files keyed by the same case columns (the
-//! fragility command's `fragility_curves.csv`) are read with it too.
+//! Reading a stage file back: the one place that finds columns by header
+//! name, parses the case columns, tells failed rows apart and words the
+//! errors. Each stage file's row type (`outcomes.csv`'s
+//! [`OutcomeRow`](crate::outcomes_csv::OutcomeRow), `fragility.csv`'s, …)
+//! reads its rows through a [`Table`].
 //!
 //! - Columns are found by header name: order and extra columns do not matter.
 //!   Headers and fields are trimmed.
-//! - The case is the six columns `aspect, width, restitution, friction, mu_s,
-//!   mu_k` (see [the format](super)), read into a [`CaseKey`]: H/B and 2B
-//!   finite and > 0, e finite, `friction` `inf` (μ columns empty) or
-//!   `coulomb` (μs, μk numbers, `inf` allowed).
+//! - The case is the six columns of [`CASE_COLUMNS`], read into a [`Case`]
+//!   ([`Case::parse`]).
 //! - A row is failed ([`Row::failed`]) when its `status` column, if any, is
 //!   not `ok`, or its `error` column, if any, is not empty: its outcome
 //!   columns are empty and must not be read.
@@ -18,14 +16,12 @@
 
 use std::path::{Path, PathBuf};
 
-use super::case::CaseKey;
-use super::columns::CASE_COLUMNS;
+use crate::case::{CASE_COLUMNS, Case};
 use crate::error::{Error, Result};
-use crate::solver::Friction;
 
-/// A CSV file keyed by the case columns (`outcomes.csv`,
-/// `fragility_curves.csv`), read row by row with line numbers for errors.
-pub struct OutcomesReader {
+/// A CSV stage file keyed by the case columns (`outcomes.csv`,
+/// `fragility.csv`, …), read row by row with line numbers for errors.
+pub struct Table {
     path: PathBuf,
     reader: csv::Reader<std::fs::File>,
     header: Vec<String>,
@@ -35,7 +31,7 @@ pub struct OutcomesReader {
     record: csv::StringRecord,
 }
 
-impl OutcomesReader {
+impl Table {
     /// Opens `path` and finds the case columns and `columns` in its header;
     /// returns the reader and the indices of `columns`, in order.
     ///
@@ -46,7 +42,14 @@ impl OutcomesReader {
         path: &Path,
         columns: [C; N],
         purpose: &str,
-    ) -> Result<(OutcomesReader, [usize; N])> {
+    ) -> Result<(Table, [usize; N])> {
+        let names: Vec<&str> = columns.iter().map(AsRef::as_ref).collect();
+        let (table, indices) = Table::open_dyn(path, &names, purpose)?;
+        Ok((table, std::array::from_fn(|i| indices[i])))
+    }
+
+    /// As [`Table::open`], for a list of columns known at run time.
+    pub fn open_dyn(path: &Path, columns: &[&str], purpose: &str) -> Result<(Table, Vec<usize>)> {
         let file = std::fs::File::open(path).map_err(Error::io(path))?;
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
@@ -60,8 +63,7 @@ impl OutcomesReader {
         let find = |name: &str| header.iter().position(|h| h == name);
         let missing: Vec<String> = CASE_COLUMNS
             .iter()
-            .copied()
-            .chain(columns.iter().map(AsRef::as_ref))
+            .chain(columns)
             .filter(|n| find(n).is_none())
             .map(|n| format!("`{n}`"))
             .collect();
@@ -76,9 +78,12 @@ impl OutcomesReader {
             ));
         }
         let case = CASE_COLUMNS.map(|n| find(n).expect("checked above"));
-        let indices = columns.map(|n| find(n.as_ref()).expect("checked above"));
+        let indices = columns
+            .iter()
+            .map(|n| find(n).expect("checked above"))
+            .collect();
         let (status, error) = (find("status"), find("error"));
-        let table = OutcomesReader {
+        let table = Table {
             path: path.to_path_buf(),
             reader,
             header,
@@ -134,10 +139,10 @@ impl OutcomesReader {
     }
 }
 
-/// One row of an [`OutcomesReader`]; its accessors take column indices from
-/// [`OutcomesReader::open`] or [`OutcomesReader::column`].
+/// One row of an [`Table`]; its accessors take column indices from
+/// [`Table::open`] or [`Table::column`].
 pub struct Row<'a> {
-    table: &'a OutcomesReader,
+    table: &'a Table,
     line: usize,
 }
 
@@ -161,58 +166,13 @@ impl Row<'_> {
             || t.error.is_some_and(|i| !self.field(i).is_empty())
     }
 
-    /// The case of this row: H/B and 2B finite and > 0, e finite, `friction`
-    /// `inf` (μ columns empty) or `coulomb` (μs, μk numbers, `inf` allowed).
-    /// An empty H/B, 2B, e, or μs and μk under `coulomb`, reads as NaN: a
-    /// parameter drawn per analysis, pooled in a fitted case (as
-    /// `fragility.csv` writes it; see [`CaseKey::pooled`]).
-    pub fn case(&self) -> Result<CaseKey> {
-        let pooled = |i: usize, read: &dyn Fn(usize) -> Result<f64>| {
-            if self.field(i).is_empty() {
-                Ok(f64::NAN)
-            } else {
-                read(i)
-            }
-        };
-        let [aspect, width, restitution, friction, mu_s, mu_k] = self.table.case;
-        let friction = match self.field(friction) {
-            "inf" => {
-                for i in [mu_s, mu_k] {
-                    if !self.field(i).is_empty() {
-                        return Err(self.error(i, "empty under friction inf"));
-                    }
-                }
-                Friction::Infinite
-            }
-            "coulomb" => {
-                let mu = |i| {
-                    pooled(i, &|i| {
-                        self.field(i)
-                            .parse::<f64>()
-                            .ok()
-                            .filter(|x| !x.is_nan())
-                            .ok_or_else(|| self.error(i, "a number or inf under friction coulomb"))
-                    })
-                };
-                // Both empty (drawn, pooled) or both numbers.
-                for (i, other) in [(mu_s, mu_k), (mu_k, mu_s)] {
-                    if self.field(i).is_empty() && !self.field(other).is_empty() {
-                        return Err(self.error(i, "a number or inf under friction coulomb"));
-                    }
-                }
-                Friction::Coulomb {
-                    mu_s: mu(mu_s)?,
-                    mu_k: mu(mu_k)?,
-                }
-            }
-            _ => return Err(self.error(friction, "inf or coulomb")),
-        };
-        Ok(CaseKey {
-            aspect: pooled(aspect, &|i| self.positive(i))?,
-            width: pooled(width, &|i| self.positive(i))?,
-            restitution: pooled(restitution, &|i| self.finite(i))?,
-            friction,
-        })
+    /// The case of this row ([`Case::parse`]): an analysis's own values
+    /// (every parameter fixed), or with `allow_drawn` a fitted case whose
+    /// drawn parameters are empty fields.
+    pub fn case(&self, allow_drawn: bool) -> Result<Case> {
+        let fields = self.table.case.map(|i| self.field(i));
+        Case::parse(fields, allow_drawn)
+            .map_err(|(k, expected)| self.error(self.table.case[k], expected))
     }
 
     /// An error at this row's line of the file.
@@ -290,18 +250,20 @@ fn parse_error(path: &Path, line: usize, message: String) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::case::Param;
+    use crate::solver::Friction;
     use std::cmp::Ordering;
 
     const HEADER: &str = "aspect,width,restitution,friction,mu_s,mu_k,pga,status,error\n";
 
-    fn read(text: &str) -> Result<Vec<(bool, Result<CaseKey>)>> {
+    fn read(text: &str) -> Result<Vec<(bool, Result<Case>)>> {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("outcomes.csv");
         std::fs::write(&path, text).unwrap();
-        let (mut t, [_pga]) = OutcomesReader::open(&path, ["pga"], "the test")?;
+        let (mut t, [_pga]) = Table::open(&path, ["pga"], "the test")?;
         let mut out = Vec::new();
         while let Some(row) = t.next_row()? {
-            out.push((row.failed(), row.case()));
+            out.push((row.failed(), row.case(false)));
         }
         Ok(out)
     }
@@ -318,10 +280,10 @@ mod tests {
         let key = rows[1].1.as_ref().unwrap();
         assert_eq!(
             key.friction,
-            Friction::Coulomb {
+            Param::Fixed(Friction::Coulomb {
                 mu_s: 0.7,
                 mu_k: f64::INFINITY
-            }
+            })
         );
         assert_eq!(key.to_string(), "H/B=6 2B=0.5 e=0.2 coulomb μs=0.7 μk=inf");
         assert_eq!(

@@ -1,6 +1,9 @@
 //! `rockfrag bench`: the speed-against-error report.
 
-use rockfrag::bench::{WorkPrecisionOptions, markdown, work_precision};
+mod figure;
+mod report;
+
+use report::{WorkPrecisionOptions, markdown, work_precision};
 use std::path::PathBuf;
 
 /// Flags of `rockfrag bench`.
@@ -30,13 +33,11 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     );
     let reports = work_precision(&opts)?;
     let text = markdown(&opts, &reports);
-    std::fs::create_dir_all(&args.out)?;
     let md = args.out.join("work_precision.md");
-    std::fs::write(md.with_extension("md.tmp"), &text)?;
-    std::fs::rename(md.with_extension("md.tmp"), &md)?;
-    rockfrag::figures::plot_work_precision(&reports, &args.out.join("work_precision.svg"))?;
+    rockfrag::io_util::write_atomic(&md, |w| w.write_all(text.as_bytes()))?;
+    figure::plot_work_precision(&reports, &args.out.join("work_precision.svg"))?;
     if args.png {
-        rockfrag::figures::plot_work_precision(&reports, &args.out.join("work_precision.png"))?;
+        figure::plot_work_precision(&reports, &args.out.join("work_precision.png"))?;
     }
     print!("{text}");
     Ok(())

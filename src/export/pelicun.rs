@@ -1,0 +1,204 @@
+//! `rockfrag export pelicun`: the fitted curves as a pelicun (FEMA P-58)
+//! damage database, `<name>.csv` and `<name>.json`, that pelicun loads
+//! unmodified.
+//!
+//! One component per case, its `ID` the case id ([`crate::case::Case::id`]:
+//! letters, digits and `_`; pelicun splits its random-variable names on
+//! `-`, so an id with `-` fails deep inside pandas). LS1 … LSn are the
+//! study's limit states in order of severity, each `lognormal` with
+//! `Theta_0` the median θ in the demand's unit and `Theta_1` the β. The
+//! demand is the IM the curves were fitted against: `Peak Ground
+//! Acceleration` in `g`, `Peak Ground Velocity` in `mps`, with
+//! `Demand-Directional = 1` (with 0, pelicun multiplies the demand by 1.2,
+//! FEMA P-58's factor for a non-directional demand: the PGA here is already
+//! the demand on the object) and `Demand-Offset = 0`.
+//!
+//! A case with a limit state that could not be fitted is left out and
+//! named in the JSON's `_GeneralInformation.Omitted`: pelicun needs every
+//! limit state (a blank one is skipped and silently renumbers the damage
+//! states above it; `Incomplete = 1` drops the component without a word).
+//! pelicun 3.10 reads only the CSV; the JSON describes the components and
+//! their damage states for people and SimCenter tools.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::fragility::{FragilityRow, IntensityMeasure, LimitState, read_fragility_csv};
+use crate::io_util::write_atomic;
+
+/// What [`export_pelicun`] wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PelicunDatabase {
+    /// The damage database, `<name>.csv`.
+    pub csv: PathBuf,
+    /// Its description, `<name>.json`.
+    pub json: PathBuf,
+    /// Components (cases) written.
+    pub components: usize,
+    /// Cases left out: id and the limit states that could not be fitted.
+    pub omitted: Vec<String>,
+}
+
+/// pelicun's demand type and unit for curves fitted against `im`.
+pub fn demand(im: IntensityMeasure) -> Result<(&'static str, &'static str)> {
+    match im {
+        IntensityMeasure::Pga => Ok(("Peak Ground Acceleration", "g")),
+        IntensityMeasure::Pgv => Ok(("Peak Ground Velocity", "mps")),
+        IntensityMeasure::PgaOverTan => Err(Error::invalid(
+            "fragility.im",
+            im.name(),
+            "pga or pgv for pelicun (refit with --im pga)",
+        )),
+    }
+}
+
+/// Writes the damage database of the fitted study folder `dir` (its
+/// `fragility.csv`) into `out` as `<name>.csv` and `<name>.json` (see the
+/// [module docs](self)). `limit_states` describe the limit states in the
+/// JSON (the study's, from its spec; by name alone when empty); `study`
+/// names the database in the JSON.
+///
+/// Errors: a fit against PGA/(g tan θc); no case fitted for every limit
+/// state; unreadable or unwritable files.
+pub fn export_pelicun(
+    dir: &Path,
+    out: &Path,
+    name: &str,
+    study: &str,
+    limit_states: &[LimitState],
+) -> Result<PelicunDatabase> {
+    let rows = read_fragility_csv(&dir.join("fragility.csv"))?;
+    let im = rows.first().map_or(IntensityMeasure::Pga, |r| r.im);
+    let (demand_type, unit) = demand(im)?;
+    let mut names: Vec<String> = Vec::new();
+    for r in &rows {
+        if !names.contains(&r.limit_state) {
+            names.push(r.limit_state.clone());
+        }
+    }
+    // The rows of each case, in order.
+    let mut cases: Vec<(String, Vec<&FragilityRow>)> = Vec::new();
+    for r in &rows {
+        let id = r.case.id();
+        match cases.iter_mut().find(|c| c.0 == id) {
+            Some(c) => c.1.push(r),
+            None => cases.push((id, vec![r])),
+        }
+    }
+    let mut csv =
+        String::from("ID,Incomplete,Demand-Type,Demand-Unit,Demand-Offset,Demand-Directional");
+    for k in 1..=names.len() {
+        let _ = write!(csv, ",LS{k}-Family,LS{k}-Theta_0,LS{k}-Theta_1");
+    }
+    csv.push('\n');
+    let mut components = Vec::new();
+    let mut omitted = Vec::new();
+    for (id, case_rows) in &cases {
+        let fits: Vec<Option<(f64, f64)>> = names
+            .iter()
+            .map(|ls| {
+                case_rows
+                    .iter()
+                    .find(|r| &r.limit_state == ls)
+                    .and_then(|r| r.fit())
+            })
+            .collect();
+        if fits.iter().any(Option::is_none) {
+            let missing: Vec<String> = names
+                .iter()
+                .zip(&fits)
+                .filter(|(_, f)| f.is_none())
+                .map(|(ls, _)| {
+                    let status = case_rows
+                        .iter()
+                        .find(|r| &r.limit_state == ls)
+                        .map_or("no fit", |r| r.status.as_str());
+                    format!("{ls}: {status}")
+                })
+                .collect();
+            omitted.push(format!("{id} ({})", missing.join("; ")));
+            continue;
+        }
+        let _ = write!(csv, "{id},0,{demand_type},{unit},0,1");
+        for (m, b) in fits.into_iter().flatten() {
+            // Rust's shortest round-trip form: the file holds the fit's θ and β.
+            let _ = write!(csv, ",lognormal,{m:?},{b:?}");
+        }
+        csv.push('\n');
+        components.push((id.clone(), case_rows[0].case));
+    }
+    if components.is_empty() {
+        return Err(Error::Parse {
+            path: dir.join("fragility.csv"),
+            line: 0,
+            message: format!(
+                "no case is fitted for every limit state, which pelicun needs ({})",
+                omitted.join(", ")
+            ),
+        });
+    }
+
+    // The JSON, DLML's layout.
+    let describe = |k: usize, ls: &str| -> String {
+        match limit_states.iter().find(|l| l.name == ls) {
+            Some(l) if l.measure == "overturned" => format!("{ls}: the block overturns"),
+            Some(l) => match l.exceeds {
+                Some(x) => format!("{ls}: {} exceeds {x}", l.measure),
+                None => format!("{ls}: {}", l.measure),
+            },
+            None if ls == "overturning" => format!("{ls}: the block overturns"),
+            None => format!("{ls} (limit state {k})"),
+        }
+    };
+    let mut general = serde_json::json!({
+        "ShortName": format!("rockfrag {study}"),
+        "Description": format!(
+            "Fragility of free-standing rigid blocks from the rockfrag study {study}; \
+             limit states in order of severity: {}", names.join(", ")),
+        "Version": env!("CARGO_PKG_VERSION"),
+    });
+    if !omitted.is_empty() {
+        general["Omitted"] = serde_json::json!(omitted);
+    }
+    let mut json = serde_json::Map::new();
+    json.insert("_GeneralInformation".into(), general);
+    for (id, case) in &components {
+        let mut states = serde_json::Map::new();
+        for (k, ls) in names.iter().enumerate() {
+            states.insert(
+                format!("LS{}", k + 1),
+                serde_json::json!({ format!("DS{}", k + 1): { "Description": describe(k + 1, ls) } }),
+            );
+        }
+        json.insert(
+            id.clone(),
+            serde_json::json!({
+                "Description": format!("Free-standing rigid block {case}"),
+                "Comments": format!(
+                    "Lognormal fragility fitted by rockfrag (probit maximum likelihood over \
+                     stripes of {}); Theta_0 = median in {unit}, Theta_1 = lognormal dispersion \
+                     beta.", im.name()),
+                "SuggestedComponentBlockSize": "1 EA",
+                "RoundUpToIntegerQuantity": "True",
+                "LimitStates": states,
+            }),
+        );
+    }
+    let json_text = serde_json::to_string_pretty(&serde_json::Value::Object(json))
+        .expect("a JSON value serialises")
+        + "\n";
+    std::fs::create_dir_all(out).map_err(Error::io(out))?;
+    let paths = (
+        out.join(format!("{name}.csv")),
+        out.join(format!("{name}.json")),
+    );
+    write_atomic(&paths.0, |w| w.write_all(csv.as_bytes())).map_err(Error::io(&paths.0))?;
+    write_atomic(&paths.1, |w| w.write_all(json_text.as_bytes())).map_err(Error::io(&paths.1))?;
+    Ok(PelicunDatabase {
+        csv: paths.0,
+        json: paths.1,
+        components: components.len(),
+        omitted,
+    })
+}

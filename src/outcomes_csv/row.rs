@@ -1,0 +1,359 @@
+//! One row of `outcomes.csv`, [`OutcomeRow`]: its writer
+//! ([`Columns::write_row`]) and its reader ([`OutcomesFile`]) side by side,
+//! so that a column is added in one place and every consumer — the study's
+//! summary, the fragility fit, the figures, `merge`, Python — reads the
+//! same type.
+
+use std::path::Path;
+
+use super::columns::{CASE, Column, Columns};
+use crate::case::Case;
+use crate::error::{Error, Result};
+use crate::outcome::Outcome;
+use crate::table::Table;
+use std::fmt::Write;
+
+/// One analysis: its block, its record and its outcome.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutcomeRow {
+    /// The analysis's own block (every parameter fixed: drawn values as
+    /// drawn).
+    pub case: Case,
+    /// Peak ground acceleration, g: the level of a PGA study, else the
+    /// scaled record's measured peak (`None` if the record failed).
+    pub pga: Option<f64>,
+    /// Peak ground velocity, m/s: the level of a PGV study, else the scaled
+    /// record's measured peak (`None` if the record failed).
+    pub pgv: Option<f64>,
+    /// Record index in the ensemble (0-based).
+    pub record: usize,
+    /// The record file as the spec names it (recorded motions only).
+    pub record_file: Option<String>,
+    /// The factor the record was multiplied by (`scale_factors` studies).
+    pub scale: Option<f64>,
+    /// The outcome, or why the analysis failed.
+    pub result: std::result::Result<Outcome, String>,
+}
+
+impl OutcomeRow {
+    /// The outcome, `None` for a failed analysis.
+    pub fn outcome(&self) -> Option<&Outcome> {
+        self.result.as_ref().ok()
+    }
+
+    /// The row's intensity level: `scale` for scale-factor studies, `pgv`
+    /// for PGV studies, else `pga` (see [`Columns::level`]).
+    pub fn level(&self, columns: &Columns) -> Option<f64> {
+        match columns.level() {
+            Column::Scale => self.scale,
+            Column::Pgv => self.pgv,
+            _ => self.pga,
+        }
+    }
+}
+
+/// What the study runner knows of a row's record.
+#[derive(Clone, Copy, Debug)]
+pub struct RecordInfo<'a> {
+    /// Ensemble index.
+    pub index: usize,
+    /// The intensity level (g for PGA, m/s for PGV, a factor for scale).
+    pub level: f64,
+    /// Measured PGA of the scaled record, g (`None` if the record failed).
+    pub pga_g: Option<f64>,
+    /// Measured PGV of the scaled record, m/s (`None` if the record failed).
+    pub pgv: Option<f64>,
+    /// The record file as written in the spec.
+    pub file: Option<&'a str>,
+}
+
+impl Columns {
+    /// The row of one analysis in a file with these columns: the level goes
+    /// to its column (`pga`, `pgv` or `scale`), measured peaks to the others.
+    pub fn row(
+        &self,
+        case: Case,
+        record: &RecordInfo,
+        result: std::result::Result<Outcome, String>,
+    ) -> OutcomeRow {
+        let (pga, pgv, scale) = if self.scale {
+            (record.pga_g, record.pgv, Some(record.level))
+        } else if self.pgv {
+            (record.pga_g, Some(record.level), None)
+        } else {
+            (Some(record.level), record.pgv, None)
+        };
+        OutcomeRow {
+            case,
+            pga,
+            pgv,
+            record: record.index,
+            record_file: record.file.filter(|_| self.files).map(str::to_string),
+            scale,
+            result,
+        }
+    }
+
+    /// Appends `row` to `out`, with its newline: the columns of
+    /// [`Columns::list`], in its order, each as [`OutcomeRow::write_field`]
+    /// writes it.
+    pub fn write_row(&self, out: &mut String, row: &OutcomeRow) {
+        for (i, column) in self.list().into_iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            row.write_field(column, out);
+        }
+        out.push('\n');
+    }
+}
+
+impl OutcomeRow {
+    /// Appends this row's field of `column` to `out`, as `outcomes.csv`
+    /// holds it: numbers in their shortest round-trip form (case values as
+    /// [`Case::fields`]), an absent value as an empty field, text quoted
+    /// when it holds a comma, a quote or a line break. A failed analysis's
+    /// outcome columns are empty.
+    pub fn write_field(&self, column: Column, out: &mut String) {
+        use crate::case::Param;
+        let num = |out: &mut String, x: Option<f64>| {
+            if let Some(v) = x {
+                let _ = write!(out, "{v}");
+            }
+        };
+        let param = |out: &mut String, p: Option<Param<f64>>| {
+            out.push_str(&p.map_or(String::new(), Param::field));
+        };
+        match column {
+            Column::Aspect => param(out, Some(self.case.aspect)),
+            Column::Width => param(out, Some(self.case.width)),
+            Column::Restitution => param(out, Some(self.case.restitution)),
+            Column::Friction => out.push_str(self.case.friction_name()),
+            Column::MuS => param(out, self.case.mu_s()),
+            Column::MuK => param(out, self.case.mu_k()),
+            Column::Pga => num(out, self.pga),
+            Column::Pgv => num(out, self.pgv),
+            Column::Scale => num(out, self.scale),
+            Column::Record => {
+                let _ = write!(out, "{}", self.record);
+            }
+            Column::RecordFile => push_field(out, self.record_file.as_deref().unwrap_or("")),
+            Column::Status => out.push_str(if self.result.is_ok() { "ok" } else { "failed" }),
+            Column::Error => push_field(out, self.result.as_ref().err().map_or("", String::as_str)),
+            c => {
+                if let Ok(o) = &self.result {
+                    c.write_value(o, out);
+                }
+            }
+        }
+    }
+}
+
+/// Appends a CSV field, quoted when it holds a comma, a quote or a line break.
+fn push_field(out: &mut String, s: &str) {
+    if s.contains([',', '"', '\n', '\r']) {
+        out.push('"');
+        out.push_str(&s.replace('"', "\"\""));
+        out.push('"');
+    } else {
+        out.push_str(s);
+    }
+}
+
+/// `outcomes.csv` read back, row by row, as [`OutcomeRow`]s.
+///
+/// Columns are found by header name (order and unknown columns do not
+/// matter); the case columns and the columns a consumer names as required
+/// must be there, any other column of [`Column`] is read when present and
+/// left at its default ([`Outcome::default`], `None`) when not, so that a
+/// file written before a column existed still reads.
+pub struct OutcomesFile {
+    table: Table,
+    /// (column, index in the file) of every known column present.
+    present: Vec<(Column, usize)>,
+}
+
+impl OutcomesFile {
+    /// Opens `path`, checking that the case columns and `required` are in
+    /// its header (the error names every missing one and what needs it,
+    /// `purpose`).
+    pub fn open(path: &Path, required: &[Column], purpose: &str) -> Result<OutcomesFile> {
+        let names: Vec<&str> = required.iter().map(|c| c.name()).collect();
+        let (table, _) = Table::open_dyn(path, &names, purpose)?;
+        let present = Columns::ALL
+            .list()
+            .into_iter()
+            .filter(|c| !CASE.contains(c))
+            .filter_map(|c| table.column(c.name()).map(|i| (c, i)))
+            .collect();
+        Ok(OutcomesFile { table, present })
+    }
+
+    /// The file's path.
+    pub fn path(&self) -> &Path {
+        self.table.path()
+    }
+
+    /// The header's column names, in the file's order.
+    pub fn header(&self) -> &[String] {
+        self.table.header()
+    }
+
+    /// Whether the file has `column`.
+    pub fn has(&self, column: Column) -> bool {
+        self.present.iter().any(|&(c, _)| c == column)
+    }
+
+    /// The known columns of the file, in the file's order.
+    pub fn columns(&self) -> Vec<Column> {
+        let mut v = self.present.clone();
+        v.sort_by_key(|&(_, i)| i);
+        CASE.into_iter()
+            .chain(v.into_iter().map(|(c, _)| c))
+            .collect()
+    }
+
+    /// An error at `line` of this file.
+    pub fn error_at(&self, line: usize, message: String) -> Error {
+        self.table.error_at(line, message)
+    }
+
+    /// An error at the header (line 1) of this file.
+    pub fn header_error(&self, message: String) -> Error {
+        self.table.header_error(message)
+    }
+
+    /// The next row and its line, `None` at the end of the file. A failed
+    /// row (`status` not `ok`, or an `error`) has `result` = `Err(error)`
+    /// and no outcome columns read.
+    ///
+    /// Errors: [`Error::Parse`] naming the file, line, column and value.
+    pub fn next_row(&mut self) -> Result<Option<(usize, OutcomeRow)>> {
+        let Some(row) = self.table.next_row()? else {
+            return Ok(None);
+        };
+        let line = row.line();
+        let case = row.case(false)?;
+        let mut out = OutcomeRow {
+            case,
+            pga: None,
+            pgv: None,
+            record: 0,
+            record_file: None,
+            scale: None,
+            result: Ok(Outcome::default()),
+        };
+        let failed = row.failed();
+        let mut error = String::new();
+        for &(column, i) in &self.present {
+            let text = row.field(i);
+            let opt = || -> Result<Option<f64>> {
+                if text.is_empty() {
+                    Ok(None)
+                } else {
+                    row.number(i).map(Some)
+                }
+            };
+            match column {
+                Column::Pga => out.pga = opt()?,
+                Column::Pgv => out.pgv = opt()?,
+                Column::Scale => out.scale = opt()?,
+                Column::Record => out.record = row.integer(i)? as usize,
+                Column::RecordFile => {
+                    out.record_file = (!text.is_empty()).then(|| text.to_string())
+                }
+                Column::Error => error = text.to_string(),
+                Column::Status => {}
+                c if !failed => {
+                    if let Ok(o) = out.result.as_mut() {
+                        c.read_value(o, text).map_err(|e| row.error(i, e))?;
+                    }
+                }
+                _ => {}
+            }
+        }
+        if failed {
+            out.result = Err(error);
+        }
+        Ok(Some((line, out)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::Friction;
+
+    fn case() -> Case {
+        Case::fixed(
+            4.0,
+            0.5,
+            0.3,
+            Friction::Coulomb {
+                mu_s: 0.7,
+                mu_k: 0.6,
+            },
+        )
+    }
+
+    /// Every row has as many fields as the header, and reads back as the
+    /// row written.
+    #[test]
+    fn rows_round_trip() {
+        for cols in [
+            Columns {
+                pgv: false,
+                files: false,
+                scale: false,
+                time_in_mode: false,
+                stats: false,
+            },
+            Columns::ALL,
+        ] {
+            let n = cols.names().len();
+            let rec = RecordInfo {
+                index: 3,
+                level: 0.3,
+                pga_g: Some(0.5),
+                pgv: Some(0.4),
+                file: Some("a,b.csv"),
+            };
+            let mut outcome = Outcome {
+                overturned: true,
+                overturn_time: Some(3.25),
+                theta_max_over_theta_c: 2.0,
+                impacts: 7,
+                ..Outcome::default()
+            };
+            if cols.time_in_mode {
+                outcome.time_in_mode = [1.0, 2.0, 3.0, 4.0, 5.0];
+            }
+            if cols.stats {
+                outcome.stats.events = 11;
+            }
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("outcomes.csv");
+            let rows = [
+                cols.row(case(), &rec, Ok(outcome)),
+                cols.row(case(), &rec, Err("solver failed, \"x\"".to_string())),
+            ];
+            let mut s = cols.header();
+            for row in &rows {
+                let mut line = String::new();
+                cols.write_row(&mut line, row);
+                let mut r = csv::ReaderBuilder::new()
+                    .has_headers(false)
+                    .from_reader(line.as_bytes());
+                assert_eq!(r.records().next().unwrap().unwrap().len(), n, "{line}");
+                s.push_str(&line);
+            }
+            std::fs::write(&path, s).unwrap();
+            let mut file = OutcomesFile::open(&path, &[Column::Pga], "the test").unwrap();
+            for want in &rows {
+                let (_, got) = file.next_row().unwrap().unwrap();
+                assert_eq!(&got, want);
+            }
+            assert!(file.next_row().unwrap().is_none());
+        }
+    }
+}

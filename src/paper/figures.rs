@@ -1,0 +1,462 @@
+//! The paper's figures: its Tables 1–3 beside this study's means in the
+//! friction-demand and restitution figures, its illustrative response
+//! history, and the trend of overturning with e (`e_trend`).
+//!
+//! `e_trend` answers the paper's claim that restitution stabilises the
+//! block. Against e, the fraction of runs that overturned or lifted off (the
+//! paper's convention), pooled over the study's H/B and PGA levels under
+//! infinite friction, in three series, each with its Cochran–Armitage trend
+//! test in the legend:
+//!
+//! - this study's physics (flat: a rock impact's bounces end the ring-down
+//!   at Housner's e = 0 ratio whatever e is);
+//! - the same records solved with the paper's program rule
+//!   (`[solver] rock_impact = "rock"`: rocking continues after a rock
+//!   impact with ω₂/ω₁ = 1 − 1.5(1+e)sin²θc), which falls with e;
+//! - the paper's published counts (Tables 1–3), which fall too.
+//!
+//! So the figure shows the stabilisation, where it comes from (the
+//! program's rule), and that physics does not produce it.
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::{DrawingArea, DrawingBackend};
+use plotters::style::{BLACK, Color};
+use rayon::prelude::*;
+
+use super::check::{RESTITUTIONS, ReadingResult, cell_restitution, paper_totals};
+use super::tables::{self, TABLES, readings};
+use crate::case::{Case, Param};
+use crate::error::{Error, Result};
+use crate::figures::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
+use crate::figures::style::{LINE_PT, PAGE_WIDTH_IN, PALETTE, Style, tick_label};
+use crate::figures::{
+    DrawResult, Figure, FigureOptions, FiguresReport, HistoryCase, HistoryChoice, StudyFigures,
+    save, trend_text,
+};
+use crate::solver::{Friction, RockImpact, simulate};
+use crate::spec::Study;
+use crate::study::{Source, plan};
+
+/// The paper's illustrative response history: H/B 2, 2B 0.5 m, e 0.6 under
+/// Coulomb friction μs 0.6 (above B/H = 0.5: the block rocks from rest, and
+/// slides only after impacts and during slide-rock), μk 0.4, at 0.9 g; the
+/// run with the most modes among the first 25 records of ensemble `seed`.
+pub fn history_case(seed: u64) -> HistoryCase {
+    HistoryCase {
+        aspect: 2.0,
+        width: 0.5,
+        restitution: 0.6,
+        mu_s: 0.6,
+        mu_k: 0.4,
+        pga: 0.9,
+        seed,
+        records: 25,
+    }
+}
+
+/// Draws the figures of the paper's study folder `dir` into `out`: the
+/// generic figures with the paper's values beside ours and its history
+/// block, then `e_trend` (which solves the study's infinite-friction cases
+/// once more under the paper's program rule).
+pub fn draw(
+    dir: &Path,
+    out: &Path,
+    options: &FigureOptions,
+    study: &Study,
+) -> Result<FiguresReport> {
+    let mut options = options.clone();
+    if options.history == HistoryChoice::Chosen {
+        options.history = HistoryChoice::Case(history_case(options.seed));
+    }
+    let mut figures = StudyFigures::compute(dir, &options)?;
+    add_tables(&mut figures);
+    let mut report = figures.write(out, options.format)?;
+    let e_trend = ETrendFigure::compute(study, &figures)?;
+    let path = out.join(format!("e_trend.{}", options.format.extension()));
+    save(&e_trend, &path)?;
+    report.written.push(path);
+    Ok(report)
+}
+
+/// Puts the paper's table values beside this study's in the
+/// friction-demand and restitution figures.
+pub fn add_tables(figures: &mut StudyFigures) {
+    if let Some(f) = &mut figures.friction_demand {
+        let aspects: Vec<f64> = figures
+            .data
+            .outcomes
+            .iter()
+            .filter_map(|r| r.case.aspect.fixed())
+            .collect();
+        let has = |a: f64| aspects.contains(&a);
+        for s in &mut f.motion {
+            s.reference = TABLES
+                .iter()
+                .filter(|p| Param::Fixed(p.pga) == s.at && has(p.aspect))
+                .filter_map(|p| p.mu_motion.map(|m| (1.0 / p.aspect, m)))
+                .collect();
+        }
+        // The paper's μ_imp is its eq. (5): panel (c) when there is one.
+        let target = if f.eq5.is_empty() {
+            &mut f.impact
+        } else {
+            &mut f.eq5
+        };
+        for s in target.iter_mut() {
+            s.reference = TABLES
+                .iter()
+                .filter(|p| Param::Fixed(p.restitution) == s.at && has(p.aspect))
+                .filter_map(|p| p.mu_impact.map(|m| (1.0 / p.aspect, m)))
+                .collect();
+        }
+        f.reference_label = Some("paper, Tables 1–3".to_string());
+    }
+    if let Some(f) = &mut figures.restitution {
+        let e_max = f.restitutions.last().copied().unwrap_or(1.0);
+        for panel in &mut f.panels {
+            let Some(aspect) = panel.aspect.fixed() else {
+                continue;
+            };
+            panel.reference = TABLES
+                .iter()
+                .filter(|p| p.aspect == aspect && p.restitution <= e_max)
+                .filter_map(|p| {
+                    let il = f.levels.iter().position(|&l| l == p.pga)?;
+                    Some((
+                        il,
+                        p.restitution,
+                        p.overturned as f64 / tables::RECORDS as f64,
+                        p.theta_max_over_theta_c,
+                    ))
+                })
+                .collect();
+        }
+        f.reference_label = Some("paper (μ = ∞)".to_string());
+        // The paper's trend beside ours, over the study's blocks and levels.
+        let aspects: Vec<f64> = f.panels.iter().filter_map(|p| p.aspect.fixed()).collect();
+        let (k, n) = published_counts(&aspects, &f.all_levels, &f.restitutions);
+        let has_paper = f.panels.iter().any(|p| !p.reference.is_empty());
+        if let Some(theirs) =
+            trend_text(&k, &n, &f.restitutions).filter(|_| has_paper && f.has_trend)
+        {
+            f.title.push_str(&format!(", paper's {theirs}"));
+        }
+    }
+}
+
+/// The paper's counts per e (overturned or lifted off, of its runs) over
+/// `aspects` and `levels`: a cell it left out (H/B 2 at 0.3 g, no rocking)
+/// counts its 25 runs with none overturned.
+fn published_counts(aspects: &[f64], levels: &[f64], es: &[f64]) -> (Vec<u64>, Vec<u64>) {
+    let runs = (aspects.len() * levels.len()) as u64 * tables::RECORDS as u64;
+    es.iter()
+        .map(|&e| {
+            let k: u64 = TABLES
+                .iter()
+                .filter(|p| p.restitution == e && aspects.contains(&p.aspect))
+                .filter(|p| levels.contains(&p.pga))
+                .map(|p| u64::from(p.overturned))
+                .sum();
+            (k, runs)
+        })
+        .unzip()
+}
+
+/// Figure height (in).
+const HEIGHT_IN: f64 = 3.2;
+/// Panel margins: 30 pt for the y tick labels, 10 pt on the right.
+const MARGINS: Margins = Margins::new(30.0, 10.0);
+
+/// One series of the e-trend figure: counts per e and their trend.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ETrendSeries {
+    /// Legend label, with the trend test.
+    pub label: String,
+    /// (e, overturned or lifted off, runs), e ascending.
+    pub counts: Vec<(f64, u64, u64)>,
+}
+
+/// The trend of overturning with e under physics, under the paper's
+/// program rule and in the paper's counts (see the [module docs](self)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ETrendFigure {
+    /// Title.
+    pub title: String,
+    /// This study (physics), the paper's program rule, the paper's counts.
+    pub series: [ETrendSeries; 3],
+}
+
+impl ETrendFigure {
+    /// The three series for `study` (the paper's): this study's counts from
+    /// its figures' data, the program rule's by solving the study's
+    /// infinite-friction cases on the same records with
+    /// `rock_impact = "rock"`, and the paper's tables over the same blocks,
+    /// levels and e.
+    ///
+    /// Errors: a study without infinite friction or with a drawn e or H/B,
+    /// or a record or analysis that cannot be made.
+    pub fn compute(study: &Study, figures: &StudyFigures) -> Result<ETrendFigure> {
+        let infinite = Param::Fixed(Friction::Infinite);
+        let es: Option<Vec<f64>> = study.restitutions.iter().map(|e| e.fixed()).collect();
+        let aspects: Option<Vec<f64>> = study.aspects.iter().map(|a| a.fixed()).collect();
+        let (Some(es), Some(aspects)) = (es, aspects) else {
+            return Err(Error::invalid(
+                "e_trend",
+                "(drawn e or H/B)",
+                "a study over fixed e and H/B",
+            ));
+        };
+        if !study.frictions.contains(&infinite) {
+            return Err(Error::invalid(
+                "e_trend",
+                "(no infinite friction)",
+                "a study with infinite friction",
+            ));
+        }
+        let levels = study.intensity.levels().to_vec();
+        // Physics: this study's own runs.
+        let ours: Vec<(f64, u64, u64)> = es
+            .iter()
+            .map(|&e| {
+                let (k, n) = figures
+                    .data
+                    .outcomes
+                    .iter()
+                    .filter(|r| {
+                        r.case.restitution == Param::Fixed(e) && r.case.friction == infinite
+                    })
+                    .fold((0, 0), |(k, n), r| {
+                        (k + u64::from(r.overturned || r.uplifted), n + 1)
+                    });
+                (e, k, n)
+            })
+            .collect();
+        let rule = rock_rule_counts(study, &es)?;
+        let (pk, pn) = published_counts(&aspects, &levels, &es);
+        let paper: Vec<(f64, u64, u64)> = es
+            .iter()
+            .zip(pk.iter().zip(&pn))
+            .map(|(&e, (&k, &n))| (e, k, n))
+            .collect();
+        let label = |what: &str, c: &[(f64, u64, u64)]| {
+            let k: Vec<u64> = c.iter().map(|x| x.1).collect();
+            let n: Vec<u64> = c.iter().map(|x| x.2).collect();
+            match trend_text(&k, &n, &es) {
+                Some(t) => format!("{what}: {t}"),
+                None => what.to_string(),
+            }
+        };
+        let runs = ours.first().map_or(0, |c| c.2);
+        let title = format!(
+            "Overturned or lifted off against e, μ = ∞, {runs} runs per e (H/B {}; {} PGA \
+             levels), 95 % binomial intervals; trend tests Cochran–Armitage",
+            aspects
+                .iter()
+                .map(|a| tick_label(*a))
+                .collect::<Vec<_>>()
+                .join(", "),
+            levels.len()
+        );
+        Ok(ETrendFigure {
+            title,
+            series: [
+                ETrendSeries {
+                    label: label("physics (this study)", &ours),
+                    counts: ours,
+                },
+                ETrendSeries {
+                    label: label("paper's program rule (rock_impact = \"rock\")", &rule),
+                    counts: rule,
+                },
+                ETrendSeries {
+                    label: label("paper, Tables 1–3", &paper),
+                    counts: paper,
+                },
+            ],
+        })
+    }
+}
+
+impl ETrendFigure {
+    /// The figure of `rockfrag paper`'s check: the rad/s grid's ensembles
+    /// under the physics and under the paper's program rule, pooled over the
+    /// ensembles, beside the paper's counts; `None` if the check has not
+    /// both.
+    pub fn from_check(results: &[ReadingResult]) -> Option<ETrendFigure> {
+        let grid = readings().into_iter().find(|r| r.name == "rad/s grid")?;
+        let pooled = |rule: RockImpact| -> Option<Vec<(f64, u64, u64)>> {
+            let r = results
+                .iter()
+                .find(|r| r.reading.settings == grid.settings && r.rock_impact == rule)?;
+            let mut counts: Vec<(f64, u64, u64)> =
+                RESTITUTIONS.iter().map(|&e| (e, 0, 0)).collect();
+            for cells in &r.ensembles {
+                for (ci, cell) in cells.iter().enumerate() {
+                    let ei = cell_restitution(ci);
+                    counts[ei].1 += u64::from(cell.overturned);
+                    counts[ei].2 += u64::from(cell.runs);
+                }
+            }
+            Some(counts)
+        };
+        let ours = pooled(RockImpact::Bounce)?;
+        let rule = pooled(RockImpact::Rock)?;
+        let k = results.first().map_or(0, |r| r.ensembles.len());
+        let paper: Vec<(f64, u64, u64)> = RESTITUTIONS
+            .iter()
+            .zip(paper_totals())
+            .map(|(&e, k)| (e, u64::from(k), 300))
+            .collect();
+        let es = RESTITUTIONS.to_vec();
+        let label = |what: &str, c: &[(f64, u64, u64)]| {
+            let kk: Vec<u64> = c.iter().map(|x| x.1).collect();
+            let n: Vec<u64> = c.iter().map(|x| x.2).collect();
+            match trend_text(&kk, &n, &es) {
+                Some(t) => format!("{what}: {t}"),
+                None => what.to_string(),
+            }
+        };
+        Some(ETrendFigure {
+            title: format!(
+                "Overturned or lifted off against e, μ = ∞, the paper's study on the rad/s grid, \
+                 {k} ensembles ({} runs per e), 95 % binomial intervals; trend tests \
+                 Cochran–Armitage",
+                ours.first().map_or(0, |c| c.2)
+            ),
+            series: [
+                ETrendSeries {
+                    label: label("physics", &ours),
+                    counts: ours,
+                },
+                ETrendSeries {
+                    label: label("paper's program rule (rock_impact = \"rock\")", &rule),
+                    counts: rule,
+                },
+                ETrendSeries {
+                    label: label("paper, Tables 1–3", &paper),
+                    counts: paper,
+                },
+            ],
+        })
+    }
+}
+
+/// The study's infinite-friction cases solved on its records with the
+/// paper's program rule: (e, overturned or lifted off, runs) per e. Counts
+/// are summed, so the result does not depend on the threads.
+fn rock_rule_counts(study: &Study, es: &[f64]) -> Result<Vec<(f64, u64, u64)>> {
+    let mut rule = study.clone();
+    rule.frictions = vec![Param::Fixed(Friction::Infinite)];
+    rule.uncertainty = None;
+    rule.solver.rock_impact = RockImpact::Rock;
+    let cases: Vec<Case> = plan::cases(&rule);
+    let source = Source::new(&rule)?;
+    let units: Vec<usize> = (0..plan::unit_count(&rule)).collect();
+    let levels = rule.intensity.levels();
+    let per_unit = units
+        .par_iter()
+        .map_init(
+            || source.clone(),
+            |source, &u| -> Result<Vec<(usize, bool)>> {
+                let unit = plan::unit(&rule, u);
+                let record =
+                    source.record(&rule.intensity, levels[unit.level], unit.record, rule.g)?;
+                cases
+                    .iter()
+                    .enumerate()
+                    .map(|(number, case)| {
+                        let analysis = plan::analysis(&rule, case, number, &unit).1?;
+                        let o = simulate(&analysis, &record, &rule.solver, None)?;
+                        let e = case.restitution.fixed().expect("fixed e");
+                        let ei = es.iter().position(|&x| x == e).expect("the study's e");
+                        Ok((ei, o.overturned || o.uplifted))
+                    })
+                    .collect()
+            },
+        )
+        .collect::<Result<Vec<_>>>()?;
+    let mut counts: Vec<(f64, u64, u64)> = es.iter().map(|&e| (e, 0, 0)).collect();
+    for (ei, fell) in per_unit.into_iter().flatten() {
+        counts[ei].1 += u64::from(fell);
+        counts[ei].2 += 1;
+    }
+    Ok(counts)
+}
+
+impl Figure for ETrendFigure {
+    fn size_in(&self) -> (f64, f64) {
+        (PAGE_WIDTH_IN, HEIGHT_IN)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        style: &Style,
+    ) -> DrawResult<DB> {
+        let looks = [
+            (PALETTE[0], Dash::Solid, Marker::Circle, true),
+            (PALETTE[1], Dash::Dashed, Marker::Circle, false),
+            (BLACK, Dash::Short, Marker::Square, false),
+        ];
+        let entries: Vec<Entry> = self
+            .series
+            .iter()
+            .zip(looks)
+            .map(|(s, (c, d, m, f))| Entry::new(Sample::LinePoint(c, d, m, f), s.label.clone()))
+            .collect();
+        let frame = Frame::new(root, style, &self.title, &entries, MARGINS)?;
+        let fraction = |c: &(f64, u64, u64)| (c.0, c.1 as f64 / c.2.max(1) as f64);
+        // 95 % binomial half-width of a count.
+        let half = |c: &(f64, u64, u64)| {
+            let p = fraction(c).1;
+            1.96 * (p * (1.0 - p) / c.2.max(1) as f64).sqrt()
+        };
+        // The y axis spans the points and their intervals, in steps of 0.05.
+        let (lo, hi) = self
+            .series
+            .iter()
+            .flat_map(|s| s.counts.iter())
+            .map(|c| (fraction(c).1 - half(c), fraction(c).1 + half(c)))
+            .fold((1.0_f64, 0.0_f64), |(l, h), (a, b)| (l.min(a), h.max(b)));
+        let y_lo = ((lo - 0.02) / 0.05).floor().max(0.0) * 0.05;
+        let y_hi = (((hi + 0.02) / 0.05).ceil() * 0.05)
+            .min(1.0)
+            .max(y_lo + 0.1);
+        let e_max = self.series[0].counts.last().map_or(1.0, |c| c.0).max(0.1);
+        frame.heading(
+            &frame.body,
+            "Fraction overturned or lifted off (paper's convention)",
+        )?;
+        let mut chart = frame
+            .chart(&frame.body, true)
+            .build_cartesian_2d(-0.04 * e_max..e_max * 1.04 + 0.01, y_lo..y_hi)?;
+        let mut mesh = layout::mesh(&mut chart, style);
+        mesh.x_labels(6)
+            .y_labels(6)
+            .x_desc("Coefficient of restitution e")
+            .draw()?;
+        // Lines and 95 % binomial whiskers (±1.96 √(p(1−p)/n)) first, then
+        // the markers in reverse order, so that a filled marker on top of a
+        // hollow one at the same place leaves a ring showing both.
+        for (s, (colour, dash, _, _)) in self.series.iter().zip(looks) {
+            let points: Vec<(f64, f64)> = s.counts.iter().map(fraction).collect();
+            let line = colour.stroke_width(style.ipx(LINE_PT));
+            curve!(chart, points, line, dash, style);
+            for c in &s.counts {
+                let (e, p) = fraction(c);
+                let h = half(c);
+                chart.draw_series(std::iter::once(plotters::prelude::PathElement::new(
+                    vec![(e, (p - h).max(y_lo)), (e, (p + h).min(y_hi))],
+                    line,
+                )))?;
+            }
+        }
+        for (s, (colour, _, marker, filled)) in self.series.iter().zip(looks).rev() {
+            let points: Vec<(f64, f64)> = s.counts.iter().map(fraction).collect();
+            markers!(chart, points, colour, marker, filled, style);
+        }
+        Ok(())
+    }
+}

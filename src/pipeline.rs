@@ -1,0 +1,159 @@
+//! One run sequence, shared by the command line and Python: lock the
+//! folder, run the analyses (resumable, shardable), then — once a whole
+//! study's `outcomes.csv` is complete — its `summary.md`, the fragility fit
+//! (`[fragility]`) and the figures (`output.figures`), with the paper's
+//! layer added for the paper's own study.
+//!
+//! ```text
+//! Study ─▶ study::run ─▶ outcomes.csv, manifest.json
+//!       ─▶ finish: summary.md ─▶ fragility.* ─▶ figures/
+//! ```
+//!
+//! [`finish`] alone makes the post-processing of a complete folder (after
+//! `merge`, or again after a change to a field that does not change the
+//! analyses).
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::figures::{FigureOptions, FiguresReport};
+use crate::fragility::{FitReport, FragilityOptions, fit_and_write};
+use crate::paper;
+use crate::spec::Study;
+use crate::study::{self, RunLock, RunOptions, RunReport, Shard, Tally, files};
+
+/// What a study run did: the analyses, and what was made from them.
+#[derive(Clone, Debug)]
+pub struct StudyReport {
+    /// The analyses.
+    pub run: RunReport,
+    /// What was made from a whole, complete study (`None` for an
+    /// unfinished run or a shard).
+    pub finish: Option<FinishReport>,
+}
+
+impl StudyReport {
+    /// Analyses that failed (status `failed` in `outcomes.csv`).
+    pub fn failed(&self) -> u64 {
+        self.run.counts.failed
+    }
+
+    /// The message for failed analyses, `None` if none failed: the caller
+    /// decides the exit status (everything is written either way).
+    pub fn failure(&self) -> Option<String> {
+        let c = self.run.counts;
+        (c.failed > 0).then(|| {
+            format!(
+                "{} of {} analyses failed (status 'failed' and the reason in {}); all results \
+                 are written",
+                c.failed,
+                c.analyses,
+                self.run.out_dir.join(files::OUTCOMES).display()
+            )
+        })
+    }
+}
+
+/// What [`finish`] made.
+#[derive(Clone, Debug, Default)]
+pub struct FinishReport {
+    /// `summary.md`, if written (`output.summary`).
+    pub summary: Option<PathBuf>,
+    /// The fragility fit (`[fragility]`).
+    pub fit: Option<FitReport>,
+    /// The figures (`output.figures`).
+    pub figures: Option<FiguresReport>,
+}
+
+/// Runs `study` into `opts.out_dir` (see [`study::run`]), holding the
+/// folder's lock over the analyses and what follows them, and finishes a
+/// whole, complete study ([`finish`]).
+pub fn run(study: &Study, opts: &RunOptions) -> Result<StudyReport> {
+    let dir = &opts.out_dir;
+    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    let _lock = RunLock::acquire(dir)?;
+    let run = study::run(study, opts)?;
+    let finish = if run.complete && opts.shard == Shard::WHOLE {
+        Some(finish(study, dir, run.tally.as_ref())?)
+    } else {
+        None
+    };
+    Ok(StudyReport { run, finish })
+}
+
+/// What a complete study folder `dir` gets when its spec asks: the
+/// fragility fit, `summary.md` (from `tally`, or read from `outcomes.csv`;
+/// with the fitted curves) and the figures into `dir/figures`; the paper's
+/// layer adds its tables and figures for the paper's own study.
+pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<FinishReport> {
+    let mut report = FinishReport::default();
+    if let Some(options) = &study.fragility {
+        report.fit = Some(fit_and_write(dir, dir, options)?);
+    }
+    if study.output.summary {
+        let read;
+        let tally = match tally {
+            Some(t) => t,
+            None => {
+                read = Tally::read(&dir.join(files::OUTCOMES), study, Shard::WHOLE)?;
+                &read
+            }
+        };
+        let extra: Vec<String> = paper::summary_section(study, tally).into_iter().collect();
+        study::write_summary(dir, study, Shard::WHOLE, Some(tally), &extra)?;
+        report.summary = Some(dir.join(files::SUMMARY));
+    }
+    if study.output.figures {
+        report.figures = Some(figures(
+            study,
+            dir,
+            &dir.join("figures"),
+            &FigureOptions::for_study(study),
+        )?);
+    }
+    Ok(report)
+}
+
+/// Refits the curves of the study folder `dir` into `out`
+/// ([`fit_and_write`]) and, when they replace the folder's own
+/// (`out` = `dir`), the `## Fragility` section of its `summary.md`.
+pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitReport> {
+    let mut report = fit_and_write(dir, out, options)?;
+    let summary = dir.join(files::SUMMARY);
+    if same_folder(dir, out) && summary.exists() {
+        let rows = crate::fragility::read_fragility_csv(&report.fragility_csv)?;
+        crate::io_util::replace_section(
+            &summary,
+            study::FRAGILITY_HEADING,
+            &study::fragility_section(&rows),
+            &[study::COUNTS_HEADING],
+        )
+        .map_err(Error::io(&summary))?;
+        report.wrote = format!(
+            "{}; updated {} ({})\n",
+            report.wrote.trim_end(),
+            summary.display(),
+            study::FRAGILITY_HEADING
+        );
+    }
+    Ok(report)
+}
+
+/// Whether `a` and `b` name the same folder (both exist).
+fn same_folder(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Draws the figures of the study folder `dir` into `out`: the generic
+/// ones, with the paper's layer for the paper's own study.
+pub fn figures(
+    study: &Study,
+    dir: &Path,
+    out: &Path,
+    options: &FigureOptions,
+) -> Result<FiguresReport> {
+    paper::study_figures(study, dir, out, options)
+}
