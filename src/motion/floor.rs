@@ -53,6 +53,7 @@
 use std::f64::consts::TAU;
 
 use super::record::Record;
+use crate::detmath;
 use crate::error::{Error, Result};
 
 /// Below this step in radians of the natural frequency, w = ωΔt, the forcing
@@ -342,12 +343,11 @@ fn scaled_map(w: f64, z: f64, series: bool) -> ([[f64; 2]; 2], [f64; 2], [f64; 2
 
 /// (e^{−ζw}, cos βw, sin(βw)/β) with β = √(1−ζ²): the only transcendental
 /// functions of the floor filter, evaluated once per mode.
-// To be routed through the crate's deterministic (libm-based) functions for
-// cross-platform bit-identity; nothing else in this file calls exp/sin/cos.
+// Through detmath (libm): the same bits on every platform.
 fn decay_turn(w: f64, zeta: f64) -> (f64, f64, f64) {
     let beta = (1.0 - zeta * zeta).sqrt();
-    let (s, c) = (beta * w).sin_cos();
-    ((-zeta * w).exp(), c, s / beta)
+    let (s, c) = detmath::sin_cos(beta * w);
+    (detmath::exp(-zeta * w), c, s / beta)
 }
 
 /// The absolute motion of `floor` under the ground motion `ground`: a new

@@ -31,6 +31,7 @@ use std::fmt::Write;
 
 use super::io::DT_REL_TOL;
 use super::record::Record;
+use crate::detmath;
 use crate::error::{Error, Result};
 
 /// Number of rotation angles of RotD: 0°, 1°, …, 179° (Boore 2010; the
@@ -252,8 +253,7 @@ fn quadrant(angle_deg: f64) -> (u8, f64) {
 /// transcendental functions of this module, and only on |x| < 45° (π/4); at
 /// |x| = 45° both are 1/√2 (correctly rounded), so that diagonal directions
 /// weigh the components equally, to the bit.
-// To be routed through the crate's deterministic (libm-based) sine and
-// cosine for cross-platform bit-identity.
+// Through detmath (libm): the same bits on every platform.
 fn sin_cos_deg(angle_deg: f64) -> (f64, f64) {
     let (q, x) = quadrant(angle_deg);
     let (s, c) = if x == 0.0 {
@@ -261,7 +261,7 @@ fn sin_cos_deg(angle_deg: f64) -> (f64, f64) {
     } else if x.abs() == 45.0 {
         (FRAC_1_SQRT_2.copysign(x), FRAC_1_SQRT_2)
     } else {
-        x.to_radians().sin_cos()
+        detmath::sin_cos(x.to_radians())
     };
     match q {
         0 => (s, c),
@@ -364,7 +364,7 @@ mod tests {
             // against radians directly: the radian argument of |φ| ≤ 400°
             // (7 rad) is itself rounded by up to 4.4e-16, and the results by
             // half an ulp each
-            let (se, ce) = phi.to_radians().sin_cos();
+            let (se, ce) = detmath::sin_cos(phi.to_radians());
             assert!((s - se).abs() < 1e-15 && (c - ce).abs() < 1e-15, "{phi}");
         }
     }
