@@ -68,8 +68,12 @@ const SERIES_BELOW: f64 = 1.0;
 /// below 3, and the first term left out is below 3³⁰/32! ≈ 1e-21.
 const SERIES_TERMS: usize = 32;
 
-/// One mode of a linear building, as seen at the floor.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One mode of a linear building, as seen at the floor. In a spec, an
+/// entry of `[support] floor`: `{ period = 0.8, damping = 0.05,
+/// participation = 1.3 }` (`participation` defaults to 1, a one-storey
+/// building or a single-degree-of-freedom idealisation).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Mode {
     /// Natural period T (s); positive and finite.
     pub period: f64,
@@ -79,7 +83,12 @@ pub struct Mode {
     /// factor times the mode shape's ordinate at the floor (roof of a regular
     /// building, first mode: about 1.3). Any finite value, also negative
     /// (higher modes); zero leaves the mode out.
+    #[serde(default = "unit_participation")]
     pub participation: f64,
+}
+
+fn unit_participation() -> f64 {
+    1.0
 }
 
 /// A floor of a linear building: its modes. The default, no modes, is the

@@ -41,7 +41,7 @@ pub use lock::RunLock;
 pub use manifest::Manifest;
 pub use merge::merge;
 pub use plan::{Shard, Unit};
-pub use source::Source;
+pub use source::{Source, UnitMotion};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
 pub use tally::{Counts, Tally};
 
@@ -337,13 +337,13 @@ fn run_chunk(
     chunk: &[usize],
 ) -> String {
     let levels = study.intensity.levels();
-    let records: Vec<std::result::Result<Record, String>> = chunk
+    let records: Vec<std::result::Result<UnitMotion, String>> = chunk
         .par_iter()
         .map_init(
             || source.clone(),
             |src, &u| {
                 let unit = plan::unit(study, u);
-                src.record(&study.intensity, levels[unit.level], unit.record, study.g)
+                src.motion(study, levels[unit.level], unit.record)
                     .map_err(|e| e.to_string())
             },
         )
@@ -364,13 +364,15 @@ fn run_chunk(
             let info = RecordInfo {
                 index: unit.record,
                 level: levels[unit.level],
-                pga_g: record.as_ref().ok().map(|r| r.pga() / study.g),
-                pgv: record.as_ref().ok().map(Record::pgv),
+                pga_g: record.as_ref().ok().map(|m| m.pga_g),
+                pgv: record.as_ref().ok().map(|m| m.pgv),
+                pfa_g: record.as_ref().ok().and_then(|m| m.pfa_g),
+                pfv: record.as_ref().ok().and_then(|m| m.pfv),
                 file: file_names[unit.record],
             };
             let (own, analysis) = plan::analysis(study, case, ci, &unit);
             let result = match (analysis, record) {
-                (Ok(analysis), Ok(r)) => solve(&analysis, r, study),
+                (Ok(analysis), Ok(m)) => solve(&analysis, &m.felt, study),
                 (Ok(_), Err(e)) => Err(format!("record: {e}")),
                 (Err(e), _) => Err(format!("block: {e}")),
             };
