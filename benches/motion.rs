@@ -8,7 +8,10 @@
 //! `floor/*` times the floor filter on that record (1 501 samples): one mode
 //! (the roof of a mid-rise building) and three, buffers reused; the
 //! per-mode coefficient setup; a record pair's rotation to one angle and its
-//! RotD50. Compare with one analysis, `solver/single/*` in benches/solver.rs.
+//! RotD50; and, for scale, `floor/analysis_on_roof`: one analysis of the
+//! hospital example's cabinet on that roof (a study filters each record
+//! once per unit and shares it among the unit's cases, so one_mode over
+//! analysis_on_roof bounds the floor's share of a study's cost).
 
 use std::hint::black_box;
 
@@ -17,6 +20,7 @@ use rockfrag::motion::{
     Baseline, Floor, Mode, Oscillator, Pair, SynthesisSettings, Synthesizer, floor_into,
     floor_record, rotd,
 };
+use rockfrag::solver::{Analysis, Block, Friction, SolverSettings, simulate};
 
 fn generator(c: &mut Criterion) {
     let settings = SynthesisSettings::default();
@@ -93,6 +97,19 @@ fn floor(c: &mut Criterion) {
     });
     g.bench_function("oscillator_new", |b| {
         b.iter(|| Oscillator::new(black_box(0.8), black_box(0.05), black_box(0.02)).expect("valid"))
+    });
+    // one analysis on the roof, for scale: the hospital example's cabinet
+    // (2B 0.6 m, H/B 3, e 0.4, μs 0.5, μk 0.45) under the roof's record
+    let block = Block::new(0.6, 3.0, 9.81).expect("block");
+    let mut analysis = Analysis::new(block, 0.4);
+    analysis.friction = Friction::Coulomb {
+        mu_s: 0.5,
+        mu_k: 0.45,
+    };
+    let on_roof = floor_record(&ground, &roof).expect("floor");
+    let settings = SolverSettings::default();
+    g.bench_function("analysis_on_roof", |b| {
+        b.iter(|| simulate(black_box(&analysis), &on_roof, &settings, None).expect("solve"))
     });
     let pair = Pair::new(ground, other).expect("pair");
     g.bench_function("rotate_30deg", |b| {
