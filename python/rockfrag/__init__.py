@@ -9,7 +9,7 @@ a result here equals the CLI's on the same input, bit for bit. Units are SI
     >>> o = rockfrag.simulate(m["acc"], m["dt"], width=0.5, aspect=4)
     >>> o["overturned"], o["theta_max_over_theta_c"]
 
-Functions: :func:`motion`, :func:`simulate`, :func:`simulate_many`,
+Functions: :func:`motion`, :func:`floor`, :func:`simulate`, :func:`simulate_many`,
 :func:`run`, :func:`read_outcomes`, :func:`fit`. Bad input raises
 ``ValueError`` with the CLI's message; files that cannot be read or written
 raise ``OSError``; a solver failure raises ``RuntimeError``.
@@ -23,7 +23,7 @@ import numpy as _np
 from . import _rockfrag
 
 __version__ = _rockfrag.__version__
-__all__ = ["motion", "simulate", "simulate_many", "run", "read_outcomes", "fit"]
+__all__ = ["motion", "floor", "simulate", "simulate_many", "run", "read_outcomes", "fit"]
 
 #: Standard gravity used to convert accelerations given in g (m/s²).
 G_STANDARD = 9.81
@@ -61,6 +61,68 @@ def motion(seed, pga, index=0, *, dt=None, duration=None, highpass=None):
         sample k at t = k·dt; ``dt`` (s) and ``name`` (``seed/index``).
     """
     return _rockfrag.motion(int(seed), float(pga), int(index), dt, duration, highpass)
+
+
+def floor(acc, dt, period, damping, participation=1.0, *, vel=None, disp=None, name="record"):
+    """The absolute motion of a floor of a linear building under a ground record.
+
+    ``rockfrag floor RECORD --period T --damping Z --participation G`` (same
+    bits): each mode is a linear oscillator (T, ζ) driven by the ground,
+    solved by the exact recurrence for acceleration linear between samples
+    (Nigam and Jennings 1969), and the floor moves with the ground plus
+    Σ Γφ·(the mode's relative motion). Same time step and length as the
+    record. See docs/floor.md.
+
+    Parameters
+    ----------
+    acc : array_like
+        Ground acceleration, m/s², sample k at t = k·dt.
+    dt : float
+        Sample interval, s.
+    period, damping, participation : float or sequence of float
+        The building's modes at the floor: natural period T (s), damping
+        ratio ζ in [0, 1) and participation Γφ (the participation factor
+        times the mode shape at the floor; default 1). One value per mode;
+        a single value of ``damping`` or ``participation`` applies to every
+        mode.
+    vel, disp : array_like, optional
+        Ground velocity (m/s) and displacement (m), both or neither; by
+        default integrated from rest by the linear-acceleration rule.
+    name : str
+        Name of the record in error messages.
+
+    Returns
+    -------
+    dict
+        ``t`` (s), ``acc`` (m/s²), ``vel`` (m/s), ``disp`` (m): the floor's
+        absolute motion, ``dt`` and ``name``; pass ``acc``, ``vel`` and
+        ``disp`` to :func:`simulate` for a block standing on that floor.
+    """
+    periods = _np.atleast_1d(_np.asarray(period, dtype=float))
+    n = len(periods)
+
+    def per_mode(x, what):
+        v = _np.atleast_1d(_np.asarray(x, dtype=float))
+        if len(v) == 1:
+            return _np.repeat(v, n)
+        if len(v) != n:
+            raise ValueError(
+                "%d %s values for %d periods: give one per mode, or one for all"
+                % (len(v), what, n)
+            )
+        return v
+
+    zeta = per_mode(damping, "damping")
+    gamma = per_mode(participation, "participation")
+    modes = [(float(t), float(z), float(g)) for t, z, g in zip(periods, zeta, gamma)]
+    return _rockfrag.floor(
+        _f64(acc, "acc"),
+        float(dt),
+        None if vel is None else _f64(vel, "vel"),
+        None if disp is None else _f64(disp, "disp"),
+        str(name),
+        modes,
+    )
 
 
 def _setup(width, aspect, restitution, mu_s, mu_k, solver):

@@ -12,7 +12,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString};
 use rayon::prelude::*;
 use rockfrag::fragility::{Observation, fit_lognormal};
-use rockfrag::motion::{Record, SynthesisSettings, Synthesizer, integrate_linear};
+use rockfrag::motion::{
+    Floor, Mode, Record, SynthesisSettings, Synthesizer, floor_record, integrate_linear,
+};
 use rockfrag::solver::{
     Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, RockImpact,
     SolverSettings, simulate,
@@ -358,6 +360,46 @@ fn motion<'py>(
     Ok(d)
 }
 
+/// The absolute motion of a floor of a linear building, modes (T, ζ, Γφ),
+/// under a ground record: `rockfrag floor`'s record, as (t, acc, vel, disp,
+/// dt, name).
+#[pyfunction]
+#[pyo3(signature = (acc, dt, vel, disp, name, modes))]
+fn floor<'py>(
+    py: Python<'py>,
+    acc: PyReadonlyArray1<'py, f64>,
+    dt: f64,
+    vel: Option<PyReadonlyArray1<'py, f64>>,
+    disp: Option<PyReadonlyArray1<'py, f64>>,
+    name: String,
+    modes: Vec<(f64, f64, f64)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let acc: Vec<f64> = acc.as_array().iter().copied().collect();
+    let ground = record(name, dt, acc, vec_of(vel), vec_of(disp)).map_err(py_err)?;
+    let floor = Floor {
+        modes: modes
+            .into_iter()
+            .map(|(period, damping, participation)| Mode {
+                period,
+                damping,
+                participation,
+            })
+            .collect(),
+    };
+    let out = py
+        .detach(|| floor_record(&ground, &floor))
+        .map_err(py_err)?;
+    let t: Vec<f64> = (0..out.len()).map(|k| k as f64 * out.dt).collect();
+    let d = PyDict::new(py);
+    d.set_item("t", t.into_pyarray(py))?;
+    d.set_item("acc", out.acc.into_pyarray(py))?;
+    d.set_item("vel", out.vel.into_pyarray(py))?;
+    d.set_item("disp", out.disp.into_pyarray(py))?;
+    d.set_item("dt", out.dt)?;
+    d.set_item("name", out.name)?;
+    Ok(d)
+}
+
 /// A study from a file, or from a JSON object of the spec's fields (turned
 /// into TOML and read as a file in the working directory would be).
 fn load_study(path: Option<&str>, json: Option<&str>) -> PyResult<(Study, String)> {
@@ -543,6 +585,7 @@ fn _rockfrag(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_one, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(motion, m)?)?;
+    m.add_function(wrap_pyfunction!(floor, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(read_outcomes, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;

@@ -107,3 +107,18 @@ where
             .expect("a name clap accepted is a listed name")
     })
 }
+
+/// A damping ratio ζ in [0, 1) (an underdamped mode).
+pub fn damping_ratio(s: &str) -> Result<f64, String> {
+    let x = number(s)?;
+    if (0.0..1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err("expected a damping ratio in [0, 1), e.g. 0.05".into())
+    }
+}
+
+/// Any finite number.
+pub fn finite(s: &str) -> Result<f64, String> {
+    number(s)
+}

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use rockfrag::figures::{FigureOptions, Format, study_figures, study_of_folder};
+use rockfrag::figures::{CompareFigure, FigureOptions, Format, study_figures, study_of_folder};
 
 /// Output format, as a CLI value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -34,10 +34,18 @@ pub struct FiguresArgs {
     /// (default: the study's, from DIR/manifest.json; 1 without one).
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
+    /// Instead of DIR's figures, one figure `compare.svg` (or `.png`) of the
+    /// fragility curves against ground PGA of DIR and each --compare folder
+    /// (e.g. the same block on the ground and on a floor); repeat for more.
+    #[arg(long, value_name = "DIR")]
+    pub compare: Vec<PathBuf>,
 }
 
 /// Runs `rockfrag figures`.
 pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
+    if !args.compare.is_empty() {
+        return compare(&args);
+    }
     rockfrag::study::files::require_finished(&args.dir)?;
     let study = study_of_folder(&args.dir)?;
     let mut options = study
@@ -61,5 +69,38 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     for path in &report.written {
         println!("{}", path.display());
     }
+    Ok(())
+}
+
+/// `rockfrag figures DIR --compare DIR2 …`: one figure of the folders'
+/// curves, each labelled by its study's name and support.
+fn compare(args: &FiguresArgs) -> anyhow::Result<()> {
+    let mut folders = Vec::new();
+    for dir in std::iter::once(&args.dir).chain(&args.compare) {
+        let label = match study_of_folder(dir)? {
+            Some(study) if study.floor.is_ground() => format!("{} (ground)", study.name),
+            Some(study) => {
+                let modes: Vec<String> = study
+                    .floor
+                    .modes
+                    .iter()
+                    .map(|m| format!("T = {} s, Γφ = {}", m.period, m.participation))
+                    .collect();
+                format!("{} (floor: {})", study.name, modes.join("; "))
+            }
+            None => dir.display().to_string(),
+        };
+        folders.push((label, dir.clone()));
+    }
+    let figure = CompareFigure::from_folders("Fragility against ground PGA", &folders)?;
+    let ext = match args.format {
+        FormatArg::Svg => "svg",
+        FormatArg::Png => "png",
+    };
+    let out = args.out.clone().unwrap_or_else(|| args.dir.join("figures"));
+    std::fs::create_dir_all(&out)?;
+    let path = out.join(format!("compare.{ext}"));
+    figure.save(&path)?;
+    println!("{}", path.display());
     Ok(())
 }

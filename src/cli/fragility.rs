@@ -18,7 +18,9 @@ pub struct FragilityArgs {
     #[arg(value_name = "DIR")]
     pub dir: PathBuf,
     /// Intensity measure the curves are fitted against: PGA in g, PGV in
-    /// m/s (needs a `pgv` column), or PGA/(g tan θc) = PGA·H/B, dimensionless.
+    /// m/s (needs a `pgv` column), PGA/(g tan θc) = PGA·H/B, dimensionless,
+    /// or the floor's peak acceleration PFA in g or velocity PFV in m/s (a
+    /// study with `[support] floor`; docs/floor.md).
     #[arg(long, value_parser = choice::<IntensityMeasure>(IntensityMeasure::names()), default_value_t = IntensityMeasure::default())]
     pub im: IntensityMeasure,
     /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap.

@@ -7,6 +7,7 @@ mod export;
 mod fragility;
 mod merge;
 mod figures;
+mod floor;
 mod motion;
 mod paper;
 mod risk;
@@ -32,6 +33,9 @@ pub enum Command {
     Motion(motion::MotionArgs),
     /// Solve one block under one record and print the outcome.
     Simulate(Box<simulate::SimulateArgs>),
+    /// The absolute motion of a floor of a linear building (its modes) under
+    /// a ground record, as a CSV record `t,acc,vel,disp`.
+    Floor(floor::FloorArgs),
     /// Run a study spec (default: the paper's study, built in) into
     /// outcomes.csv, summary.md and manifest.json; resumable and shardable.
     Run(run::RunArgs),
@@ -59,6 +63,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Motion(args) => motion::run(args),
         Command::Simulate(args) => simulate::run(*args),
+        Command::Floor(args) => floor::run(args),
         Command::Run(args) => run::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Fragility(args) => fragility::run(args),

@@ -1,7 +1,8 @@
 //! `rockfrag simulate`: one block under one record, printing the outcome.
 
 use super::args::{
-    choice, non_negative, open_unit_interval, pga_g, pgv_m_s, positive, unit_interval,
+    choice, damping_ratio, finite, non_negative, open_unit_interval, pga_g, pgv_m_s, positive,
+    unit_interval,
 };
 use anyhow::Context;
 use clap::ValueEnum;
@@ -62,6 +63,19 @@ pub struct SimulateArgs {
     /// the --motion record scaled to it.
     #[arg(long, value_name = "G", value_parser = pga_g, allow_negative_numbers = true)]
     pub pga: Option<f64>,
+    /// The block stands on a floor of a linear building: the natural period
+    /// T (s) of one of its modes; repeat for several modes. The record (as
+    /// scaled) is the ground's, filtered through the modes.
+    #[arg(long = "floor-period", value_name = "T", value_parser = positive, allow_negative_numbers = true)]
+    pub floor_period: Vec<f64>,
+    /// Damping ratio ζ of the floor's modes: once for all, or once per
+    /// --floor-period.
+    #[arg(long = "floor-damping", value_name = "Z", value_parser = damping_ratio, allow_negative_numbers = true)]
+    pub floor_damping: Vec<f64>,
+    /// Participation Γφ of the floor's modes at the floor: once for all, or
+    /// once per --floor-period [default: 1].
+    #[arg(long = "floor-participation", value_name = "G", value_parser = finite, allow_negative_numbers = true)]
+    pub floor_participation: Vec<f64>,
     /// Initial rotation θ0 (rad).
     #[arg(
         long = "theta0",
@@ -140,7 +154,18 @@ impl SimulateArgs {
 
 /// Runs `rockfrag simulate`.
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
-    let record = load_record(&args)?;
+    let ground = load_record(&args)?;
+    let floor = super::floor::floor_of(
+        &args.floor_period,
+        &args.floor_damping,
+        &args.floor_participation,
+        "floor-",
+    )?;
+    let record = if floor.is_ground() {
+        ground.clone()
+    } else {
+        motion::floor_record(&ground, &floor)?
+    };
     let block = Block::new(args.width, args.aspect, args.g)?;
     let mut analysis = Analysis::new(block, args.restitution);
     if let Some(mu_s) = args.mu_s {
@@ -174,7 +199,16 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     if args.json {
         println!("{}", outcome.to_json());
     } else {
-        print_summary(&args, &block, &record, &outcome);
+        print_summary(&args, &block, &ground, &outcome);
+        if !floor.is_ground() {
+            println!(
+                "floor             PFA {:.3} g, PFV {:.3} m/s ({} mode{})",
+                record.pga() / args.g,
+                record.pgv(),
+                floor.modes.len(),
+                if floor.modes.len() == 1 { "" } else { "s" }
+            );
+        }
     }
     Ok(())
 }

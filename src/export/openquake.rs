@@ -98,11 +98,12 @@ pub fn export_openquake(
         IntensityMeasure::Pga => 1.0,
         // OpenQuake's PGV is in cm/s.
         IntensityMeasure::Pgv => 100.0,
-        IntensityMeasure::PgaOverTan => {
+        IntensityMeasure::PgaOverTan | IntensityMeasure::Pfa | IntensityMeasure::Pfv => {
             return Err(Error::invalid(
                 "fragility.im",
                 im.name(),
-                "pga or pgv for OpenQuake (refit with --im pga)",
+                "pga or pgv for OpenQuake, whose hazard is the ground's (refit with --im pga; \
+                 a floor's curve against the ground's PGA is what OpenQuake integrates)",
             ));
         }
     };

@@ -45,6 +45,9 @@ pub fn demand(im: IntensityMeasure) -> Result<(&'static str, &'static str)> {
     match im {
         IntensityMeasure::Pga => Ok(("Peak Ground Acceleration", "g")),
         IntensityMeasure::Pgv => Ok(("Peak Ground Velocity", "mps")),
+        // pelicun's floor demands, at the floor the block stands on
+        IntensityMeasure::Pfa => Ok(("Peak Floor Acceleration", "g")),
+        IntensityMeasure::Pfv => Ok(("Peak Floor Velocity", "mps")),
         IntensityMeasure::PgaOverTan => Err(Error::invalid(
             "fragility.im",
             im.name(),

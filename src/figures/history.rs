@@ -210,8 +210,8 @@ impl HistoryFigure {
         let (record, g) = match options.study {
             Some(study) => {
                 let mut source = Source::new(study)?;
-                let r = source.record(&study.intensity, chosen.level, chosen.record, study.g)?;
-                (r, study.g)
+                let m = source.motion(study, chosen.level, chosen.record)?;
+                (m.felt, study.g)
             }
             None => {
                 let mut synth = Synthesizer::new(options.synthesis)?;

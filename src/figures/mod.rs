@@ -27,6 +27,7 @@
 //! ```
 
 mod batch;
+mod compare;
 mod data;
 mod figure;
 mod font;
@@ -42,6 +43,7 @@ mod spectrum;
 pub mod style;
 
 pub use batch::{FigureOptions, FiguresReport, StudyFigures, study_figures, study_of_folder};
+pub use compare::{CompareFigure, CompareSeries};
 pub use data::{CurvePoint, LognormalCurve, PlotRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::{FragilityFigure, ShortCurves};

@@ -214,6 +214,8 @@ impl RiskFigure {
         let im_label = match (im, unit) {
             ("pga", _) => "PGA (g)".to_string(),
             ("pgv", _) => "PGV (m/s)".to_string(),
+            ("pfa", _) => "PFA (g)".to_string(),
+            ("pfv", _) => "PFV (m/s)".to_string(),
             (name, "1" | "") => name.to_string(),
             (name, u) => format!("{name} ({u})"),
         };

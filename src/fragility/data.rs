@@ -127,8 +127,8 @@ fn read_outcomes_with(
     pool: &[Field],
 ) -> Result<Outcomes> {
     let mut required = vec![Column::Pga, Column::Record, Column::Overturned];
-    if im == IntensityMeasure::Pgv {
-        required.push(Column::Pgv);
+    if im.column() != Column::Pga {
+        required.push(im.column());
     }
     // The column and kind of each limit state's measure.
     let mut measures = Vec::with_capacity(limit_states.len());
@@ -193,6 +193,8 @@ fn read_outcomes_with(
                 pga * own.aspect.fixed().expect("an analysis's aspect is fixed")
             }
             IntensityMeasure::Pgv => positive(row.pgv, Column::Pgv)?,
+            IntensityMeasure::Pfa => positive(row.pfa, Column::Pfa)?,
+            IntensityMeasure::Pfv => positive(row.pfv, Column::Pfv)?,
         };
         let mut exceeded = 0u64;
         for (k, &(column, kind, threshold)) in measures.iter().enumerate() {

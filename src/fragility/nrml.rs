@@ -88,6 +88,9 @@ pub(crate) fn openquake_imt(im: IntensityMeasure, key: &Case) -> (&'static str, 
         IntensityMeasure::Pga => ("PGA", Some(1.0)),
         IntensityMeasure::Pgv => ("PGV", Some(100.0)),
         IntensityMeasure::PgaOverTan => ("PGA", key.aspect.fixed().map(|a| 1.0 / a)),
+        // OpenQuake has no floor IMT: its hazard is the ground's
+        IntensityMeasure::Pfa => ("PFA", None),
+        IntensityMeasure::Pfv => ("PFV", None),
     }
 }
 
@@ -213,12 +216,18 @@ fn case_entry(case: &[&CaseFit], limit_states: &[&str], range: (f64, f64)) -> Op
     let id = first.key.id();
     let (imt, factor) = openquake_imt(first.im, &first.key);
     let Some(factor) = factor else {
-        return Some(NrmlEntry::Omitted {
-            id,
-            reason: "H/B is drawn per analysis, so PGA/(g tan θc) has no single PGA \
-                     equivalent; fit against PGA for OpenQuake"
-                .to_string(),
-        });
+        let reason = if first.im.is_floor() {
+            format!(
+                "fitted against {} (the floor's peak), an intensity OpenQuake's hazard does \
+                 not compute; fit against pga (the ground's) for OpenQuake",
+                first.im.name()
+            )
+        } else {
+            "H/B is drawn per analysis, so PGA/(g tan θc) has no single PGA \
+             equivalent; fit against PGA for OpenQuake"
+                .to_string()
+        };
+        return Some(NrmlEntry::Omitted { id, reason });
     };
     first.im_range?;
     let fits: Vec<Option<&CaseFit>> = limit_states

@@ -61,12 +61,21 @@ pub enum IntensityMeasure {
     /// PGA/(g tan θc) = PGA·(H/B), dimensionless: 1 is the uplift threshold
     /// of a block on a rigid base under infinite friction.
     PgaOverTan,
+    /// Peak floor acceleration, in g: the peak absolute acceleration of the
+    /// floor the block stands on (a study with `[support] floor`; needs a
+    /// `pfa` column). A risk calculation needs the hazard in PFA at that
+    /// floor (a plain `iml,annual_rate` file).
+    Pfa,
+    /// Peak floor velocity, in m/s (needs a `pfv` column), as [`IntensityMeasure::Pfa`].
+    Pfv,
 }
 
 crate::io_util::named!(IntensityMeasure, "im" {
     Pga => "pga",
     Pgv => "pgv",
     PgaOverTan => "pga-over-tan",
+    Pfa => "pfa",
+    Pfv => "pfv",
 });
 
 impl IntensityMeasure {
@@ -75,11 +84,28 @@ impl IntensityMeasure {
         name.parse().ok()
     }
 
+    /// The `outcomes.csv` column the intensity is read from or computed
+    /// with (`pga` for PGA/(g tan θc)).
+    pub fn column(self) -> Column {
+        match self {
+            IntensityMeasure::Pga | IntensityMeasure::PgaOverTan => Column::Pga,
+            IntensityMeasure::Pgv => Column::Pgv,
+            IntensityMeasure::Pfa => Column::Pfa,
+            IntensityMeasure::Pfv => Column::Pfv,
+        }
+    }
+
+    /// Whether the intensity is the floor's (PFA, PFV) rather than the
+    /// ground's.
+    pub fn is_floor(self) -> bool {
+        matches!(self, IntensityMeasure::Pfa | IntensityMeasure::Pfv)
+    }
+
     /// Unit of the intensity (`1` for dimensionless).
     pub fn unit(self) -> &'static str {
         match self {
-            IntensityMeasure::Pga => "g",
-            IntensityMeasure::Pgv => "m/s",
+            IntensityMeasure::Pga | IntensityMeasure::Pfa => "g",
+            IntensityMeasure::Pgv | IntensityMeasure::Pfv => "m/s",
             IntensityMeasure::PgaOverTan => "1",
         }
     }

@@ -9,19 +9,30 @@
 //!   ─▶ scale to the target PGA ─▶ Record (acc, vel, disp)
 //! ```
 //!
+//! A block on a floor of a building feels the floor's motion:
+//! [`floor_record`] filters a record through the building's modes (linear
+//! building, exact recurrence for piecewise-linear ground acceleration). A
+//! block facing some direction feels the two horizontal components of a
+//! recorded [`Pair`] projected onto its rocking plane ([`Pair::rotated`]);
+//! [`rotd`] is the pair's orientation-independent RotD50 intensity.
+//!
 //! Units are SI throughout; intensities in g are converted once, at the
 //! edge, with `g` = [`G_STANDARD`] unless a setting overrides it.
 
 mod baseline;
 mod envelope;
+mod floor;
 mod io;
+mod orientation;
 mod psd;
 mod record;
 mod synth;
 
 pub use baseline::Baseline;
 pub use envelope::Envelope;
+pub use floor::{Floor, Mode, Oscillator, OscillatorState, floor_into, floor_record};
 pub use io::{At2, DT_REL_TOL, read_at2, read_csv, read_record, write_csv, write_csv_to};
+pub use orientation::{Pair, ROTD_ANGLES, rotated_peaks, rotd, rotd_series};
 pub use psd::CloughPenzien;
 pub use record::{G_STANDARD, Record, integrate_linear};
 pub use synth::{PRESETS, SynthesisSettings, Synthesizer, preset, record_seed, synthesize};

@@ -27,6 +27,11 @@ pub enum Column {
     Pga,
     /// Peak ground velocity (m/s): the level, or the record's measured peak.
     Pgv,
+    /// Peak floor acceleration (g): the peak absolute acceleration of the
+    /// floor the block stands on (studies with `[support] floor`).
+    Pfa,
+    /// Peak floor velocity (m/s), as [`Column::Pfa`].
+    Pfv,
     /// Record index in the ensemble (0-based).
     Record,
     /// The record file as the spec names it (recorded motions only).
@@ -97,8 +102,8 @@ pub const CASE: [Column; 6] = [
     Column::MuK,
 ];
 
-/// The record columns after the case (without the optional `record_file`).
-const RECORD: [Column; 3] = [Column::Pga, Column::Pgv, Column::Record];
+/// The floor's peaks, after the ground's (studies on a floor).
+pub const FLOOR: [Column; 2] = [Column::Pfa, Column::Pfv];
 
 /// The outcome columns every file has, after `status`.
 pub const OUTCOME: [Column; 19] = [
@@ -187,6 +192,8 @@ impl Column {
             Column::MuK => "mu_k",
             Column::Pga => "pga",
             Column::Pgv => "pgv",
+            Column::Pfa => "pfa",
+            Column::Pfv => "pfv",
             Column::Record => "record",
             Column::RecordFile => "record_file",
             Column::Scale => "scale",
@@ -427,6 +434,8 @@ pub struct Columns {
     pub time_in_mode: bool,
     /// Solver work counters.
     pub stats: bool,
+    /// The blocks stand on a floor (`pfa`, `pfv` columns after `pgv`).
+    pub floor: bool,
 }
 
 impl Columns {
@@ -438,6 +447,7 @@ impl Columns {
         scale: true,
         time_in_mode: true,
         stats: true,
+        floor: true,
     };
 
     /// The outcome columns of a successful row, in order: [`OUTCOME`], then
@@ -453,10 +463,15 @@ impl Columns {
         v
     }
 
-    /// Every column, in order: the case, the record (and `record_file`),
-    /// `status`, the outcome columns, `error`.
+    /// Every column, in order: the case, the ground's peaks (and the
+    /// floor's), `record` (and `record_file`, `scale`), `status`, the outcome
+    /// columns, `error`.
     pub fn list(&self) -> Vec<Column> {
-        let mut v: Vec<Column> = CASE.into_iter().chain(RECORD).collect();
+        let mut v: Vec<Column> = CASE.into_iter().chain([Column::Pga, Column::Pgv]).collect();
+        if self.floor {
+            v.extend(FLOOR);
+        }
+        v.push(Column::Record);
         if self.files {
             v.push(Column::RecordFile);
         }
@@ -506,6 +521,7 @@ mod tests {
             scale: true,
             time_in_mode: true,
             stats: true,
+            floor: true,
         };
         let names = all.names();
         let mut sorted = names.clone();
@@ -519,7 +535,7 @@ mod tests {
         // The layout documented in the module docs of `outcomes_csv`.
         assert_eq!(
             all.header(),
-            "aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,record_file,scale,\
+            "aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,pfa,pfv,record,record_file,scale,\
              status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,\
              mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,\
              energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,\

@@ -7,7 +7,7 @@
 //! Columns, in order (the bracketed ones only when the study uses them):
 //!
 //! ```text
-//! aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,record,[record_file],
+//! aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,[pfa,pfv],record,[record_file],
 //! [scale],status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,
 //! mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,
 //! energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,
@@ -21,6 +21,9 @@
 //! - `pga` (g) and `pgv` (m/s): one is the study's intensity level, the
 //!   other the scaled record's measured peak (PGV for PGA studies, PGA for
 //!   PGV studies), so that fragility can be fitted against either;
+//! - `pfa` (g) and `pfv` (m/s), only in a study on a floor (`[support]
+//!   floor`): the peak absolute acceleration and velocity of the floor the
+//!   block stands on, which is what it feels; `pga`, `pgv` stay the ground's;
 //! - `record` is the ensemble index (0-based); `record_file` the spec's path;
 //! - `status` is `ok` or `failed`; a failed analysis leaves the outcome
 //!   columns empty and says why in `error`;
@@ -32,12 +35,14 @@
 //!   `f64` values, and the same run gives the same bytes.
 //!
 //! The columns are defined once, in [`Column`] and the lists [`CASE`],
-//! [`OUTCOME`], [`TIME_IN_MODE`] and [`STATS`]; a row is one type,
+//! [`FLOOR`], [`OUTCOME`], [`TIME_IN_MODE`] and [`STATS`]; a row is one type,
 //! [`OutcomeRow`], written by [`Columns::write_row`] and read by
 //! [`OutcomesFile`] beside it.
 
 mod columns;
 mod row;
 
-pub use columns::{CASE, Column, Columns, MeasureKind, OUTCOME, STATS, TIME_IN_MODE, ValueKind};
+pub use columns::{
+    CASE, Column, Columns, FLOOR, MeasureKind, OUTCOME, STATS, TIME_IN_MODE, ValueKind,
+};
 pub use row::{OutcomeRow, OutcomesFile, RecordInfo};

@@ -25,6 +25,12 @@ pub struct OutcomeRow {
     /// Peak ground velocity, m/s: the level of a PGV study, else the scaled
     /// record's measured peak (`None` if the record failed).
     pub pgv: Option<f64>,
+    /// Peak floor acceleration, g: the peak absolute acceleration of the
+    /// floor the block stands on (`None` on the ground, or if the record
+    /// failed).
+    pub pfa: Option<f64>,
+    /// Peak floor velocity, m/s (as `pfa`).
+    pub pfv: Option<f64>,
     /// Record index in the ensemble (0-based).
     pub record: usize,
     /// The record file as the spec names it (recorded motions only).
@@ -63,6 +69,11 @@ pub struct RecordInfo<'a> {
     pub pga_g: Option<f64>,
     /// Measured PGV of the scaled record, m/s (`None` if the record failed).
     pub pgv: Option<f64>,
+    /// Measured peak floor acceleration, g (`None` on the ground or if the
+    /// record failed).
+    pub pfa_g: Option<f64>,
+    /// Measured peak floor velocity, m/s (as `pfa_g`).
+    pub pfv: Option<f64>,
     /// The record file as written in the spec.
     pub file: Option<&'a str>,
 }
@@ -87,6 +98,8 @@ impl Columns {
             case,
             pga,
             pgv,
+            pfa: record.pfa_g.filter(|_| self.floor),
+            pfv: record.pfv.filter(|_| self.floor),
             record: record.index,
             record_file: record.file.filter(|_| self.files).map(str::to_string),
             scale,
@@ -133,6 +146,8 @@ impl OutcomeRow {
             Column::MuK => param(out, self.case.mu_k()),
             Column::Pga => num(out, self.pga),
             Column::Pgv => num(out, self.pgv),
+            Column::Pfa => num(out, self.pfa),
+            Column::Pfv => num(out, self.pfv),
             Column::Scale => num(out, self.scale),
             Column::Record => {
                 let _ = write!(out, "{}", self.record);
@@ -238,6 +253,8 @@ impl OutcomesFile {
             case,
             pga: None,
             pgv: None,
+            pfa: None,
+            pfv: None,
             record: 0,
             record_file: None,
             scale: None,
@@ -257,6 +274,8 @@ impl OutcomesFile {
             match column {
                 Column::Pga => out.pga = opt()?,
                 Column::Pgv => out.pgv = opt()?,
+                Column::Pfa => out.pfa = opt()?,
+                Column::Pfv => out.pfv = opt()?,
                 Column::Scale => out.scale = opt()?,
                 Column::Record => out.record = row.integer(i)? as usize,
                 Column::RecordFile => {
@@ -307,6 +326,7 @@ mod tests {
                 scale: false,
                 time_in_mode: false,
                 stats: false,
+                floor: false,
             },
             Columns::ALL,
         ] {
@@ -316,6 +336,8 @@ mod tests {
                 level: 0.3,
                 pga_g: Some(0.5),
                 pgv: Some(0.4),
+                pfa_g: Some(0.9),
+                pfv: Some(0.7),
                 file: Some("a,b.csv"),
             };
             let mut outcome = Outcome {

@@ -189,6 +189,11 @@ fn openquake_name(im: &str) -> &str {
     match im {
         "pga" => "PGA (g)",
         "pgv" => "PGV (cm/s)",
+        "pfa" | "pfv" => {
+            "the floor's peak: OpenQuake computes ground hazard only, so give a plain \
+             iml,annual_rate file of the floor's peak (e.g. a floor spectrum hazard), or refit \
+             against pga"
+        }
         _ => "the fit's IM (no OpenQuake IMT matches it; use a plain iml,annual_rate file)",
     }
 }

@@ -5,7 +5,7 @@
 use super::locate::key_at;
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
-use crate::motion::{Baseline, CloughPenzien, Envelope, SynthesisSettings};
+use crate::motion::{Baseline, CloughPenzien, Envelope, Mode, SynthesisSettings};
 use crate::solver::{Friction, SolverSettings};
 use crate::uncertainty::Value;
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
@@ -43,6 +43,9 @@ pub struct SpecFile {
     /// model, see [`crate::motion::SynthesisSettings`]; or a named preset).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub motion: Option<MotionFile>,
+    /// What the blocks stand on (default: the ground; see [`SupportFile`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub support: Option<SupportFile>,
     /// The grids of the study.
     pub grid: GridFile,
     /// Block parameters drawn per analysis instead of taken from the grid
@@ -93,6 +96,26 @@ pub struct GridFile {
     /// `record_files` (default: not used).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scale_factors: Option<Vec<f64>>,
+}
+
+/// The `[support]` table: what the blocks stand on. Without it, or with
+/// an empty `floor`, the ground. With `floor`, a floor of a **linear**
+/// building described by its modes at that floor, one entry per mode (one
+/// is the common case); every record is filtered through them
+/// ([`crate::motion::floor_record`]) before the blocks feel it, and
+/// `outcomes.csv` gains the floor's peaks `pfa`, `pfv`.
+///
+/// ```toml
+/// [support]
+/// floor = [{ period = 0.8, damping = 0.05, participation = 1.3 }]
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SupportFile {
+    /// The building's modes at the floor: period T (s, > 0), damping ratio
+    /// ζ (0 ≤ ζ < 1) and participation Γφ (the modal participation factor
+    /// times the mode shape at the floor; default 1).
+    pub floor: Vec<Mode>,
 }
 
 /// Default grid lists, for the lists a spec leaves out.

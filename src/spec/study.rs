@@ -2,11 +2,13 @@
 //! in range. It is built only by [`SpecFile::validate`], and written back as
 //! canonical spec text by [`Study::to_toml`].
 
-use super::raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, UncertaintyFile};
+use super::raw::{
+    FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, SupportFile, UncertaintyFile,
+};
 use crate::case::{Case, Field, Param};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
-use crate::motion::SynthesisSettings;
+use crate::motion::{Floor, SynthesisSettings};
 use crate::solver::{Friction, SolverSettings};
 use crate::uncertainty::{Property, Value, analysis_seed, uniforms};
 use std::path::{Path, PathBuf};
@@ -28,6 +30,11 @@ pub struct Study {
     pub g: f64,
     /// Where the records come from.
     pub motions: Motions,
+    /// What the blocks stand on: the ground ([`Floor::ground`], no modes)
+    /// or a floor of a linear building (`[support] floor`). The intensity
+    /// levels are the ground's; each record is filtered through the floor
+    /// after it is scaled.
+    pub floor: Floor,
     /// Intensity levels.
     pub intensity: Intensity,
     /// Base widths 2B, m: the grid's values, or the one [`Param::Drawn`]
@@ -257,6 +264,10 @@ impl Study {
             records,
             record_files,
             motion,
+            // the ground writes no [support]: a study without one keeps its hash
+            support: (!self.floor.modes.is_empty()).then(|| SupportFile {
+                floor: self.floor.modes.clone(),
+            }),
             grid: GridFile {
                 width: grid_list(Property::Width, &self.widths),
                 aspect: grid_list(Property::Aspect, &self.aspects),

@@ -5,13 +5,13 @@
 //! first. `[output]` holds only switches and needs no check.
 
 use super::locate::Origin;
-use super::raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile};
+use super::raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, SupportFile};
 use super::study::{Intensity, Motions, RecordFile, Study, Uncertainty, friction_label};
 use super::uncertainty::uncertainty;
 use crate::case::Param;
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
-use crate::motion::{G_STANDARD, PRESETS, SynthesisSettings, preset};
+use crate::motion::{Floor, G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{Block, Friction, SolverSettings};
 use crate::uncertainty::{Property, Value};
@@ -39,6 +39,7 @@ impl SpecFile {
             no_ensemble(&spec, self.seed, self.records, self.motion.is_some())?;
             Motions::Files(record_files(&spec, &self.record_files, check_files)?)
         };
+        let floor = support(&spec, self.support)?;
         let recorded = matches!(motions, Motions::Files(_));
         let seed = match &motions {
             Motions::Synthetic { seed, .. } => *seed,
@@ -58,6 +59,7 @@ impl SpecFile {
             description: self.description,
             g,
             motions,
+            floor,
             intensity: grid.intensity,
             widths: grid.widths,
             aspects: grid.aspects,
@@ -72,6 +74,17 @@ impl SpecFile {
 }
 
 // ───────────────────────────── top level ─────────────────────────────
+
+/// `[support]`: the ground (absent, or no modes) or a floor whose every
+/// mode has 0 < T < ∞, 0 ≤ ζ < 1 and a finite Γφ; errors name
+/// `support.floor[i].period` (0-based i) and the value.
+fn support(spec: &Origin, support: Option<SupportFile>) -> Result<Floor> {
+    let floor = Floor {
+        modes: support.map_or_else(Vec::new, |s| s.floor),
+    };
+    floor.validate().map_err(|e| spec.nested("support.", e))?;
+    Ok(floor)
+}
 
 /// `name`: given, or derived from the first word of the spec file's stem
 /// (accents dropped, other characters not allowed in a name become `_`:

@@ -41,7 +41,7 @@ pub use lock::RunLock;
 pub use manifest::{Finished, Manifest};
 pub use merge::merge;
 pub use plan::{Shard, Unit};
-pub use source::Source;
+pub use source::{Source, UnitMotion};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
 pub use tally::{Counts, Tally};
 
@@ -460,7 +460,7 @@ fn solve_units(
     chunk: &[usize],
 ) -> Vec<(String, f64)> {
     let levels = study.intensity.levels();
-    let (records, record_seconds): (Vec<std::result::Result<Record, String>>, Vec<f64>) = chunk
+    let (records, record_seconds): (Vec<std::result::Result<UnitMotion, String>>, Vec<f64>) = chunk
         .par_iter()
         .map_init(
             || source.clone(),
@@ -468,7 +468,7 @@ fn solve_units(
                 let t0 = Instant::now();
                 let unit = plan::unit(study, u);
                 let record = src
-                    .record(&study.intensity, levels[unit.level], unit.record, study.g)
+                    .motion(study, levels[unit.level], unit.record)
                     .map_err(|e| e.to_string());
                 (record, t0.elapsed().as_secs_f64())
             },
@@ -491,13 +491,15 @@ fn solve_units(
             let info = RecordInfo {
                 index: unit.record,
                 level: levels[unit.level],
-                pga_g: record.as_ref().ok().map(|r| r.pga() / study.g),
-                pgv: record.as_ref().ok().map(Record::pgv),
+                pga_g: record.as_ref().ok().map(|m| m.pga_g),
+                pgv: record.as_ref().ok().map(|m| m.pgv),
+                pfa_g: record.as_ref().ok().and_then(|m| m.pfa_g),
+                pfv: record.as_ref().ok().and_then(|m| m.pfv),
                 file: file_names[unit.record],
             };
             let (own, analysis) = plan::analysis(study, case, ci, &unit);
             let result = match (analysis, record) {
-                (Ok(analysis), Ok(r)) => solve(&analysis, r, study),
+                (Ok(analysis), Ok(m)) => solve(&analysis, &m.felt, study),
                 (Ok(_), Err(e)) => Err(format!("record: {e}")),
                 (Err(e), _) => Err(format!("block: {e}")),
             };

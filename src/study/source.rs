@@ -6,9 +6,13 @@
 //! target/PGA. PGV levels: the record (synthetic at 1 g) is scaled by
 //! target/PGV, acceleration, velocity and displacement alike. Scale factors:
 //! the recorded motion times the factor.
+//!
+//! On a floor (`[support] floor`), the scaled ground record is then filtered
+//! through the building ([`crate::motion::floor_record`]): the level stays
+//! the ground's, and the blocks feel the floor ([`Source::motion`]).
 
 use crate::error::{Error, Result};
-use crate::motion::{Record, Synthesizer, read_record};
+use crate::motion::{Record, Synthesizer, floor_record, read_record};
 use crate::spec::{Intensity, Motions, Study};
 use std::sync::Arc;
 
@@ -82,6 +86,50 @@ impl Source {
                 "record_files (the spec's validation refuses scale factors on synthetic records)",
             )),
         }
+    }
+}
+
+/// What the blocks of one unit feel, and the peaks measured on the way.
+#[derive(Clone, Debug)]
+pub struct UnitMotion {
+    /// The motion the blocks feel: the scaled ground record, or the floor's
+    /// absolute motion under it.
+    pub felt: Record,
+    /// Measured PGA of the scaled ground record, g.
+    pub pga_g: f64,
+    /// Measured PGV of the scaled ground record, m/s.
+    pub pgv: f64,
+    /// Peak floor acceleration, g (`None` on the ground).
+    pub pfa_g: Option<f64>,
+    /// Peak floor velocity, m/s (`None` on the ground).
+    pub pfv: Option<f64>,
+}
+
+impl Source {
+    /// The motion of ensemble member `record` at intensity `level` of
+    /// `study`: [`Source::record`], then the study's floor if it has one.
+    /// One floor filter per unit (a few flops per sample per mode), shared
+    /// by every case of the unit.
+    pub fn motion(&mut self, study: &Study, level: f64, record: usize) -> Result<UnitMotion> {
+        let ground = self.record(&study.intensity, level, record, study.g)?;
+        let (pga_g, pgv) = (ground.pga() / study.g, ground.pgv());
+        if study.floor.is_ground() {
+            return Ok(UnitMotion {
+                felt: ground,
+                pga_g,
+                pgv,
+                pfa_g: None,
+                pfv: None,
+            });
+        }
+        let felt = floor_record(&ground, &study.floor)?;
+        Ok(UnitMotion {
+            pfa_g: Some(felt.pga() / study.g),
+            pfv: Some(felt.pgv()),
+            felt,
+            pga_g,
+            pgv,
+        })
     }
 }
 

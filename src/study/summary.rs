@@ -78,6 +78,9 @@ impl Tally {
         if let Some(u) = &study.uncertainty {
             let _ = writeln!(s, "{}\n", uncertainty_text(u));
         }
+        if !study.floor.is_ground() {
+            let _ = writeln!(s, "{}\n", floor_text(&study.floor));
+        }
         if let Some(fits) = fits.filter(|f| !f.is_empty()) {
             s.push_str(&fragility_section(fits));
             s.push('\n');
@@ -166,6 +169,8 @@ pub fn fragility_section(fits: &[FragilityRow]) -> String {
     let im_text = match im.name() {
         "pga" => "the PGA in g",
         "pgv" => "the PGV in m/s",
+        "pfa" => "the floor's peak acceleration PFA in g",
+        "pfv" => "the floor's peak velocity PFV in m/s",
         _ => "PGA/(g tan θc), dimensionless",
     };
     let mut s = format!(
@@ -377,5 +382,33 @@ fn uncertainty_text(u: &Uncertainty) -> String {
          the draws (`drawn` in the tables); outcomes.csv holds each analysis's own values.",
         u.seed,
         parts.join("; ")
+    )
+}
+
+/// The floor sentence of a study on a floor: its modes, and that the
+/// levels stay the ground's.
+fn floor_text(floor: &crate::motion::Floor) -> String {
+    let modes: Vec<String> = floor
+        .modes
+        .iter()
+        .map(|m| {
+            format!(
+                "T = {} s, ζ = {} %, Γφ = {}",
+                m.period,
+                m.damping * 100.0,
+                m.participation
+            )
+        })
+        .collect();
+    format!(
+        "The blocks stand on a floor of a linear building ({}: {}): each record is \
+         filtered through it, the levels are the ground's, and `outcomes.csv` gives the \
+         floor's peaks in `pfa` (g) and `pfv` (m/s).",
+        if modes.len() == 1 {
+            "one mode"
+        } else {
+            "modes"
+        },
+        modes.join("; ")
     )
 }
