@@ -59,11 +59,12 @@ fn main() -> anyhow::Result<()> {
     );
     println!(
         "joint: 90 % interval covers the true PGA in {:.1} % of the events; median width {:.3} g \
-         (p95/p05 {:.2}); {} without a posterior",
+         (p95/p05 {:.2}); {} without a posterior; median effective records {:.1}",
         100.0 * c.joint_coverage,
         c.joint_width,
         c.joint_ratio,
-        failed(|e| e.joint.is_none())
+        failed(|e| e.joint.is_none()),
+        c.effective_records
     );
     println!(
         "naive: 90 % interval covers the true PGA in {:.1} % of the events; median width {:.3} g \
@@ -73,5 +74,30 @@ fn main() -> anyhow::Result<()> {
         c.naive_ratio,
         failed(|e| e.naive.is_none())
     );
+    let side = |f: fn(&rockfrag::infer::calibrate::Event) -> Option<rockfrag::infer::Summary>| {
+        let below = c
+            .events
+            .iter()
+            .filter(|e| f(e).is_some_and(|s| e.im < s.p05))
+            .count();
+        let above = c
+            .events
+            .iter()
+            .filter(|e| f(e).is_some_and(|s| e.im > s.p95))
+            .count();
+        (below, above)
+    };
+    let (jb, ja) = side(|e| e.joint);
+    let (nb, na) = side(|e| e.naive);
+    println!("misses: joint {jb} below its 5 % bound and {ja} above its 95 %; naive {nb} and {na}");
+    if std::env::var_os("CALIBRATION_EVENTS").is_some() {
+        for e in &c.events {
+            let j = e.joint.unwrap();
+            println!(
+                "{:.4} {:.4} {:.4} {:.4} {:.1} {:?}",
+                e.im, j.p05, j.median, j.p95, e.effective_records, e.counts
+            );
+        }
+    }
     Ok(())
 }

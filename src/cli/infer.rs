@@ -9,6 +9,8 @@ use rockfrag::infer::{self, Im, InferOptions, PriorChoice, Survey, output};
 use rockfrag::spec::Study;
 
 use super::args::threads;
+use super::figures::FormatArg;
+use rockfrag::figures::Format;
 
 /// Flags of `rockfrag infer`.
 #[derive(Debug, clap::Args)]
@@ -34,6 +36,9 @@ pub struct InferArgs {
     /// IM to infer [default: the levels' IM; pga for scale factors].
     #[arg(long, value_name = "pga|pgv", value_parser = im)]
     pub im: Option<Im>,
+    /// Format of figures/inference.svg (or .png).
+    #[arg(long, value_enum, default_value_t = FormatArg::Svg)]
+    pub format: FormatArg,
     /// Worker threads (default: one per core). Results do not depend on it.
     #[arg(long, value_name = "N", value_parser = threads)]
     pub threads: Option<usize>,
@@ -65,6 +70,10 @@ pub fn run(args: InferArgs) -> anyhow::Result<()> {
         threads: args.threads.unwrap_or(0),
         progress: true,
         stop_after_levels: args.stop_after_levels,
+        figure: Some(match args.format {
+            FormatArg::Svg => Format::Svg,
+            FormatArg::Png => Format::Png,
+        }),
         ..InferOptions::new(&out, &args.study)
     };
     let report = infer::run(&study, &survey, &opts)?;

@@ -18,7 +18,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::likelihood::{Grid, joint, kind_curves, naive};
+use super::likelihood::{Grid, effective_records, joint, kind_curves, naive};
 use super::posterior::{Posterior, Prior, Summary};
 use super::simulate::{Class, Im, Runner, Table};
 use super::survey::{self, Survey};
@@ -51,6 +51,8 @@ pub struct Event {
     pub joint: Option<Summary>,
     /// The naive method's.
     pub naive: Option<Summary>,
+    /// Records the joint posterior effectively rests on.
+    pub effective_records: f64,
 }
 
 /// Coverage and widths of a calibration.
@@ -70,6 +72,8 @@ pub struct Calibration {
     pub joint_ratio: f64,
     /// Of the naive intervals.
     pub naive_ratio: f64,
+    /// Median over the events of the records their joint posterior rests on.
+    pub effective_records: f64,
     /// Analyses of the study's simulations.
     pub analyses: u64,
     /// Analyses of the events' objects.
@@ -204,6 +208,7 @@ pub fn calibrate(
                 counts: c.clone(),
                 joint,
                 naive,
+                effective_records: effective_records(&t, &s, &grid, &prior_u),
             }
         })
         .collect();
@@ -230,6 +235,7 @@ pub fn calibrate(
         naive_width: median(&|e| e.naive.map(|s| s.p95 - s.p05)),
         joint_ratio: median(&|e| e.joint.map(|s| s.p95 / s.p05)),
         naive_ratio: median(&|e| e.naive.map(|s| s.p95 / s.p05)),
+        effective_records: median(&|e| Some(e.effective_records)),
         analyses: Table::analyses(&models, table.levels.len(), table.records),
         event_analyses,
         events,
@@ -321,6 +327,7 @@ fn select_kinds(table: &Table, kept: &[usize]) -> Table {
     Table {
         kinds: kept.len(),
         cells,
+        fixed: kept.iter().map(|&j| table.fixed[j]).collect(),
         ..table.clone()
     }
 }

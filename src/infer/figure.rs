@@ -10,7 +10,8 @@ use plotters::prelude::{BindKeyPoints, DrawingArea, DrawingBackend, IntoLogRange
 use plotters::prelude::{PathElement, Polygon};
 use plotters::style::{BLACK, Color, RGBColor};
 
-use super::Inference;
+use super::inference::Inference;
+use super::simulate::Im;
 use super::survey::Survey;
 use crate::detmath as dm;
 use crate::figures::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
@@ -20,7 +21,7 @@ use crate::figures::{DrawResult, Figure};
 /// Figure height (in).
 const HEIGHT_IN: f64 = 3.0;
 /// Panel margins (pt).
-const MARGINS: Margins = Margins::new(26.0, 8.0);
+const MARGINS: Margins = Margins::new(30.0, 8.0);
 /// Grey of the prior.
 const PRIOR: RGBColor = RGBColor(0x88, 0x88, 0x88);
 /// Colour of the naive posterior.
@@ -105,8 +106,8 @@ impl InferenceFigure {
                 inf.im.unit()
             ),
             im_label: match inf.im {
-                super::Im::Pga => "PGA (g)".into(),
-                super::Im::Pgv => "PGV (m/s)".into(),
+                Im::Pga => "PGA (g)".into(),
+                Im::Pgv => "PGV (m/s)".into(),
             },
             range: (lo, hi),
             prior: per_u(&inf.prior),
@@ -207,7 +208,7 @@ impl Figure for InferenceFigure {
         )?;
         layout::mesh(&mut chart, style)
             .x_desc(self.im_label.as_str())
-            .y_desc("density per unit ln IM")
+            .y_desc("density per ln IM")
             .x_label_formatter(&|v| tick_label(*v))
             .y_labels(4)
             .draw()?;

@@ -1,26 +1,36 @@
 //! The likelihood of a survey at each intensity of the grid, two ways.
 //!
 //! **Joint** (every object at the site felt the same motion): for record r
-//! at intensity x, kind j's draws give the fractions p_o(x, r) that
-//! overturned and p_s(x, r) that slid (standing); the survey's (k_j, s_j)
-//! of n_j has the multinomial probability under the record, and the
-//! records are averaged:
+//! at intensity x, kind j's D draws give the fractions p_o(x, r) that
+//! overturned and p_s(x, r) that slid (standing), and the probability of
+//! the survey's (k_j, s_j) of n_j under the record is averaged over the
+//! records:
 //!
 //! ```text
-//! ℓ_j(x, r) = n!/(k! s! (n−k−s)!) p_o^k p_s^s (1 − p_o − p_s)^(n−k−s)
-//! L(x)      = (1/R) Σ_r Π_j ℓ_j(x, r)
+//! L(x) = (1/R) Σ_r Π_j ℓ_j(x, r)
 //! ```
 //!
-//! The fractions are known at the study's levels (D draws each) and
-//! interpolated linearly in ln x between a record's levels: a record's
-//! ℓ(x) is sharp (many objects pin down the scaling at which it gives the
-//! survey) and would fall between levels, while its fractions change
-//! smoothly. The grid has [`InferSettings::refine`](crate::spec::InferSettings::refine)
-//! points per level interval. Plugging the estimated fractions into ℓ
-//! biases it low, by about e^(−n/2D) per kind near its peak (the variance of
-//! p̂ times the curvature of ln ℓ), a factor nearly the same at every x and
-//! record, which the posterior's normalisation removes; the rest of the
-//! draws' noise is in the Monte Carlo error ([`super::posterior`]).
+//! The fractions are known at the study's levels and interpolated linearly
+//! in ln x between a record's levels: a record's ℓ(x) is sharp (many
+//! objects pin down the scaling at which it gives the survey) and would
+//! fall between levels, while its fractions change smoothly. The grid has
+//! [`InferSettings::refine`](crate::spec::InferSettings::refine) points per
+//! level interval.
+//!
+//! ℓ_j is the probability of the counts *given what the D draws showed*:
+//! with the fraction p known only from D draws (Jeffreys prior, p ~
+//! Beta(D p + ½, D (1 − p) + ½)), the counts are beta-binomial
+//! (Dirichlet-multinomial with slides),
+//!
+//! ```text
+//! ℓ = C(n, k) B(k + α, n − k + β) / B(α, β),   α = D p + ½,  β = D (1 − p) + ½,
+//! ```
+//!
+//! which tends to the binomial C(n, k) p^k (1 − p)^(n − k) as D grows.
+//! Plugging the estimated fraction into the binomial instead makes each
+//! record's ℓ too sharp when D is not much larger than n, and the posterior
+//! overconfident. A kind with nothing drawn has exact fractions (0 or 1)
+//! and takes the binomial.
 //!
 //! **Naive** (each object its own earthquake): each kind's fragility curve
 //! is fitted over all its analyses (probit MLE, [`fit_lognormal`]), and
@@ -207,8 +217,8 @@ fn multinomial(n: u64, k: u64, s: u64, p_o: f64, p_s: f64) -> f64 {
         + k_ln(rest, (1.0 - p_o - p_s).max(0.0))
 }
 
-/// ln ℓ of kind `kind`'s counts under fractions (p_o, p_s) (slides count
-/// as standing when the kind has no slide count).
+/// ln ℓ of kind `kind`'s counts under exact fractions (p_o, p_s): the
+/// multinomial (slides count as standing when the kind has no slide count).
 pub fn ln_term(kind: &Kind, p_o: f64, p_s: f64) -> f64 {
     match kind.slid {
         Some(s) => multinomial(kind.count, kind.overturned, s, p_o, p_s),
@@ -216,14 +226,35 @@ pub fn ln_term(kind: &Kind, p_o: f64, p_s: f64) -> f64 {
     }
 }
 
-/// ln L(x) of the joint method at every grid point (−∞ where the survey
-/// is impossible under every record).
-pub fn joint(table: &Table, survey: &Survey, grid: &Grid) -> Vec<f64> {
+/// ln ℓ of kind `kind`'s counts under fractions (p_o, p_s) estimated from
+/// `draws` draws: the Dirichlet-multinomial with α = draws · p + ½ per
+/// category (the beta-binomial without slides).
+pub fn ln_term_estimated(kind: &Kind, p_o: f64, p_s: f64, draws: f64) -> f64 {
+    let (n, k) = (kind.count, kind.overturned);
+    let (counts, fractions): (Vec<u64>, Vec<f64>) = match kind.slid {
+        Some(s) => (vec![k, s, n - k - s], vec![p_o, p_s, 1.0 - p_o - p_s]),
+        None => (vec![k, n - k], vec![p_o, 1.0 - p_o]),
+    };
+    let alpha: Vec<f64> = fractions
+        .iter()
+        .map(|&p| draws * p.max(0.0) + 0.5)
+        .collect();
+    let a: f64 = alpha.iter().sum();
+    let mut ln = dm::ln_factorial(n) + dm::ln_gamma(a) - dm::ln_gamma(n as f64 + a);
+    for (&x, &al) in counts.iter().zip(&alpha) {
+        ln += dm::ln_gamma(x as f64 + al) - dm::ln_gamma(al) - dm::ln_factorial(x);
+    }
+    ln
+}
+
+/// ln Π_j ℓ_j(x_i, r) for every record r and grid point i, at `r · points + i`.
+fn record_terms(table: &Table, survey: &Survey, grid: &Grid) -> Vec<f64> {
     let nl = table.levels.len();
     let brackets = Brackets::new(table, grid);
     let g = grid.len();
-    // The fractions of every (kind, level, record).
+    // The fractions of every (kind, level, record) and their draws.
     let f: Vec<Option<(f64, f64)>> = table.cells.iter().map(|&c| fractions(c)).collect();
+    let valid = |j: usize, l: usize, r: usize| f64::from(table.cell(j, l, r).valid());
     // ln Π_j ℓ_j(x_i, r), record-major.
     let mut terms = vec![0.0; table.records * g];
     for r in 0..table.records {
@@ -246,7 +277,13 @@ pub fn joint(table: &Table, survey: &Survey, grid: &Grid) -> Vec<f64> {
                                     (1.0 - t) * x + t * y
                                 }
                             };
-                            ln_term(kind, mix(fa.0, fb.0), mix(fa.1, fb.1))
+                            let (p_o, p_s) = (mix(fa.0, fb.0), mix(fa.1, fb.1));
+                            if table.fixed[j] {
+                                ln_term(kind, p_o, p_s)
+                            } else {
+                                let d = mix(valid(j, a, r), valid(j, b, r));
+                                ln_term_estimated(kind, p_o, p_s, d)
+                            }
                         }
                         // No outcome at a level: no information from it.
                         _ => 0.0,
@@ -255,21 +292,63 @@ pub fn joint(table: &Table, survey: &Survey, grid: &Grid) -> Vec<f64> {
                 .sum();
         }
     }
+    terms
+}
+
+/// The terms scaled by their largest, and that largest (−∞ when every term
+/// is).
+fn scaled(terms: &[f64]) -> (Vec<f64>, f64) {
     let m = terms
         .iter()
         .copied()
         .filter(|t| t.is_finite())
         .fold(f64::NEG_INFINITY, f64::max);
     if m == f64::NEG_INFINITY {
+        return (vec![0.0; terms.len()], m);
+    }
+    (terms.iter().map(|&t| dm::exp(t - m)).collect(), m)
+}
+
+/// ln L(x) of the joint method at every grid point (−∞ where the survey
+/// is impossible under every record).
+pub fn joint(table: &Table, survey: &Survey, grid: &Grid) -> Vec<f64> {
+    let g = grid.len();
+    let (scaled, m) = scaled(&record_terms(table, survey, grid));
+    if m == f64::NEG_INFINITY {
         return vec![f64::NEG_INFINITY; g];
     }
-    let scaled: Vec<f64> = terms.iter().map(|&t| dm::exp(t - m)).collect();
     (0..g)
         .map(|i| {
             let sum: f64 = (0..table.records).map(|r| scaled[r * g + i]).sum();
             dm::ln(sum / table.records as f64) + m
         })
         .collect()
+}
+
+/// How many of the records the joint posterior effectively rests on:
+/// (Σ w_r)²/Σ w_r², w_r the posterior mass record r contributes (its
+/// likelihood times the prior, integrated over the grid). R when every
+/// record explains the survey equally well, 1 when one record carries it:
+/// a small number means a posterior made of a few records' bumps, whose
+/// Monte Carlo error is large.
+pub fn effective_records(table: &Table, survey: &Survey, grid: &Grid, prior_u: &[f64]) -> f64 {
+    let g = grid.len();
+    let (scaled, m) = scaled(&record_terms(table, survey, grid));
+    if m == f64::NEG_INFINITY {
+        return 0.0;
+    }
+    let w: Vec<f64> = (0..table.records)
+        .map(|r| {
+            (1..g)
+                .map(|i| {
+                    let f = |i: usize| scaled[r * g + i] * prior_u[i];
+                    0.5 * (f(i - 1) + f(i)) * (grid.u[i] - grid.u[i - 1])
+                })
+                .sum()
+        })
+        .collect();
+    let (s1, s2) = w.iter().fold((0.0, 0.0), |(a, b), &x| (a + x, b + x * x));
+    if s2 > 0.0 { s1 * s1 / s2 } else { 0.0 }
 }
 
 /// One kind's fragility as the simulations give it.
@@ -434,5 +513,30 @@ mod tests {
         assert!((t - 12.0 * 0.3 * 0.2 * 0.25).abs() < 1e-14, "{t}");
         assert_eq!(ln_term(&kind(4, 1, None), 0.0, 0.0), f64::NEG_INFINITY);
         assert_eq!(ln_term(&kind(4, 4, None), 1.0, 0.0), 0.0);
+    }
+
+    /// The beta-binomial (and the Dirichlet-multinomial) is a distribution
+    /// over the counts, wider than the binomial at few draws and equal to
+    /// it in the limit.
+    #[test]
+    fn estimated_terms_sum_to_one_and_tend_to_the_binomial() {
+        for slid in [false, true] {
+            let mut total = 0.0;
+            for k in 0..=6 {
+                for s in 0..=(if slid { 6 - k } else { 0 }) {
+                    let kd = kind(6, k, slid.then_some(s));
+                    total += dm::exp(ln_term_estimated(&kd, 0.3, 0.2, 10.0));
+                }
+            }
+            assert!((total - 1.0).abs() < 1e-12, "{total}");
+        }
+        let kd = kind(6, 2, None);
+        let exact = ln_term(&kd, 0.3, 0.0);
+        let few = ln_term_estimated(&kd, 0.3, 0.0, 10.0);
+        let many = ln_term_estimated(&kd, 0.3, 0.0, 1e7);
+        assert!(
+            few < exact && (many - exact).abs() < 1e-6,
+            "{few} {exact} {many}"
+        );
     }
 }

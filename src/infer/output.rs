@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
+use super::inference::{Inference, PriorChoice};
 use super::posterior::{McError, Posterior, Summary};
 use super::survey::{KindModel, SlideRule, Survey};
-use super::{Inference, PriorChoice};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
 use crate::io_util::{number, sig3, write_atomic};
@@ -61,7 +61,7 @@ pub fn write_all(
     dir: &Path,
     inference: &Inference,
     context: &Context,
-    figure: bool,
+    figure: Option<crate::figures::Format>,
 ) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     let path = dir.join(POSTERIOR);
@@ -75,8 +75,11 @@ pub fn write_all(
     let path = dir.join(SUMMARY);
     update_section(&path, &section(inference, context))?;
     written.push(path);
-    if figure {
-        let path = dir.join("figures").join(FIGURE);
+    if let Some(format) = figure {
+        let path = dir
+            .join("figures")
+            .join(FIGURE)
+            .with_extension(format.extension());
         let fig = super::figure::InferenceFigure::new(inference, context.survey);
         crate::figures::save(&fig, &path)?;
         written.push(path);
@@ -199,6 +202,7 @@ struct InferenceJson {
     grid_max: f64,
     grid_is_levels: bool,
     records: usize,
+    effective_records: f64,
     levels: usize,
     analyses: u64,
     bootstrap: usize,
@@ -245,6 +249,7 @@ fn summary_json(inf: &Inference, c: &Context) -> InferenceJson {
         grid_max: inf.grid.x[inf.grid.len() - 1],
         grid_is_levels: inf.grid.exact,
         records: c.records,
+        effective_records: inf.effective_records,
         levels: c.levels,
         analyses: c.analyses,
         bootstrap: c.bootstrap,
@@ -278,7 +283,8 @@ pub fn section(inf: &Inference, c: &Context) -> String {
          object felt the same motion (the mean over records of the product over kinds). Naive: \
          each kind's fitted fragility curve multiplied as if every object had its own \
          earthquake (overconfident). MC error: bootstrap standard deviation over records and \
-         draws ({} replicates).\n\n\
+         draws ({} replicates); the joint posterior rests on {} of the {} records (effective \
+         number).\n\n\
          | method | median | 90 % interval | mode | MC error of 5 % / 50 % / 95 % ({unit}) |\n\
          |---|---|---|---|---|\n",
         inf.im.name().to_uppercase(),
@@ -288,7 +294,9 @@ pub fn section(inf: &Inference, c: &Context) -> String {
         c.levels,
         c.analyses,
         c.prior,
-        c.bootstrap
+        c.bootstrap,
+        sig3(inf.effective_records),
+        c.records
     );
     let [m, i, mo] = bounds(&inf.joint.summary, unit);
     s.push_str(&format!(
@@ -401,5 +409,11 @@ pub fn console(inf: &Inference) -> String {
     };
     push("joint", Some(&inf.joint), inf.joint_mc);
     push("naive", inf.naive.as_ref(), inf.naive_mc);
-    crate::io_util::aligned(&rows)
+    let mut text = crate::io_util::aligned(&rows);
+    text.push_str(&format!(
+        "the joint posterior rests on {} records (effective number; more records lower its MC \
+         error)\n",
+        sig3(inf.effective_records)
+    ));
+    text
 }

@@ -273,6 +273,7 @@ fn resample(table: &Table, rng: &mut Xoshiro256PlusPlus) -> Table {
         records: n,
         im,
         cells,
+        fixed: table.fixed.clone(),
     }
 }
 

@@ -117,6 +117,8 @@ pub struct Table {
     pub im: Vec<f64>,
     /// The cell of kind j, level l, record r at `(j · levels + l) · records + r`.
     pub cells: Vec<Cell>,
+    /// Per kind: nothing drawn, so its fractions are exact (0 or 1).
+    pub fixed: Vec<bool>,
 }
 
 impl Table {
@@ -245,6 +247,7 @@ impl Runner<'_> {
             records: n,
             im: vec![0.0; nl * n],
             cells: vec![Cell::default(); k * nl * n],
+            fixed: self.models.iter().map(|m| !m.is_drawn()).collect(),
         };
         for l in 0..nl {
             let (ims, cells) = self.level(l, record_ids)?;
@@ -375,7 +378,8 @@ pub fn run_checkpointed(
     if ckpt.levels_done < nl {
         return Ok(None);
     }
-    let table = read_table(&data, names.len(), study.intensity.levels(), n)?;
+    let fixed: Vec<bool> = runner.models.iter().map(|m| !m.is_drawn()).collect();
+    let table = read_table(&data, &fixed, study.intensity.levels(), n)?;
     Ok(Some(SimulationReport {
         table,
         resumed_levels,
@@ -417,12 +421,14 @@ fn write_checkpoint(path: &Path, ckpt: &Checkpoint) -> Result<()> {
     .map_err(Error::io(path))
 }
 
-/// Reads `simulations.csv` back into a table of `kinds` kinds, `levels`
-/// and `records` records; every cell must be there once.
+/// Reads `simulations.csv` back into a table of `fixed.len()` kinds (those
+/// with nothing drawn marked), `levels` and `records` records; every cell
+/// must be there once.
 ///
 /// Errors: [`Error::Parse`] naming the line of anything malformed or
 /// missing.
-pub fn read_table(path: &Path, kinds: usize, levels: &[f64], records: usize) -> Result<Table> {
+pub fn read_table(path: &Path, fixed: &[bool], levels: &[f64], records: usize) -> Result<Table> {
+    let kinds = fixed.len();
     let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
     let bad = |line: usize, message: String| Error::Parse {
         path: PathBuf::from(path),
@@ -441,6 +447,7 @@ pub fn read_table(path: &Path, kinds: usize, levels: &[f64], records: usize) -> 
         records,
         im: vec![f64::NAN; nl * records],
         cells: vec![Cell::default(); kinds * nl * records],
+        fixed: fixed.to_vec(),
     };
     let mut seen = vec![false; kinds * nl * records];
     for (i, line) in lines {

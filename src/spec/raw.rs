@@ -60,7 +60,7 @@ pub struct SpecFile {
     /// Settings of `rockfrag infer` (default: its defaults; a study run
     /// ignores them).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub infer: Option<super::InferSettings>,
+    pub infer: Option<super::infer::InferSettings>,
 }
 
 /// The `[grid]` table: every combination of its values is analysed under

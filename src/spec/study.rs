@@ -49,7 +49,7 @@ pub struct Study {
     /// Fragility fit on completion, if the spec asks for one.
     pub fragility: Option<FragilityOptions>,
     /// `rockfrag infer`'s settings, if the spec has an `[infer]` table.
-    pub infer: Option<super::InferSettings>,
+    pub infer: Option<super::infer::InferSettings>,
 }
 
 /// The validated `[uncertainty]` table: what each analysis draws, per
