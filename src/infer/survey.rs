@@ -362,13 +362,12 @@ impl KindModel {
 /// The seed of the inference's draws: `[infer] seed`, else the
 /// `[uncertainty]` seed, else the study's ensemble seed, else 1.
 pub fn draws_seed(study: &Study, settings: &InferSettings) -> u64 {
-    settings
-        .seed
-        .unwrap_or_else(|| match (&study.uncertainty, &study.motions) {
-            (Some(u), _) => u.seed,
-            (None, Motions::Synthetic { seed, .. }) => *seed,
-            (None, Motions::Files(_)) => 1,
-        })
+    let fallback = match (&study.uncertainty, &study.motions) {
+        (Some(u), _) => u.seed,
+        (None, Motions::Synthetic { seed, .. }) => *seed,
+        (None, Motions::Files(_)) => 1,
+    };
+    settings.seed.unwrap_or(fallback)
 }
 
 /// A domain tag mixed into the draws' seed, so that an inference's draws are
