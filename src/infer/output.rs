@@ -342,44 +342,14 @@ pub fn section(inf: &Inference, c: &Context) -> String {
 /// to the next `## ` heading) with `section`, or appends it, or writes the
 /// file with a title; atomically.
 fn update_section(path: &Path, section: &str) -> Result<()> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
-        Err(e) => return Err(Error::io(path)(e)),
-    };
-    let lines: Vec<&str> = text.lines().collect();
-    let mut out: Vec<String> = Vec::new();
-    match lines.iter().position(|l| l.trim_end() == "## Inference") {
-        Some(i) => {
-            let end = lines[i + 1..]
-                .iter()
-                .position(|l| l.starts_with("## "))
-                .map_or(lines.len(), |j| i + 1 + j);
-            out.extend(lines[..i].iter().map(|l| l.to_string()));
-            out.extend(section.trim_end().lines().map(str::to_string));
-            if end < lines.len() {
-                out.push(String::new());
-                out.extend(lines[end..].iter().map(|l| l.to_string()));
-            }
-        }
-        None => {
-            if lines.is_empty() {
-                out.push("# Inference of the intensity from a survey".into());
-            } else {
-                out.extend(lines.iter().map(|l| l.to_string()));
-            }
-            while out.last().is_some_and(|l| l.trim().is_empty()) {
-                out.pop();
-            }
-            out.push(String::new());
-            out.extend(section.trim_end().lines().map(str::to_string));
-        }
+    if path.exists() {
+        return crate::io_util::replace_section(path, "## Inference", section, &[])
+            .map_err(Error::io(path));
     }
     write_atomic(path, |w| {
-        for l in &out {
-            writeln!(w, "{l}")?;
-        }
-        Ok(())
+        writeln!(w, "# Inference of the intensity from a survey\n")?;
+        write!(w, "{}", section.trim_end())?;
+        writeln!(w)
     })
     .map_err(Error::io(path))
 }

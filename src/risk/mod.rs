@@ -89,6 +89,4 @@ pub use assess::{RiskOptions, RiskRow, assess, standing_rows};
 pub use hazard::{HazardCurve, HazardSource, MIN_RATE_PRECISION, read_hazard};
 pub use input::{FittedCurve, FittedFragility, read_fragility};
 pub use integrate::{RELATIVE_TOLERANCE, RiskIntegral, annual_rate, deaggregation, risk_integral};
-pub use output::{
-    RISK_HEADER, describe_hazard, summary_section, survival_cell, update_summary, write_risk_csv,
-};
+pub use output::{RISK_HEADER, describe_hazard, summary_section, survival_cell, write_risk_csv};
