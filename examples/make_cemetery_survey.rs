@@ -16,7 +16,7 @@ use rockfrag::infer::calibrate::synthetic_survey;
 use rockfrag::infer::{Survey, settings};
 use rockfrag::spec::Study;
 
-/// The record (of the spec's model, outside its 20-record ensemble).
+/// The record (of the spec's model, outside its 40-record ensemble).
 const RECORD: usize = 1_000_000;
 /// Its PGA, g.
 const PGA: f64 = 0.45;
