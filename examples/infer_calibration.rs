@@ -1,15 +1,17 @@
 //! The calibration of `rockfrag infer` (see `rockfrag::infer::calibrate`):
 //! synthetic events with a known PGA, each a record outside the study's
-//! ensemble with 10–30 objects of each kind of a survey, inferred by both
-//! methods; prints how often each 90 % interval covers the true PGA and
-//! the median widths.
+//! ensemble with 3–5 kinds of a pool, 10–30 objects of each, inferred by
+//! both methods; prints how often each 90 % interval covers the true PGA
+//! and the median widths.
 //!
 //! ```text
-//! cargo run --release --example infer_calibration -- [EVENTS] [SPEC.toml] [SURVEY.csv] [SEED]
+//! cargo run --release --example infer_calibration -- [EVENTS] [SPEC.toml] [KINDS.csv] [SEED]
 //! ```
 //!
-//! Defaults: 200 events of the cemetery example (`studies/cemetery.toml`,
-//! the kinds of `studies/cemetery-survey.csv`), seed 1.
+//! Defaults: 200 events of the cemetery example (`studies/cemetery.toml`)
+//! with a pool of five kinds of tombstone (the four of
+//! `studies/cemetery-survey.csv` and a cross), seed 1. A pool from a file
+//! is a survey (its counts are ignored); `-` keeps the default pool.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -18,6 +20,15 @@ use rockfrag::infer::calibrate::{CalibrationOptions, calibrate};
 use rockfrag::infer::{Survey, settings};
 use rockfrag::spec::Study;
 
+/// The default pool: the cemetery survey's kinds and a cross (2B, H/B).
+const POOL: &str = "name,width,aspect,count,overturned
+slab-tall,0.20,5.0,1,0
+slab-low,0.25,3.0,1,0
+obelisk,0.35,6.0,1,0
+block,0.45,2.0,1,0
+cross,0.30,4.0,1,0
+";
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -25,12 +36,12 @@ fn main() -> anyhow::Result<()> {
     let spec = args
         .get(1)
         .map_or_else(|| root.join("studies/cemetery.toml"), PathBuf::from);
-    let kinds = args
-        .get(2)
-        .map_or_else(|| root.join("studies/cemetery-survey.csv"), PathBuf::from);
     let seed: u64 = args.get(3).map_or(Ok(1), |a| a.parse())?;
     let study = Study::load(&spec)?;
-    let kinds = Survey::read(&kinds)?;
+    let kinds = match args.get(2).filter(|a| !a.is_empty() && *a != "-") {
+        Some(path) => Survey::read(Path::new(path))?,
+        None => Survey::parse(POOL, Path::new("infer_calibration.rs"))?,
+    };
     let t0 = Instant::now();
     let c = calibrate(
         &study,
@@ -39,6 +50,7 @@ fn main() -> anyhow::Result<()> {
         &CalibrationOptions {
             events,
             counts: (10, 30),
+            kinds: (3, 5),
             seed,
         },
     )?;
@@ -46,7 +58,7 @@ fn main() -> anyhow::Result<()> {
         c.events.iter().filter(|e| f(e)).count()
     };
     println!(
-        "{} events, {} kinds of 10-30 objects, study {} ({} records x {} levels, {} analyses; \
+        "{} events, 3-5 of {} kinds of 10-30 objects, study {} ({} records x {} levels, {} analyses; \
          {} analyses of the events' objects) in {:.1} s",
         c.events.len(),
         kinds.kinds.len(),

@@ -36,7 +36,12 @@ pub struct CalibrationOptions {
     /// Objects of each kind per event: uniform from `counts.0` to
     /// `counts.1`, inclusive.
     pub counts: (u64, u64),
-    /// Seed of the events (their PGAs, records, counts and objects).
+    /// Kinds per event: uniform from `kinds.0` to `kinds.1` of the
+    /// survey's kinds (at most all of them), chosen at random; a range
+    /// reaching the number of kinds or beyond with `kinds.0` puts every kind
+    /// in every event.
+    pub kinds: (usize, usize),
+    /// Seed of the events (their PGAs, records, kinds, counts and objects).
     pub seed: u64,
 }
 
@@ -124,6 +129,15 @@ pub fn calibrate(
             "a range of counts from 1 up",
         ));
     }
+    let n_kinds = kinds.kinds.len();
+    let (k_lo, k_hi) = (options.kinds.0.min(n_kinds), options.kinds.1.min(n_kinds));
+    if !(k_lo >= 1 && k_hi >= k_lo) {
+        return Err(Error::invalid(
+            "kinds",
+            format!("{}..{}", options.kinds.0, options.kinds.1),
+            "a range of kinds per event from 1 up",
+        ));
+    }
     let mut template = kinds.clone();
     for k in &mut template.kinds {
         k.count = hi;
@@ -161,10 +175,25 @@ pub fn calibrate(
                 splitmix64(options.seed ^ 0xCA11_B4A7_E000_0001) ^ splitmix64(e as u64),
             ));
             let im = dm::exp(u0 + (u1 - u0) * rng.random::<f64>());
-            let counts = models
+            let mut counts: Vec<u64> = models
                 .iter()
                 .map(|_| lo + ((rng.random::<f64>() * (hi - lo + 1) as f64) as u64).min(hi - lo))
                 .collect();
+            if k_lo < n_kinds {
+                // k of the kinds (partial Fisher–Yates); the others get no
+                // objects and drop out of the event's survey.
+                let span = k_hi - k_lo + 1;
+                let k = k_lo + ((rng.random::<f64>() * span as f64) as usize).min(span - 1);
+                let mut order: Vec<usize> = (0..n_kinds).collect();
+                for i in 0..k {
+                    let left = n_kinds - i;
+                    let pick = i + ((rng.random::<f64>() * left as f64) as usize).min(left - 1);
+                    order.swap(i, pick);
+                }
+                for &j in &order[k..] {
+                    counts[j] = 0;
+                }
+            }
             Draw {
                 im,
                 record: study.records() + EVENT_RECORDS + e,
