@@ -160,6 +160,74 @@ fn one_fixed_kind_on_one_record_has_a_closed_form() {
     assert!((got / median - 1.0).abs() < 1e-12, "{got} against {median}");
 }
 
+/// The hazard prior through the command line (`--prior hazard=FILE`): for
+/// a power-law hazard λ(x) = k₀ x^−k the density of the PGA given shaking
+/// above the lowest level, −dλ/dx / λ(x_min) = (k/x)(x/x_min)^−k, in
+/// posterior.csv's `prior` column to 1e-8 (log–log interpolation is exact
+/// for a power law; what is left is the rounding of the slope's central
+/// difference), and the posterior that prior times the 0/1 likelihood of
+/// the closed-form case, normalised: posterior/prior the same at every
+/// level where the record overturns the block, 0 where it stands.
+#[test]
+fn a_hazard_prior_is_the_density_given_shaking_above_the_lowest_level() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let spec_path = write(d, "spec.toml", ONE_RECORD);
+    let survey_path = write(
+        d,
+        "survey.csv",
+        "name,width,aspect,count,overturned\nb,0.25,5,1,1\n",
+    );
+    let (k0, k) = (2e-4_f64, 2.2_f64);
+    let mut hazard = String::from("iml,annual_rate\n");
+    for i in 0..12 {
+        let x = 0.05 * (60.0_f64).powf(i as f64 / 11.0);
+        hazard.push_str(&format!("{x:e},{:e}\n", k0 * x.powf(-k)));
+    }
+    let hz = write(d, "hazard.csv", &hazard);
+    let out = d.join("out");
+    let o = rockfrag(&[
+        "infer",
+        survey_path.to_str().unwrap(),
+        "--study",
+        spec_path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--prior",
+        &format!("hazard={}", hz.display()),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let cols = rockfrag::infer::output::read_posterior(&out.join("posterior.csv")).unwrap();
+    let col = |name: &str| cols.iter().find(|(n, _)| n == name).unwrap().1.clone();
+    let (x, prior, post, l) = (col("im"), col("prior"), col("posterior"), col("likelihood"));
+    let fell = falls(&spec(ONE_RECORD));
+    assert_eq!(x.len(), fell.len());
+    let mut ratio = None;
+    for i in 0..x.len() {
+        let want = k / x[i] * (x[i] / x[0]).powf(-k);
+        assert!(
+            (prior[i] / want - 1.0).abs() < 1e-8,
+            "x = {}: {} against {want}",
+            x[i],
+            prior[i]
+        );
+        assert_eq!(l[i], if fell[i] { 1.0 } else { 0.0 });
+        if fell[i] {
+            let r = post[i] / prior[i];
+            let first = *ratio.get_or_insert(r);
+            assert!(
+                (r / first - 1.0).abs() < 1e-9,
+                "x = {}: {r} against {first}",
+                x[i]
+            );
+        } else {
+            assert_eq!(post[i], 0.0);
+        }
+    }
+    let json = std::fs::read_to_string(out.join("inference.json")).unwrap();
+    assert!(json.contains("\"prior\": \"hazard="), "{json}");
+}
+
 /// One of three identical objects fell: impossible at every level (they
 /// all fall or all stand there), so a grid of the levels alone has no
 /// posterior and says so; refined, the likelihood 3t(1 − t)² is positive
