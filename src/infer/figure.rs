@@ -186,7 +186,13 @@ impl Figure for InferenceFigure {
         style: &Style,
     ) -> DrawResult<DB> {
         let frame = Frame::new(root, style, &self.title, &self.legend(), MARGINS)?;
-        let areas = frame.body.split_evenly((1, 2));
+        // Each panel's y-axis label in a strip of its own (a label drawn by
+        // the mesh at the figure's left edge loses its descenders).
+        let halves = frame.body.split_evenly((1, 2));
+        let side = |i: usize, text: &str| {
+            layout::side_label(&halves[i], style, text, frame.top, frame.x_area)
+        };
+        let areas = [side(0, "density per ln IM")?, side(1, "P(overturn)")?];
         let (xl, xh) = self.range;
         let ticks = log_ticks(xl, xh);
         let thin = style.ipx(LINE_PT);
@@ -208,7 +214,6 @@ impl Figure for InferenceFigure {
         )?;
         layout::mesh(&mut chart, style)
             .x_desc(self.im_label.as_str())
-            .y_desc("density per ln IM")
             .x_label_formatter(&|v| tick_label(*v))
             .y_labels(4)
             .draw()?;
@@ -262,7 +267,6 @@ impl Figure for InferenceFigure {
             .build_cartesian_2d((xl..xh).log_scale().with_key_points(ticks), 0.0..1.02)?;
         layout::mesh(&mut chart, style)
             .x_desc(self.im_label.as_str())
-            .y_desc("P(overturn)")
             .x_label_formatter(&|v| tick_label(*v))
             .y_labels(6)
             .draw()?;
