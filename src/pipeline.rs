@@ -118,6 +118,7 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
 /// ([`fit_and_write`]) and, when they replace the folder's own
 /// (`out` = `dir`), the `## Fragility` section of its `summary.md`.
 pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitReport> {
+    files::require_finished(dir)?;
     let mut report = fit_and_write(dir, out, options)?;
     let summary = dir.join(files::SUMMARY);
     if same_folder(dir, out) && summary.exists() {
@@ -155,5 +156,6 @@ pub fn figures(
     out: &Path,
     options: &FigureOptions,
 ) -> Result<FiguresReport> {
+    files::require_finished(dir)?;
     paper::study_figures(study, dir, out, options)
 }

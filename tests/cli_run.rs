@@ -127,6 +127,50 @@ fn default_study_is_built_in() {
     );
 }
 
+/// `fragility`, `figures`, `risk` and `export` on the folder of a run that
+/// was stopped do not answer "No such file or directory": they say the run
+/// is unfinished and that rerunning `rockfrag run` finishes it.
+#[test]
+fn commands_on_an_unfinished_folder_say_to_rerun() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("stopped");
+    let out = out.to_str().unwrap();
+    let o = rockfrag(&["run", SMALL, "--out", out, "--stop-after-units", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let hazard = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/hazard/hazard_curve-mean-PGA_example.csv"
+    );
+    let job = tmp.path().join("job");
+    let commands: [Vec<&str>; 4] = [
+        vec!["fragility", out],
+        vec!["figures", out],
+        vec!["risk", out, "--hazard", hazard],
+        vec![
+            "export",
+            "openquake",
+            out,
+            "--hazard",
+            hazard,
+            "--out",
+            job.to_str().unwrap(),
+        ],
+    ];
+    for args in commands {
+        let o = rockfrag(&args);
+        assert!(
+            !o.status.success(),
+            "{args:?} succeeded on an unfinished run"
+        );
+        let err = stderr(&o);
+        assert!(
+            err.contains("unfinished run") && err.contains("rockfrag run") && err.contains(out),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("No such file"), "{args:?}: {err}");
+    }
+}
+
 /// A spec with a `[fragility]` table and `output.figures` gets, when the run
 /// completes, the fragility files and the figures in the same folder; the
 /// fragility.csv rows are one per case (4 here) and every figure is an SVG.

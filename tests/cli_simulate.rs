@@ -357,3 +357,49 @@ fn follow_cascades_flag_keeps_the_motion_and_adds_events() {
         events(&ruled)
     );
 }
+
+/// A PGA meant in cm/s² (`--pga 300`) is refused, as the spec refuses it:
+/// 300 g is beyond any recorded motion (the largest are about 4 g). The
+/// message names the flag, the unit and what 300 cm/s² would be (0.306 g);
+/// 10 g, the limit, is still accepted. The same for `motion` and for a PGV
+/// in cm/s.
+#[test]
+fn pga_in_the_wrong_unit_is_refused() {
+    let o = rockfrag(&["simulate", "--seed", "1", "--pga", "300", "--aspect", "4"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("--pga") && err.contains("in g") && err.contains("0.306 g"),
+        "{err}"
+    );
+    let o = rockfrag(&["motion", "--seed", "1", "--pga", "300"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("in g"), "{}", stderr(&o));
+    let o = rockfrag(&[
+        "simulate", "--seed", "1", "--pga", "10", "--aspect", "4", "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let tmp = tempfile::tempdir().unwrap();
+    let rec = tmp.path().join("r.csv");
+    let o = rockfrag(&[
+        "motion",
+        "--seed",
+        "1",
+        "--pga",
+        "0.3",
+        "--out",
+        rec.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = rockfrag(&[
+        "simulate",
+        "--motion",
+        rec.to_str().unwrap(),
+        "--pgv",
+        "40",
+        "--aspect",
+        "4",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("in m/s"), "{}", stderr(&o));
+}

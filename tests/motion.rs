@@ -691,8 +691,9 @@ fn cli_rejects_bad_values_in_one_line_naming_the_flag() {
     );
 }
 
-/// A CSV whose times are rounded as written by `%.6f` (or 6 significant
-/// digits) at Δt = 1/300 s must be read: each time is within the rounding of
+/// A CSV whose times are rounded as written by `%.6f`, 6 significant
+/// digits, `%g` or Python's repr at Δt = 1/300 s must be read (`%g` writes
+/// `0.01`, whose digits alone allow ±0.005 s: the bound is capped at Δt/10): each time is within the rounding of
 /// its digits (5e-7 s) of t_0 + k·Δt with Δt = (t_last − t_0)/(n − 1). The
 /// old reader compared each step with the first at 1e-6 relative and refused
 /// the file at its third row. Δt comes from the endpoints, each off by at most
@@ -716,9 +717,17 @@ fn rounded_time_columns_are_read_and_gaps_refused() {
     };
     let fixed6 = |t: f64| format!("{t:.6}");
     let sig6 = |t: f64| format!("{:.5e}", t);
+    // `%g`: 6 significant digits, trailing zeros dropped (`0.01` among
+    // `0.00333333`), so a time's digits alone may not resolve Δt/4.
+    let g = |t: f64| format!("{}", format!("{t:.5e}").parse::<f64>().unwrap());
+    // Python's repr: the shortest text that reads back, `0.01` again.
+    let repr = |t: f64| format!("{t}");
+    assert!(rows(&g, None, None).contains("\n0.01,"));
     for (label, fmt) in [
         ("%.6f", &fixed6 as &dyn Fn(f64) -> String),
         ("6 sig", &sig6),
+        ("%g", &g),
+        ("repr", &repr),
     ] {
         let dir = tmp();
         let path = dir.path().join("rounded.csv");
@@ -735,6 +744,13 @@ fn rounded_time_columns_are_read_and_gaps_refused() {
     assert!(
         gap.contains("gap.csv:") && gap.contains("non-uniform"),
         "{gap}"
+    );
+    let gap_g = error_of("gap_g.csv", &rows(&g, Some(1500), None), |p: &Path| {
+        read_csv(p)
+    });
+    assert!(
+        gap_g.contains("gap_g.csv:") && gap_g.contains("non-uniform"),
+        "{gap_g}"
     );
     let jit = error_of("jitter.csv", &rows(&fixed6, None, Some(700)), |p: &Path| {
         read_csv(p)

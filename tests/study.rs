@@ -34,7 +34,7 @@ fn run_whole(study: &Study, dir: &Path, threads: usize) -> study::RunReport {
 
 /// One thread or two, one chunk or several: the rows are put in canonical
 /// order before they are written, so outcomes.csv and summary.md are
-/// byte-identical.
+/// byte-identical; so does the order in which units are solved.
 #[test]
 fn thread_count_does_not_change_the_results() {
     let study = small();
@@ -51,8 +51,18 @@ fn thread_count_does_not_change_the_results() {
         ..opts(&c, 2)
     };
     assert!(pipeline::run(&study, &chunked).unwrap().run.complete);
+    // With progress shown, a pilot (one unit per level) is solved first and
+    // its rows kept for their chunk: the same bytes.
+    let p = tmp.path().join("pilot");
+    let shown = RunOptions {
+        progress: true,
+        chunk_analyses: 5,
+        ..opts(&p, 2)
+    };
+    assert!(pipeline::run(&study, &shown).unwrap().run.complete);
     assert_eq!(read(&a, files::OUTCOMES), read(&b, files::OUTCOMES));
     assert_eq!(read(&a, files::OUTCOMES), read(&c, files::OUTCOMES));
+    assert_eq!(read(&a, files::OUTCOMES), read(&p, files::OUTCOMES));
     assert_eq!(read(&a, files::SUMMARY), read(&b, files::SUMMARY));
     assert_eq!(ra.counts, rb.counts);
     // 2 levels × 3 records × (2 aspects × 2 e) analyses, plus the header.
@@ -189,7 +199,7 @@ fn resume_refuses_another_spec_or_shard() {
     assert!(matches!(err, Error::Conflict { .. }), "{err}");
     let msg = err.to_string();
     assert!(
-        msg.contains("refusing to resume") && msg.contains("spec hash"),
+        msg.contains("refusing to resume") && msg.contains("analyses hash"),
         "{msg}"
     );
 
@@ -199,6 +209,96 @@ fn resume_refuses_another_spec_or_shard() {
     };
     let msg = study::run(&study, &sharded).unwrap_err().to_string();
     assert!(msg.contains("shard 1/1"), "{msg}");
+}
+
+/// Only what decides the analyses must match to resume: a run stopped
+/// midway resumes under a spec whose name, description and `[fragility]`
+/// changed (the bootstrap, say), and ends with the uninterrupted run's
+/// outcomes.csv; its fragility fit follows the new spec.
+#[test]
+fn resume_after_a_change_to_post_processing_only() {
+    let study = small();
+    let tmp = tempfile::tempdir().unwrap();
+    let whole = tmp.path().join("whole");
+    run_whole(&study, &whole, 2);
+
+    let dir = tmp.path().join("run");
+    let stop = RunOptions {
+        stop_after_units: Some(2),
+        chunk_analyses: 4,
+        ..opts(&dir, 1)
+    };
+    assert!(!pipeline::run(&study, &stop).unwrap().run.complete);
+    let mut changed = study.clone();
+    changed.name = "small-renamed".into();
+    changed.description = "the same analyses, fitted".into();
+    changed.fragility = Some(rockfrag::fragility::FragilityOptions {
+        bootstrap: 20,
+        ..Default::default()
+    });
+    assert_ne!(changed.hash(), study.hash());
+    assert_eq!(changed.analyses_hash(), study.analyses_hash());
+    let report = pipeline::run(&changed, &opts(&dir, 2)).unwrap();
+    assert!(report.run.complete);
+    assert_eq!(report.run.resumed_at_unit, 2);
+    assert_eq!(read(&whole, files::OUTCOMES), read(&dir, files::OUTCOMES));
+    assert!(report.finish.unwrap().fit.is_some());
+    assert!(dir.join("fragility.csv").exists());
+}
+
+/// A finished run rerun with the same analyses runs none of them: its
+/// outcomes.csv is kept byte for byte (its modification time too) and what
+/// follows it is redone under the new spec (here a fit it did not have);
+/// `force` runs them all again, to the same bytes.
+#[test]
+fn rerun_of_a_finished_study_reuses_its_analyses() {
+    let study = small();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("run");
+    let first = run_whole(&study, &dir, 2);
+    assert!(!first.already_finished);
+    let total = first.analyses_run;
+    assert_eq!(total, 3 * 2 * 4);
+    let bytes = read(&dir, files::OUTCOMES);
+    let mtime = std::fs::metadata(dir.join(files::OUTCOMES))
+        .unwrap()
+        .modified()
+        .unwrap();
+
+    let mut fitted = study.clone();
+    fitted.fragility = Some(rockfrag::fragility::FragilityOptions {
+        bootstrap: 20,
+        ..Default::default()
+    });
+    let again = pipeline::run(&fitted, &opts(&dir, 2)).unwrap();
+    assert!(again.run.already_finished && again.run.complete);
+    assert_eq!(again.run.analyses_run, 0);
+    assert_eq!(again.run.counts.analyses, total);
+    assert_eq!(read(&dir, files::OUTCOMES), bytes);
+    let mtime_after = std::fs::metadata(dir.join(files::OUTCOMES))
+        .unwrap()
+        .modified()
+        .unwrap();
+    assert_eq!(mtime, mtime_after, "outcomes.csv was rewritten");
+    assert!(dir.join("fragility.csv").exists());
+    let manifest = study::Manifest::read(&dir.join(files::MANIFEST)).unwrap();
+    assert!(
+        manifest.spec_toml.contains("[fragility]"),
+        "the manifest keeps the old spec"
+    );
+    assert_eq!(
+        manifest.analyses_run, total,
+        "the manifest forgot the run's own work"
+    );
+
+    let forced = RunOptions {
+        force: true,
+        ..opts(&dir, 2)
+    };
+    let rerun = pipeline::run(&fitted, &forced).unwrap().run;
+    assert!(!rerun.already_finished);
+    assert_eq!(rerun.analyses_run, total);
+    assert_eq!(read(&dir, files::OUTCOMES), bytes);
 }
 
 /// An analysis the solver gives up on (here: a budget of 2 events, which

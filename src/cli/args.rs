@@ -1,5 +1,7 @@
 //! Value parsers shared by the subcommands: each says what it accepts.
 
+use rockfrag::spec::{MAX_PGA_G, MAX_PGV};
+
 /// A finite number > 0.
 pub fn positive(s: &str) -> Result<f64, String> {
     let x = number(s)?;
@@ -7,6 +9,36 @@ pub fn positive(s: &str) -> Result<f64, String> {
         Ok(x)
     } else {
         Err("expected a number > 0".into())
+    }
+}
+
+/// A peak ground acceleration in g: in (0, [`MAX_PGA_G`]], so a value in
+/// cm/s² or m/s² (`300`) is refused with the unit named.
+pub fn pga_g(s: &str) -> Result<f64, String> {
+    let x = positive(s)?;
+    if x <= MAX_PGA_G {
+        Ok(x)
+    } else {
+        Err(format!(
+            "expected a peak ground acceleration in g, in (0, {MAX_PGA_G}]: {x} g is beyond any \
+             recorded motion (in cm/s², {x} is {:.3} g)",
+            x / 981.0
+        ))
+    }
+}
+
+/// A peak ground velocity in m/s: in (0, [`MAX_PGV`]], so a value in cm/s
+/// is refused.
+pub fn pgv_m_s(s: &str) -> Result<f64, String> {
+    let x = positive(s)?;
+    if x <= MAX_PGV {
+        Ok(x)
+    } else {
+        Err(format!(
+            "expected a peak ground velocity in m/s, in (0, {MAX_PGV}]: {x} m/s is beyond any \
+             recorded motion (in cm/s, {x} is {:.3} m/s)",
+            x / 100.0
+        ))
     }
 }
 

@@ -36,6 +36,7 @@ pub struct FiguresArgs {
 
 /// Runs `rockfrag figures`.
 pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
+    rockfrag::study::files::require_finished(&args.dir)?;
     let study = study_of_folder(&args.dir)?;
     let mut options = study
         .as_ref()

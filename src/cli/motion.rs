@@ -8,7 +8,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use super::args::{non_negative, positive};
+use super::args::{non_negative, pga_g, positive};
 use anyhow::Context;
 use rockfrag::motion::{At2, SynthesisSettings, Synthesizer, write_csv, write_csv_to};
 
@@ -19,7 +19,7 @@ pub struct MotionArgs {
     #[arg(long, value_name = "N")]
     pub seed: u64,
     /// Peak ground acceleration, in g (converted with g = 9.81 m/s²).
-    #[arg(long, value_name = "G", value_parser = positive, allow_negative_numbers = true)]
+    #[arg(long, value_name = "G", value_parser = pga_g, allow_negative_numbers = true)]
     pub pga: f64,
     /// Index of the record within the ensemble.
     #[arg(long, value_name = "I", default_value_t = 0)]

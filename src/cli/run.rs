@@ -27,8 +27,10 @@ pub struct RunArgs {
     /// Stop as if killed after this many work units (for testing resumption).
     #[arg(long, value_name = "UNITS", hide = true)]
     pub stop_after_units: Option<usize>,
-    /// Replace a finished run of another spec or shard in the output folder
-    /// (without it, that is refused).
+    /// Run every analysis again, replacing the output folder's finished run
+    /// (without it, a finished run of the same analyses is kept and only
+    /// the fit, summary and figures are redone; one of other analyses is
+    /// refused).
     #[arg(long)]
     pub force: bool,
     /// Print the fragility table and every note (default: one line per step).
@@ -70,26 +72,39 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let c = run.counts;
-    eprintln!(
-        "study {}{}: {} analyses ({} overturned, {} uplifted, {} failed); {} run in {:.1} s, \
+    if run.already_finished {
+        eprintln!(
+            "study {}: already finished in {} ({} analyses: {} overturned, {} uplifted, {} failed); \
+             kept its outcomes.csv and redid what follows it; pass --force to run the analyses again",
+            study.name,
+            out.display(),
+            c.analyses,
+            c.overturned,
+            c.uplifted,
+            c.failed
+        );
+    } else {
+        eprintln!(
+            "study {}{}: {} analyses ({} overturned, {} uplifted, {} failed); {} run in {:.1} s, \
          {:.1} analyses/s on {} thread{}; wrote {}",
-        study.name,
-        if opts.shard == Shard::WHOLE {
-            String::new()
-        } else {
-            format!(" shard {}", opts.shard)
-        },
-        c.analyses,
-        c.overturned,
-        c.uplifted,
-        c.failed,
-        run.analyses_run,
-        run.wall_seconds,
-        rate,
-        run.threads,
-        if run.threads == 1 { "" } else { "s" },
-        out.display()
-    );
+            study.name,
+            if opts.shard == Shard::WHOLE {
+                String::new()
+            } else {
+                format!(" shard {}", opts.shard)
+            },
+            c.analyses,
+            c.overturned,
+            c.uplifted,
+            c.failed,
+            run.analyses_run,
+            run.wall_seconds,
+            rate,
+            run.threads,
+            if run.threads == 1 { "" } else { "s" },
+            out.display()
+        );
+    }
     if let Some(finish) = &report.finish {
         say(finish, &out, args.verbose);
     }

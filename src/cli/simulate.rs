@@ -1,6 +1,8 @@
 //! `rockfrag simulate`: one block under one record, printing the outcome.
 
-use super::args::{choice, non_negative, open_unit_interval, positive, unit_interval};
+use super::args::{
+    choice, non_negative, open_unit_interval, pga_g, pgv_m_s, positive, unit_interval,
+};
 use anyhow::Context;
 use clap::ValueEnum;
 use rockfrag::motion::{self, G_STANDARD, Record, SynthesisSettings};
@@ -48,7 +50,7 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "X", value_parser = positive, requires = "motion", conflicts_with_all = ["pga", "pgv"], allow_negative_numbers = true)]
     pub scale: Option<f64>,
     /// Scale the --motion record to this peak ground velocity (m/s).
-    #[arg(long, value_name = "V", value_parser = positive, requires = "motion", conflicts_with = "pga", allow_negative_numbers = true)]
+    #[arg(long, value_name = "V", value_parser = pgv_m_s, requires = "motion", conflicts_with = "pga", allow_negative_numbers = true)]
     pub pgv: Option<f64>,
     /// Ensemble seed of a synthetic record (with --pga).
     #[arg(long, value_name = "N", requires = "pga")]
@@ -58,7 +60,7 @@ pub struct SimulateArgs {
     pub index: u64,
     /// Peak ground acceleration (g): of the synthetic record (with --seed), or
     /// the --motion record scaled to it.
-    #[arg(long, value_name = "G", value_parser = positive, allow_negative_numbers = true)]
+    #[arg(long, value_name = "G", value_parser = pga_g, allow_negative_numbers = true)]
     pub pga: Option<f64>,
     /// Initial rotation θ0 (rad).
     #[arg(

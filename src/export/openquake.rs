@@ -86,7 +86,13 @@ pub fn export_openquake(
     site: Option<usize>,
     out: &Path,
 ) -> Result<OpenQuakeJob> {
-    let rows = read_fragility_csv(&dir.join("fragility.csv"))?;
+    let rows = {
+        if !dir.join("fragility.csv").exists() {
+            // An unfinished run or another folder: say so, not "No such file".
+            crate::study::files::require_finished(dir)?;
+        }
+        read_fragility_csv(&dir.join("fragility.csv"))?
+    };
     let im = rows.first().map_or(IntensityMeasure::Pga, |r| r.im);
     let factor = match im {
         IntensityMeasure::Pga => 1.0,

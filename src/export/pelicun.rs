@@ -68,7 +68,13 @@ pub fn export_pelicun(
     study: &str,
     limit_states: &[LimitState],
 ) -> Result<PelicunDatabase> {
-    let rows = read_fragility_csv(&dir.join("fragility.csv"))?;
+    let rows = {
+        if !dir.join("fragility.csv").exists() {
+            // An unfinished run or another folder: say so, not "No such file".
+            crate::study::files::require_finished(dir)?;
+        }
+        read_fragility_csv(&dir.join("fragility.csv"))?
+    };
     let im = rows.first().map_or(IntensityMeasure::Pga, |r| r.im);
     let (demand_type, unit) = demand(im)?;
     let mut names: Vec<String> = Vec::new();

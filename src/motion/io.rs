@@ -21,6 +21,11 @@ use crate::error::{Error, Result};
 /// sampled.
 pub const DT_REL_TOL: f64 = 1e-6;
 
+/// Largest distance of a CSV record's time from its uniform grid, as a
+/// fraction of Δt, whatever the rounding of its digits: a missing or extra
+/// sample moves some time by Δt/2 or more, well beyond it.
+pub const DT_MAX_OFF: f64 = 0.1;
+
 /// The content of a PEER NGA `.AT2` file: three free header lines, then
 /// `NPTS= n, DT= dt SEC`, then the accelerations in g, several per line.
 #[derive(Clone, Debug, PartialEq)]
@@ -463,16 +468,17 @@ fn rounding_of(token: &str) -> f64 {
 /// The time step of a CSV record's time column `t` (rows at file `lines`,
 /// `times` as written), refusing gaps and jitter.
 ///
-/// Times written with rounding (`%.6f` at Δt = 1/300 s) are accepted: Δt =
-/// (t_last − t_0)/(n − 1), and each time must lie within its rounding (half a
-/// unit in its last written digit, plus the larger of the first's and the
-/// last's, which fix Δt) plus [`DT_REL_TOL`]·Δt of t_0 + k·Δt. That bound
-/// must stay below Δt/4, so that a missing or extra sample (which moves some
-/// time by at least Δt/2 from the line) cannot hide in it; when the digits
-/// written are too few for that (`0.01` at Δt = 0.01), the times are taken
-/// as exact instead: every step must equal the first to [`DT_REL_TOL`]
-/// relative, and Δt is the first step (so a file written by [`write_csv`]
-/// reads back bit for bit).
+/// Times written with rounding are accepted, however they were written
+/// (`%.6f` at Δt = 1/300 s; `%g` or Python's `repr`, which drop trailing
+/// zeros, so `0.01` stands among `0.00333333`): Δt = (t_last − t_0)/(n − 1),
+/// and each time must lie within its rounding (half a unit in its last
+/// written digit, plus the larger of the first's and the last's, which fix
+/// Δt) plus [`DT_REL_TOL`]·Δt of t_0 + k·Δt, that bound never exceeding
+/// [`DT_MAX_OFF`]·Δt. A missing or extra sample moves some time by at least
+/// Δt/2 from the grid, so it cannot hide in the bound and is refused,
+/// naming its line. When every step equals the first to [`DT_REL_TOL`]
+/// relative, Δt is the first step (so a file written by [`write_csv`] reads
+/// back bit for bit).
 fn uniform_step(path: &Path, t: &[f64], times: &[&str], lines: &[usize]) -> Result<f64> {
     let n = t.len();
     let dt_first = t[1] - t[0];
@@ -482,22 +488,15 @@ fn uniform_step(path: &Path, t: &[f64], times: &[&str], lines: &[usize]) -> Resu
     }
     let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
     let ends = rounding_of(times[0]).max(rounding_of(times[n - 1]));
-    let bound = |k: usize| rounding_of(times[k]) + ends + DT_REL_TOL * dt;
-    let resolvable = dt.is_finite() && dt > 0.0 && (0..n).all(|k| bound(k) < 0.25 * dt);
-    if !resolvable {
-        // Too few digits to read the times as rounded: report the first step
-        // that differs from the first one.
-        let k = (2..n)
-            .find(|&k| ((t[k] - t[k - 1]) - dt_first).abs() > DT_REL_TOL * dt_first)
-            .unwrap_or(n - 1);
-        let step = t[k] - t[k - 1];
+    let bound = |k: usize| (rounding_of(times[k]) + ends + DT_REL_TOL * dt).min(DT_MAX_OFF * dt);
+    if !(dt.is_finite() && dt > 0.0) {
         return Err(parse_err(
             path,
-            lines[k],
+            lines[n - 1],
             format!(
-                "non-uniform time step: t = {} follows {} (step {step}, but the first step is {dt_first})",
-                t[k],
-                t[k - 1]
+                "time column from {} to {}: no positive time step",
+                t[0],
+                t[n - 1]
             ),
         ));
     }
@@ -511,7 +510,8 @@ fn uniform_step(path: &Path, t: &[f64], times: &[&str], lines: &[usize]) -> Resu
                 format!(
                     "non-uniform time step: t = {} is {off:+e} s from t_0 + k·Δt = {expected} \
                      (row {k} after the first; Δt = (t_last − t_0)/(n − 1) = {dt}), more than \
-                     the rounding of the digits written allows ({:e} s): a gap or jitter in the time column",
+                     the rounding of the digits written allows ({:e} s): a gap, an extra sample or \
+                     jitter in the time column",
                     times[k],
                     bound(k)
                 ),

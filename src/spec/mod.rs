@@ -44,3 +44,4 @@ pub use study::{
     Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study, Uncertainty,
     fnv1a64, friction_label,
 };
+pub use validate::{MAX_PGA_G, MAX_PGV};

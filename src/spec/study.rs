@@ -299,6 +299,27 @@ impl Study {
         fnv1a64(self.to_toml().as_bytes())
     }
 
+    /// Stable 64-bit hash of what decides the analyses: [`Study::hash`] of
+    /// the study without its name, description, `[fragility]`,
+    /// `output.summary` and `output.figures`, which only change what is made
+    /// from `outcomes.csv`. A run resumes, and a finished run is reused,
+    /// when this hash matches.
+    pub fn analyses_hash(&self) -> u64 {
+        let defaults = OutputFile::default();
+        let analyses = Study {
+            name: String::new(),
+            description: String::new(),
+            fragility: None,
+            output: OutputFile {
+                summary: defaults.summary,
+                figures: defaults.figures,
+                ..self.output
+            },
+            ..self.clone()
+        };
+        analyses.hash()
+    }
+
     /// The case fields drawn per analysis (none without `[uncertainty]`).
     pub fn drawn(&self) -> Vec<Field> {
         self.uncertainty

@@ -19,10 +19,11 @@ use std::path::Path;
 
 /// Largest ensemble size accepted.
 const MAX_RECORDS: usize = 10_000_000;
-/// Largest PGA accepted, g.
-const MAX_PGA_G: f64 = 10.0;
-/// Largest PGV accepted, m/s.
-const MAX_PGV: f64 = 20.0;
+/// Largest PGA accepted, g: above any recorded motion (about 4 g), so a
+/// value given in cm/s² or m/s² by mistake is refused, in the spec and the CLI.
+pub const MAX_PGA_G: f64 = 10.0;
+/// Largest PGV accepted, m/s (recorded motions stay below about 4 m/s).
+pub const MAX_PGV: f64 = 20.0;
 
 impl SpecFile {
     /// Checks every value and builds the [`Study`]. `text` is the spec's text

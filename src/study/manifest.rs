@@ -12,6 +12,11 @@ use std::path::Path;
 /// The git commit this library was built from, or `unknown`.
 pub const GIT_COMMIT: &str = env!("ROCKFRAG_GIT_COMMIT");
 
+/// Hash of the source this binary was built from (`src/`, `Cargo.toml`,
+/// `Cargo.lock`, committed or not): a finished run is reused only by a
+/// build of the same source.
+pub const SOURCE_HASH: &str = env!("ROCKFRAG_SOURCE_HASH");
+
 /// What the same spec gives on a rerun, as the manifest states it.
 pub const REPRODUCIBILITY: &str = "outcomes.csv, fragility.csv, fragility_curves.csv, \
 fragility_bootstrap.csv, fragility.xml, risk.csv, summary.md and the figures are byte-identical \
@@ -30,6 +35,13 @@ pub struct Manifest {
     pub spec_file: String,
     /// FNV-1a 64-bit hash of `spec_toml`, as `fnv1a64:<16 hex digits>`.
     pub spec_hash: String,
+    /// [`crate::spec::Study::analyses_hash`]: the spec without the fields that only
+    /// change the post-processing (empty in manifests of older versions).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub analyses_hash: String,
+    /// [`SOURCE_HASH`] of the build that wrote it (empty in older manifests).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub source_hash: String,
     /// FNV-1a 64-bit hash of the record files' bytes, in order (recorded motions only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub records_hash: Option<String>,
@@ -84,12 +96,14 @@ impl Manifest {
             study: study.name.clone(),
             spec_file: spec_file.to_string(),
             spec_hash: hash_text(study.hash()),
+            analyses_hash: hash_text(study.analyses_hash()),
             records_hash: records_hash.map(hash_text),
             spec: serde_json::to_value(study.to_spec_file()).expect("spec serialises to JSON"),
             spec_toml,
             rockfrag_version: env!("CARGO_PKG_VERSION").to_string(),
             reproducibility: REPRODUCIBILITY.to_string(),
             git_commit: GIT_COMMIT.to_string(),
+            source_hash: SOURCE_HASH.to_string(),
             shard,
             threads: 0,
             started_unix: 0,
@@ -132,29 +146,67 @@ impl Manifest {
     }
 }
 
-/// Refuses to start a run into `dir` over a finished run (its
-/// `outcomes.csv`) of another spec, other record files or another shard
-/// than `this` describes, unless `force`. A finished run of the same spec
-/// and shard is simply run again.
-pub fn check_finished(dir: &Path, this: &Manifest, force: bool) -> Result<()> {
+/// What a run into a folder finds there ([`check_finished`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Finished {
+    /// No finished run, one to be replaced (`--force`), or one of the same
+    /// analyses by another build of rockfrag: run the analyses.
+    No,
+    /// A finished run of the same analyses (`Manifest` is its manifest):
+    /// its `outcomes.csv` is kept and only the post-processing is redone.
+    Same(Box<Manifest>),
+}
+
+impl Manifest {
+    /// Whether `self` (a finished run's manifest) ran the analyses `this`
+    /// describes: the same analyses hash (the spec hash for manifests of
+    /// versions without one), record files and shard.
+    fn same_analyses(&self, this: &Manifest) -> bool {
+        let same_spec = if self.analyses_hash.is_empty() {
+            self.spec_hash == this.spec_hash
+        } else {
+            self.analyses_hash == this.analyses_hash
+        };
+        same_spec && self.records_hash == this.records_hash && self.shard == this.shard
+    }
+}
+
+/// Looks for a finished run (`outcomes.csv`) in `dir`. Without `force`, a
+/// finished run of the same analyses as `this` is [`Finished::Same`] and a
+/// finished run of other analyses (another spec, other record files or
+/// another shard) is refused; with `force`, or when another build of
+/// rockfrag made it, the folder's run is replaced.
+pub fn check_finished(dir: &Path, this: &Manifest, force: bool) -> Result<Finished> {
     let outcomes = dir.join(super::files::OUTCOMES);
     if force || !outcomes.exists() {
-        return Ok(());
+        return Ok(Finished::No);
     }
     let path = dir.join(super::files::MANIFEST);
     let what = match Manifest::read(&path) {
         Ok(old) => {
-            if old.spec_hash == this.spec_hash
-                && old.records_hash == this.records_hash
-                && old.shard == this.shard
-            {
-                return Ok(());
+            if old.same_analyses(this) {
+                // Another build may give other bits (same version, same spec,
+                // same bytes), so only this build's own runs are reused.
+                let same_build = old.rockfrag_version == this.rockfrag_version
+                    && !old.source_hash.is_empty()
+                    && old.source_hash == this.source_hash;
+                return Ok(if same_build {
+                    Finished::Same(Box::new(old))
+                } else {
+                    Finished::No
+                });
             }
             let mut diff = Vec::new();
-            if old.spec_hash != this.spec_hash {
+            if !old.same_analyses(&Manifest {
+                records_hash: old.records_hash.clone(),
+                shard: old.shard,
+                ..this.clone()
+            }) {
                 diff.push(format!(
-                    "spec hash {} (study '{}', from {}), not {}",
-                    old.spec_hash, old.study, old.spec_file, this.spec_hash
+                    "study '{}' from {} (spec hash {}), whose analyses differ from this spec's \
+                     (a field other than name, description, [fragility], output.summary or \
+                     output.figures changed)",
+                    old.study, old.spec_file, old.spec_hash
                 ));
             }
             if old.records_hash != this.records_hash {
@@ -167,7 +219,7 @@ pub fn check_finished(dir: &Path, this: &Manifest, force: bool) -> Result<()> {
             if old.shard != this.shard {
                 diff.push(format!("shard {}, not {}", old.shard, this.shard));
             }
-            format!("a finished run of another spec: {}", diff.join("; "))
+            format!("a finished run of other analyses: {}", diff.join("; "))
         }
         Err(e) => format!("an outcomes.csv whose manifest cannot be read ({e})"),
     };

@@ -38,7 +38,7 @@ mod summary;
 mod tally;
 
 pub use lock::RunLock;
-pub use manifest::Manifest;
+pub use manifest::{Finished, Manifest};
 pub use merge::merge;
 pub use plan::{Shard, Unit};
 pub use source::Source;
@@ -55,6 +55,7 @@ use crate::spec::{Motions, Study, fnv1a64};
 use plan::columns;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
 use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -118,6 +119,9 @@ pub struct RunReport {
     pub wall_seconds: f64,
     /// Worker threads used.
     pub threads: usize,
+    /// The folder held a finished run of the same analyses: no analysis
+    /// was run, `outcomes.csv` was kept and the manifest took this spec.
+    pub already_finished: bool,
     /// The statistics of the whole `outcomes.csv`, for `summary.md` (`None`
     /// unless complete).
     pub tally: Option<Tally>,
@@ -128,6 +132,9 @@ pub struct RunReport {
 struct Checkpoint {
     study: String,
     spec_hash: String,
+    /// [`Study::analyses_hash`] (absent in checkpoints of older versions).
+    #[serde(default)]
+    analyses_hash: Option<String>,
     records_hash: Option<String>,
     shard: Shard,
     units_done: usize,
@@ -175,6 +182,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let fresh = Checkpoint {
         study: study.name.clone(),
         spec_hash: manifest.spec_hash.clone(),
+        analyses_hash: Some(manifest.analyses_hash.clone()),
         records_hash: manifest.records_hash.clone(),
         shard: opts.shard,
         units_done: 0,
@@ -183,17 +191,25 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     };
     let (mut ckpt, mut file) = match read_checkpoint(&ckpt_path)? {
         Some(old) => {
-            if old.spec_hash != fresh.spec_hash || old.records_hash != fresh.records_hash {
+            // Only what decides the analyses must match: a change to the
+            // post-processing ([fragility], output.summary, ...) resumes.
+            let same_analyses = match &old.analyses_hash {
+                Some(h) => Some(h) == fresh.analyses_hash.as_ref(),
+                None => old.spec_hash == fresh.spec_hash,
+            };
+            if !same_analyses || old.records_hash != fresh.records_hash {
                 return Err(Error::Conflict {
                     path: dir.clone(),
                     message: format!(
-                        "holds an unfinished run of study '{}' with spec hash {} (records {}), \
-                         but this spec's hash is {} (records {}): refusing to resume it; \
-                         pass another --out, or delete {} to start over",
+                        "holds an unfinished run of study '{}' with analyses hash {} (records {}), \
+                         but this spec's analyses hash is {} (records {}): a field other than \
+                         name, description, [fragility], output.summary or output.figures \
+                         changed, so the analyses done so far are not this spec's; refusing to \
+                         resume; pass another --out, or delete {} to start over",
                         old.study,
-                        old.spec_hash,
+                        old.analyses_hash.as_deref().unwrap_or(&old.spec_hash),
                         old.records_hash.as_deref().unwrap_or("synthetic"),
-                        fresh.spec_hash,
+                        manifest.analyses_hash,
                         fresh.records_hash.as_deref().unwrap_or("synthetic"),
                         ckpt_path.display()
                     ),
@@ -213,10 +229,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
                 .map(|f| (old.clone(), f))
                 .map_or_else(|| start(&cols, fresh.clone(), &partial_path), Ok)?
         }
-        None => {
-            manifest::check_finished(dir, &manifest, opts.force)?;
-            start(&cols, fresh.clone(), &partial_path)?
-        }
+        None => match manifest::check_finished(dir, &manifest, opts.force)? {
+            Finished::No => start(&cols, fresh.clone(), &partial_path)?,
+            Finished::Same(old) => {
+                return reuse_finished(study, dir, opts, manifest, *old, threads, t0);
+            }
+        },
     };
     let resumed_at_unit = ckpt.units_done;
 
@@ -241,9 +259,37 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         .stop_after_units
         .map_or(units.len(), |n| (ckpt.units_done + n).min(units.len()));
     let mut analyses_run = 0u64;
+    // The pilot: one unit per intensity level, solved first and kept for
+    // its chunk, so the estimate and the ETA weigh each level by its own
+    // cost (the first chunk, the lowest level, is the cheapest).
+    let level_of = |u: usize| plan::unit(study, u).level;
+    let mut ahead = HashMap::new();
+    if opts.progress {
+        let left = &units[ckpt.units_done..limit];
+        let pilot = progress::pilot_units(left, level_of, study.intensity.levels().len());
+        if !pilot.is_empty() {
+            let t = Instant::now();
+            let solved = pool.install(|| solve_units(study, &cases, &cols, &source, &pilot));
+            let mut left_per_level = vec![0u64; study.intensity.levels().len()];
+            for &u in left {
+                left_per_level[level_of(u)] += 1;
+            }
+            let mut forecast = progress::Forecast::new(left_per_level);
+            for (&u, (_, seconds)) in pilot.iter().zip(&solved) {
+                forecast.solved(level_of(u), *seconds);
+            }
+            bar.pilot(forecast, pilot.len() * cases.len(), t.elapsed());
+            ahead.extend(
+                pilot
+                    .into_iter()
+                    .zip(solved.into_iter().map(|(text, _)| text)),
+            );
+        }
+    }
     while ckpt.units_done < limit {
         let chunk = &units[ckpt.units_done..(ckpt.units_done + chunk_units).min(limit)];
-        let text = pool.install(|| run_chunk(study, &cases, &cols, &source, chunk));
+        let (text, solved_here) =
+            pool.install(|| run_chunk(study, &cases, &cols, &source, chunk, &mut ahead));
         file.write_all(text.as_bytes())
             .map_err(Error::io(&partial_path))?;
         file.sync_data().map_err(Error::io(&partial_path))?;
@@ -252,7 +298,11 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         write_checkpoint(&ckpt_path, &ckpt)?;
         let n = (chunk.len() * cases.len()) as u64;
         analyses_run += n;
-        bar.inc(n);
+        let solved: Vec<(usize, f64)> = solved_here
+            .iter()
+            .map(|&(u, seconds)| (level_of(u), seconds))
+            .collect();
+        bar.inc(n, &solved);
     }
     bar.finish();
     drop(file);
@@ -266,6 +316,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         wall_seconds: 0.0,
         threads,
         tally: None,
+        already_finished: false,
     };
     if ckpt.units_done < units.len() {
         report.wall_seconds = t0.elapsed().as_secs_f64();
@@ -290,6 +341,44 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     report.counts = tally.counts();
     report.tally = Some(tally);
     Ok(report)
+}
+
+/// The report of a run into `dir` that found a finished run of the same
+/// analyses (`old`, its manifest): `outcomes.csv` is read back and checked
+/// against the plan, and the manifest takes this spec (its post-processing
+/// fields may differ) while keeping the run's times and counts.
+fn reuse_finished(
+    study: &Study,
+    dir: &Path,
+    opts: &RunOptions,
+    mut manifest: Manifest,
+    old: Manifest,
+    threads: usize,
+    t0: Instant,
+) -> Result<RunReport> {
+    let tally = Tally::read(&dir.join(files::OUTCOMES), study, opts.shard)?;
+    manifest.threads = old.threads;
+    manifest.started_unix = old.started_unix;
+    manifest.started_utc = old.started_utc;
+    manifest.finished_unix = old.finished_unix;
+    manifest.finished_utc = old.finished_utc;
+    manifest.resumed_at_unit = old.resumed_at_unit;
+    manifest.analyses_run = old.analyses_run;
+    manifest.wall_seconds = old.wall_seconds;
+    manifest.merged_from = old.merged_from;
+    manifest.counts = tally.counts();
+    manifest.write(&dir.join(files::MANIFEST))?;
+    Ok(RunReport {
+        out_dir: dir.to_path_buf(),
+        complete: true,
+        counts: tally.counts(),
+        resumed_at_unit: 0,
+        analyses_run: 0,
+        wall_seconds: t0.elapsed().as_secs_f64(),
+        threads,
+        tally: Some(tally),
+        already_finished: true,
+    })
 }
 
 /// Writes `dir/summary.md` of `study` (shard `shard`) from `tally` (read
@@ -328,35 +417,73 @@ pub fn write_summary(
     crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(Error::io(&path))
 }
 
-/// Solves one chunk of units and returns its rows, in canonical order.
+/// The rows of one chunk of units, in canonical order: the units solved
+/// ahead by the pilot are taken from `ahead`, the others solved here.
+/// Returns the text and the units solved here with their thread seconds.
 fn run_chunk(
     study: &Study,
     cases: &[Case],
     cols: &Columns,
     source: &Source,
     chunk: &[usize],
-) -> String {
+    ahead: &mut HashMap<usize, String>,
+) -> (String, Vec<(usize, f64)>) {
+    let todo: Vec<usize> = chunk
+        .iter()
+        .copied()
+        .filter(|u| !ahead.contains_key(u))
+        .collect();
+    let solved = solve_units(study, cases, cols, source, &todo);
+    let seconds = todo
+        .iter()
+        .zip(&solved)
+        .map(|(&u, (_, t))| (u, *t))
+        .collect();
+    let mut solved = solved.into_iter();
+    let text = chunk
+        .iter()
+        .map(|u| match ahead.remove(u) {
+            Some(rows) => rows,
+            None => solved.next().expect("one solved unit per unit to do").0,
+        })
+        .collect();
+    (text, seconds)
+}
+
+/// Solves `units` (every case of each) and returns, per unit, its rows in
+/// canonical order and the thread time its record and analyses took, s.
+fn solve_units(
+    study: &Study,
+    cases: &[Case],
+    cols: &Columns,
+    source: &Source,
+    chunk: &[usize],
+) -> Vec<(String, f64)> {
     let levels = study.intensity.levels();
-    let records: Vec<std::result::Result<Record, String>> = chunk
+    let (records, record_seconds): (Vec<std::result::Result<Record, String>>, Vec<f64>) = chunk
         .par_iter()
         .map_init(
             || source.clone(),
             |src, &u| {
+                let t0 = Instant::now();
                 let unit = plan::unit(study, u);
-                src.record(&study.intensity, levels[unit.level], unit.record, study.g)
-                    .map_err(|e| e.to_string())
+                let record = src
+                    .record(&study.intensity, levels[unit.level], unit.record, study.g)
+                    .map_err(|e| e.to_string());
+                (record, t0.elapsed().as_secs_f64())
             },
         )
-        .collect();
+        .unzip();
     let file_names: Vec<Option<&str>> = (0..study.records())
         .map(|i| match &study.motions {
             Motions::Files(f) => Some(f[i].given.as_str()),
             Motions::Synthetic { .. } => None,
         })
         .collect();
-    let rows: Vec<String> = (0..chunk.len() * cases.len())
+    let rows: Vec<(String, f64)> = (0..chunk.len() * cases.len())
         .into_par_iter()
         .map(|k| {
+            let t0 = Instant::now();
             let (ui, ci) = (k / cases.len(), k % cases.len());
             let unit = plan::unit(study, chunk[ui]);
             let case = &cases[ci];
@@ -376,10 +503,16 @@ fn run_chunk(
             };
             let mut row = String::with_capacity(256);
             cols.write_row(&mut row, &cols.row(own, &info, result));
-            row
+            (row, t0.elapsed().as_secs_f64())
         })
         .collect();
-    rows.concat()
+    rows.chunks(cases.len().max(1))
+        .zip(record_seconds)
+        .map(|(unit, record)| {
+            let text = unit.iter().map(|(r, _)| r.as_str()).collect();
+            (text, record + unit.iter().map(|(_, t)| t).sum::<f64>())
+        })
+        .collect()
 }
 
 /// One analysis; a solver error or panic becomes a message.
