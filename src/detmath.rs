@@ -325,6 +325,12 @@ pub fn ln_factorial(n: u64) -> f64 {
     }
 }
 
+/// ln Γ(x) for x > 0 (the beta-binomial's normalisers).
+#[inline]
+pub fn ln_gamma(x: f64) -> f64 {
+    libm::lgamma(x)
+}
+
 /// ln C(n, k) = ln n! − ln k! − ln (n − k)!; −∞ for k > n.
 pub fn ln_binomial(n: u64, k: u64) -> f64 {
     if k > n {

@@ -42,7 +42,9 @@
 //! - [`paper`]: the seed paper as a layer on top (its Tables 1–3 beside a
 //!   study's results, its figures, `rockfrag paper`);
 //! - [`pipeline`]: one run sequence (analyses, summary, fit, figures) for
-//!   the command line and Python.
+//!   the command line and Python;
+//! - [`infer`]: the intensity a site felt, inferred from the objects that
+//!   overturned there (`rockfrag infer`).
 //!
 //! ## Governing equations
 //!
@@ -93,5 +95,6 @@ pub mod export;
 pub mod figures;
 pub mod paper;
 pub mod pipeline;
+pub mod infer;
 
 pub use error::{Error, Result};

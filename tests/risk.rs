@@ -551,3 +551,92 @@ fn the_figure_has_one_row_per_case_and_names_unfitted_limit_states() {
     assert!(svg.contains("overturning: no fit (separated)"));
     assert!(svg.contains("10⁻³") && !svg.contains("1e-3"));
 }
+
+/// Precariously balanced rocks: an object that has stood N years constrains
+/// the hazard. `rockfrag risk --years N` prints, for each case, the
+/// probability exp(−λN) that it is still standing, λ its overturning rate
+/// (closed form for a power law and a lognormal), with the band
+/// exp(−λ_hi N), exp(−λ_lo N) from the bootstrap's rates; the console
+/// prints 4 decimals, so the tolerance is the rounding's 5·10⁻⁵ (the rate's
+/// own error is 10⁻⁸ of it). A case without a fit says why, and
+/// summary.md carries the same table.
+#[test]
+fn risk_prints_the_probability_of_still_standing() {
+    use common::{rockfrag, stderr, stdout};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (k0, k, median, beta, years) = (1e-4, 2.5, 0.6, 0.3, 1000.0);
+    std::fs::write(
+        d.join("fragility.csv"),
+        format!(
+            "aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,median,beta,status,im_unit\n\
+             5,0.8,0,inf,,,overturning,pga,{median},{beta},ok,g\n\
+             2,0.5,0,inf,,,overturning,pga,,,none-overturned,g\n"
+        ),
+    )
+    .unwrap();
+    let mut boot = String::from(rockfrag::fragility::BOOTSTRAP_HEADER);
+    boot.push('\n');
+    let mut rates = Vec::new();
+    for r in 0..100 {
+        let m = median * (1.0 + 0.1 * ((r as f64) * 0.731).sin());
+        rates.push(closed_form(k0, k, m, beta));
+        boot.push_str(&format!(
+            "0,5,0.8,0,inf,,,overturning,pga,{r},{m},{beta},ok\n"
+        ));
+    }
+    std::fs::write(d.join("fragility_bootstrap.csv"), boot).unwrap();
+    std::fs::write(d.join("summary.md"), "# Study\n").unwrap();
+    let mut hazard = String::from("iml,annual_rate\n");
+    for x in levels(0.01, 5.0, 25) {
+        hazard.push_str(&format!("{x:e},{:e}\n", k0 * x.powf(-k)));
+    }
+    let hz = write(d, "hazard.csv", &hazard);
+    let o = rockfrag(&[
+        "risk",
+        d.to_str().unwrap(),
+        "--hazard",
+        hz.to_str().unwrap(),
+        "--years",
+        "1000",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    let mut lines = out
+        .lines()
+        .skip_while(|l| !l.contains("P(still standing after 1000 years) [90%]"))
+        .skip(1);
+    // "H/B=5 2B=0.8 e=0 inf  0.6224 [lo, hi]"
+    let fitted = lines.next().unwrap_or_else(|| panic!("{out}"));
+    let numbers: Vec<f64> = fitted
+        .split([' ', '[', ']', ','])
+        .skip_while(|w| *w != "inf")
+        .skip(1)
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    rates.sort_by(f64::total_cmp);
+    let p = |q| rockfrag::fragility::percentile(&rates, q);
+    let want = [
+        (-closed_form(k0, k, median, beta) * years).exp(),
+        (-p(0.95) * years).exp(),
+        (-p(0.05) * years).exp(),
+    ];
+    assert_eq!(numbers.len(), 3, "{fitted}");
+    for (got, want) in numbers.iter().zip(want) {
+        assert!((got - want).abs() <= 5.1e-5, "{got} vs {want}: {fitted}");
+    }
+    // the closed form's survival is mid-range, where the test means something
+    assert!((0.3..0.9).contains(&want[0]), "{want:?}");
+    let unfitted = lines.next().unwrap();
+    assert!(
+        unfitted.starts_with("H/B=2 2B=0.5") && unfitted.ends_with("not fitted (none-overturned)"),
+        "{unfitted}"
+    );
+    let summary = std::fs::read_to_string(d.join("summary.md")).unwrap();
+    assert!(
+        summary.contains("| P(still standing after 1000 years) [90 %] |"),
+        "{summary}"
+    );
+    let row = format!("| H/B=5 2B=0.8 e=0 inf | {:.4} [", want[0]);
+    assert!(summary.contains(&row), "{row}\n{summary}");
+}

@@ -10,7 +10,7 @@ a result here equals the CLI's on the same input, bit for bit. Units are SI
     >>> o["overturned"], o["theta_max_over_theta_c"]
 
 Functions: :func:`motion`, :func:`floor`, :func:`simulate`, :func:`simulate_many`,
-:func:`run`, :func:`read_outcomes`, :func:`fit`. Bad input raises
+:func:`run`, :func:`read_outcomes`, :func:`fit`, :func:`infer`. Bad input raises
 ``ValueError`` with the CLI's message; files that cannot be read or written
 raise ``OSError``; a solver failure raises ``RuntimeError``.
 """
@@ -23,7 +23,7 @@ import numpy as _np
 from . import _rockfrag
 
 __version__ = _rockfrag.__version__
-__all__ = ["motion", "floor", "simulate", "simulate_many", "run", "read_outcomes", "fit"]
+__all__ = ["motion", "floor", "simulate", "simulate_many", "run", "read_outcomes", "fit", "infer"]
 
 #: Standard gravity used to convert accelerations given in g (m/s²).
 G_STANDARD = 9.81
@@ -444,3 +444,129 @@ def fit(im, overturned, trials=None):
     return _rockfrag.fit(
         [float(x) for x in im], [int(x) for x in n], [int(x) for x in z]
     )
+
+
+#: The survey's columns in the order :func:`infer` writes rows given in memory.
+_SURVEY_COLUMNS = ("name", "width", "aspect", "count", "overturned", "restitution", "mu_s", "mu_k", "slid")
+
+
+def _survey_cell(v, column, row):
+    if v is None or (isinstance(v, float) and _np.isnan(v)):
+        return ""
+    if isinstance(v, float) and _np.isinf(v) and v > 0:
+        return "inf"
+    text = repr(v) if isinstance(v, float) else str(v)
+    if any(c in text for c in ",\n\r"):
+        raise ValueError(
+            "observation row %d, column %s: %r holds a comma or a line break" % (row + 1, column, v)
+        )
+    return text
+
+
+def _survey_csv(rows):
+    """CSV text of a survey given as rows (dicts) or columns (a dict of
+    sequences, or a pandas DataFrame)."""
+    if hasattr(rows, "to_dict"):  # a pandas DataFrame
+        rows = rows.to_dict("records")
+    elif isinstance(rows, dict):
+        columns = list(rows)
+        n = {len(rows[c]) for c in columns}
+        if len(n) > 1:
+            raise ValueError("observation columns of different lengths: %s" % sorted(n))
+        rows = [{c: rows[c][i] for c in columns} for i in range(n.pop() if n else 0)]
+    rows = [dict(r) for r in rows]
+    keys = {k for r in rows for k in r}
+    # Known columns in the survey's order, then any others (which the
+    # library refuses, naming them).
+    header = [c for c in _SURVEY_COLUMNS if c in keys] + sorted(keys - set(_SURVEY_COLUMNS))
+    lines = [",".join(header)]
+    for i, r in enumerate(rows):
+        lines.append(",".join(_survey_cell(r.get(c), c, i) for c in header))
+    return "\n".join(lines) + "\n"
+
+
+def infer(
+    observations,
+    study,
+    *,
+    out=None,
+    prior="log-uniform",
+    im=None,
+    threads=None,
+    figure=True,
+):
+    """The intensity a site felt, inferred from what overturned there: ``rockfrag infer``.
+
+    Every kind of object in the survey is simulated on every record and
+    intensity level of the study, its uncertain properties drawn for each
+    analysis; the likelihood of the survey is the mean over records of the
+    product over kinds (every object at the site felt the same motion). The
+    naive product of each kind's fitted fragility curve is computed beside it.
+
+    Parameters
+    ----------
+    observations : str, os.PathLike, list of dict, dict of sequences or DataFrame
+        The survey: a CSV file ``name,width,aspect,count,overturned``
+        (optional ``restitution,mu_s,mu_k,slid``), one row per kind of
+        object, ``width`` the base width 2B (m) and ``aspect`` H/B; or its
+        rows in memory (errors then name ``<observations>``, its first row on
+        line 2; a missing or None optional value takes the spec's).
+    study : str, os.PathLike or dict
+        The study spec (file or dict of its fields, as for :func:`run`): the
+        records or ground-motion model, the intensity levels, the solver, the
+        ``[uncertainty]`` of the objects' properties and ``[infer]``'s draws.
+    out : str or os.PathLike, optional
+        Output folder (default ``results/<survey file stem>``, or
+        ``results/observations`` for rows in memory). Rerunning into it
+        reuses the simulations.
+    prior : str
+        ``"log-uniform"`` over the levels (default), or
+        ``"hazard=FILE"`` / ``"hazard=FILE,site=K"``: the density of the IM
+        given shaking above the lowest level from a hazard curve (OpenQuake
+        CSV or ``iml,annual_rate``).
+    im : str, optional
+        ``"pga"`` (g) or ``"pgv"`` (m/s); default the levels' IM.
+    threads : int, optional
+        Worker threads (default: one per core). Results do not depend on it.
+    figure : bool
+        Draw ``figures/inference.svg`` (default True).
+
+    Returns
+    -------
+    dict
+        ``inference.json`` as the CLI writes it: ``joint`` and ``naive`` (or
+        None) each with ``median``, ``p05``, ``p95``, ``mode`` and
+        ``mc_error`` (the bootstrap's standard deviation of each), ``im``,
+        ``im_unit``, ``analyses``, ``effective_records``, ``kinds`` (each
+        kind's counts, draws and fitted fragility), …; ``posterior``: the
+        columns of ``posterior.csv`` as numpy arrays (``im``, ``prior``,
+        ``likelihood``, ``posterior``, ``cdf``, ``naive_likelihood``,
+        ``naive_posterior``, ``naive_cdf``); ``out`` the folder;
+        ``analyses_run`` and ``resumed_levels`` (0 and all on a rerun).
+    """
+    obs_path = obs_csv = None
+    if isinstance(observations, (str, _os.PathLike)):
+        obs_path = _os.fspath(observations)
+    else:
+        obs_csv = _survey_csv(observations)
+    path = js = None
+    if isinstance(study, dict):
+        js = _json.dumps(study)
+    elif study is not None:
+        path = _os.fspath(study)
+    if threads is not None and int(threads) < 1:
+        raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
+    got = _rockfrag.infer(
+        obs_path,
+        obs_csv,
+        path,
+        js,
+        None if out is None else _os.fspath(out),
+        str(prior),
+        None if im is None else str(im),
+        0 if threads is None else int(threads),
+        bool(figure),
+    )
+    result = _json.loads(got.pop("inference_json"))
+    result.update(got)
+    return result

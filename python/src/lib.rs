@@ -578,6 +578,84 @@ fn fit<'py>(
     Ok(d)
 }
 
+/// Infers the intensity a site felt from a survey, as `rockfrag infer`
+/// does (the same run: simulations kept and reused in `out`, the same
+/// files written), returning `inference.json`'s text (`inference_json`),
+/// the columns of `posterior.csv` (`posterior`) and the folder (`out`). The survey
+/// is a file (`observations_path`) or CSV text (`observations_csv`, named
+/// `<observations>` in errors, its first row on line 2).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (observations_path, observations_csv, spec_path, spec_json, out, prior, im,
+    threads, figure))]
+fn infer<'py>(
+    py: Python<'py>,
+    observations_path: Option<String>,
+    observations_csv: Option<String>,
+    spec_path: Option<String>,
+    spec_json: Option<String>,
+    out: Option<String>,
+    prior: &str,
+    im: Option<String>,
+    threads: usize,
+    figure: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    use rockfrag::infer::{Im, InferOptions, PriorChoice, Survey, output};
+    let survey = match (&observations_path, observations_csv) {
+        (Some(p), _) => Survey::read(Path::new(p)),
+        (None, Some(text)) => Survey::parse(&text, Path::new("<observations>")),
+        (None, None) => {
+            return Err(PyValueError::new_err(
+                "no observations: give a survey file or rows",
+            ));
+        }
+    }
+    .map_err(py_err)?;
+    if spec_path.is_none() && spec_json.is_none() {
+        return Err(PyValueError::new_err(
+            "no study: give the spec file (or a dict of its fields) that infer simulates with",
+        ));
+    }
+    let (study, spec_file) = load_study(spec_path.as_deref(), spec_json.as_deref())?;
+    let prior: PriorChoice = choice(prior)?;
+    let im = im.map(|s| choice::<Im>(&s)).transpose()?;
+    let out = out.map_or_else(
+        || match &observations_path {
+            Some(p) => rockfrag::infer::default_out(Path::new(p)),
+            None => PathBuf::from("results").join("observations"),
+        },
+        PathBuf::from,
+    );
+    let opts = InferOptions {
+        prior,
+        im,
+        threads,
+        figure: figure.then_some(rockfrag::figures::Format::Svg),
+        ..InferOptions::new(&out, &spec_file)
+    };
+    let report = py
+        .detach(|| rockfrag::infer::run(&study, &survey, &opts))
+        .map_err(py_err)?;
+    // What the CLI wrote, read back: the numbers are the files' numbers.
+    // inference.json goes to Python as text, for `json.loads` (serde_json's
+    // default float parsing may miss the last bit).
+    let json_path = out.join(output::INFERENCE);
+    let text = std::fs::read_to_string(&json_path)
+        .map_err(|e| py_err(rockfrag::Error::io(&json_path)(e)))?;
+    let d = PyDict::new(py);
+    d.set_item("inference_json", text)?;
+    let columns = output::read_posterior(&out.join(output::POSTERIOR)).map_err(py_err)?;
+    let posterior = PyDict::new(py);
+    for (name, values) in columns {
+        posterior.set_item(name, values.into_pyarray(py))?;
+    }
+    d.set_item("posterior", posterior)?;
+    d.set_item("analyses_run", report.analyses_run)?;
+    d.set_item("resumed_levels", report.resumed_levels)?;
+    d.set_item("out", out.display().to_string())?;
+    Ok(d)
+}
+
 #[pymodule]
 fn _rockfrag(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Setup>()?;
@@ -589,6 +667,7 @@ fn _rockfrag(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(read_outcomes, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(infer, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

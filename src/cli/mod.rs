@@ -8,6 +8,7 @@ mod fragility;
 mod merge;
 mod figures;
 mod floor;
+mod infer;
 mod motion;
 mod paper;
 mod risk;
@@ -46,6 +47,8 @@ pub enum Command {
     /// Annual rate of each limit state at a site: the fitted fragility
     /// integrated over a hazard curve (OpenQuake CSV or iml,annual_rate).
     Risk(risk::RiskArgs),
+    /// The intensity a site felt, inferred from the objects that overturned there.
+    Infer(Box<infer::InferArgs>),
     /// A fitted study's curves for OpenQuake (a classical_damage job) or
     /// pelicun (a damage database).
     Export(export::ExportArgs),
@@ -68,6 +71,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Merge(args) => merge::run(args),
         Command::Fragility(args) => fragility::run(args),
         Command::Risk(args) => risk::run(args),
+        Command::Infer(args) => infer::run(*args),
         Command::Export(args) => export::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Figures(args) => figures::run(args),

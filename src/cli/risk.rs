@@ -9,7 +9,8 @@ use rockfrag::figures::{RiskFigure, save};
 use rockfrag::io_util::sig3;
 use rockfrag::risk::{
     HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, USED_HAZARD, assess, describe_hazard,
-    read_fragility, read_hazard, summary_section, write_risk_csv, write_used_hazard,
+    read_fragility, read_hazard, standing_rows, summary_section, survival_cell, write_risk_csv,
+    write_used_hazard,
 };
 
 /// Flags of `rockfrag risk`.
@@ -24,7 +25,9 @@ pub struct RiskArgs {
     /// (IML in the fit's unit).
     #[arg(long, value_name = "FILE")]
     pub hazard: PathBuf,
-    /// Exposure time for the probability of exceedance 1 − exp(−λN), years.
+    /// Exposure time N, years: for the probability of exceedance
+    /// 1 − exp(−λN), and of a case still standing after N years, exp(−λN)
+    /// (a precariously balanced rock that has stood N years).
     #[arg(long, value_name = "N", default_value_t = RiskOptions::default().years)]
     pub years: f64,
     /// Site of an OpenQuake file: its 0-based data row [default: 0].
@@ -125,10 +128,37 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     }
     eprint!("{text}");
     let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(table(&rows, &options).as_bytes()) {
+    let data = format!(
+        "{}{}",
+        table(&rows, &options),
+        still_standing(&rows, &options)
+    );
+    match stdout.write_all(data.as_bytes()) {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         other => other.context("writing to standard output"),
     }
+}
+
+/// P(still standing after N years) = exp(−λN) for each case, λ the rate
+/// of its limit state named `overturning` (else of its last, most severe):
+/// for a precariously balanced rock that has stood N years, how likely the
+/// hazard curve makes that.
+fn still_standing(rows: &[RiskRow], options: &RiskOptions) -> String {
+    let pct = (options.confidence * 100.0).round();
+    let mut cells = vec![vec![
+        "case".to_string(),
+        format!(
+            "P(still standing after {} years) [{pct}%]",
+            rockfrag::io_util::number(options.years)
+        ),
+    ]];
+    for r in standing_rows(rows) {
+        cells.push(vec![
+            r.curve.key.to_string(),
+            survival_cell(r, options.years),
+        ]);
+    }
+    rockfrag::io_util::aligned(&cells)
 }
 
 fn table(rows: &[RiskRow], options: &RiskOptions) -> String {

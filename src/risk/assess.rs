@@ -83,6 +83,24 @@ impl RiskRow {
         self.rate().map(|r| -dm::exp_m1(-r * years))
     }
 
+    /// Probability of not exceeding the limit state in `years`, exp(−λN)
+    /// (Poisson occurrence): for an object still standing after N years
+    /// (a precariously balanced rock), how likely the hazard curve makes
+    /// that; a small value argues against the hazard curve (or the
+    /// fragility).
+    pub fn survival(&self, years: f64) -> Option<f64> {
+        self.rate().map(|r| dm::exp(-r * years))
+    }
+
+    /// The bootstrap band of [`RiskRow::survival`]: exp(−λN) at the rate
+    /// band's ends (the high rate gives the low survival).
+    pub fn survival_band(&self, years: f64) -> Option<Interval> {
+        self.band.map(|b| Interval {
+            lo: dm::exp(-b.hi * years),
+            hi: dm::exp(-b.lo * years),
+        })
+    }
+
     /// Shares of the rate from below and above the hazard curve's ends
     /// (0 when the rate is 0).
     pub fn shares(&self) -> Option<(f64, f64)> {
@@ -124,6 +142,24 @@ impl RiskRow {
         })
     }
 }
+
+/// One row per case (in the order the cases first appear) for
+/// [`RiskRow::survival`]: the case's limit state named `overturning`, else
+/// its last (most severe) one.
+pub fn standing_rows(rows: &[RiskRow]) -> Vec<&RiskRow> {
+    let mut out: Vec<&RiskRow> = Vec::new();
+    for r in rows {
+        match out.iter_mut().find(|o| o.curve.key == r.curve.key) {
+            None => out.push(r),
+            Some(o) if o.curve.limit_state != OVERTURNING => *o = r,
+            Some(_) => {}
+        }
+    }
+    out
+}
+
+/// The limit state whose survival [`standing_rows`] prefers.
+const OVERTURNING: &str = "overturning";
 
 /// Integrates every fitted curve of `fragility` over `hazard` (levels in the
 /// fit's unit: see [`HazardCurve::in_unit_of`]), each bootstrap replicate

@@ -91,7 +91,7 @@ mod input;
 mod integrate;
 mod output;
 
-pub use assess::{RiskOptions, RiskRow, assess};
+pub use assess::{RiskOptions, RiskRow, assess, standing_rows};
 pub use hazard::{
     HazardCurve, HazardSource, MIN_RATE_PRECISION, USED_HAZARD, read_hazard, write_used_hazard,
 };
@@ -100,4 +100,4 @@ pub use integrate::{
     RELATIVE_TOLERANCE, RiskIntegral, annual_rate, deaggregation, deaggregation_smoothed,
     risk_integral,
 };
-pub use output::{RISK_HEADER, describe_hazard, summary_section, write_risk_csv};
+pub use output::{RISK_HEADER, describe_hazard, summary_section, survival_cell, write_risk_csv};

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use super::assess::{RiskOptions, RiskRow};
+use super::assess::{RiskOptions, RiskRow, standing_rows};
 use super::hazard::{HazardCurve, HazardSource};
 use crate::error::{Error, Result};
 use crate::io_util::{number, sig3, write_atomic};
@@ -89,6 +89,32 @@ pub fn describe_hazard(h: &HazardCurve) -> String {
     }
 }
 
+/// A probability for the console and summary: 4 decimals from 0.01 up
+/// (a survival near 1 keeps its digits), 3 significant digits below.
+fn probability(p: f64) -> String {
+    if p >= 0.01 {
+        format!("{p:.4}")
+    } else {
+        sig3(p)
+    }
+}
+
+/// P(still standing after `years` years) of one row of
+/// [`standing_rows`], as printed: exp(−λN) with its bootstrap band, the
+/// limit state named unless it is `overturning`, or why there is none.
+pub fn survival_cell(row: &RiskRow, years: f64) -> String {
+    let Some(p) = row.survival(years) else {
+        return format!("not fitted ({})", row.curve.status);
+    };
+    let band = row.survival_band(years).map_or(String::new(), |b| {
+        format!(" [{}, {}]", probability(b.lo), probability(b.hi))
+    });
+    match row.curve.limit_state.as_str() {
+        "overturning" => format!("{}{band}", probability(p)),
+        ls => format!("{}{band} (not exceeding {ls})", probability(p)),
+    }
+}
+
 /// The `## Risk` section of `summary.md`: the hazard used and a table of the
 /// rates, return periods and probabilities over `options.years`.
 pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOptions) -> String {
@@ -140,5 +166,18 @@ pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOpt
         100.0 * worst.0,
         100.0 * worst.1
     ));
+    s.push_str(&format!(
+        "\nP(still standing after {years} years) = exp(−λN), λ the rate of overturning: \
+         for an object that has stood that long (a precariously balanced rock), how likely \
+         the hazard curve makes it; a small value argues against the hazard curve.\n\n\
+         | case | P(still standing after {years} years) [{pct} %] |\n|---|---|\n"
+    ));
+    for r in standing_rows(rows) {
+        s.push_str(&format!(
+            "| {} | {} |\n",
+            r.curve.key,
+            survival_cell(r, options.years)
+        ));
+    }
     s
 }

@@ -31,12 +31,14 @@
 //! [output]
 //! summary = true
 
+mod infer;
 mod locate;
 mod raw;
 mod study;
 mod uncertainty;
 mod validate;
 
+pub use infer::InferSettings;
 pub use raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, UncertaintyFile};
 pub use study::{
     Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study, Uncertainty,

@@ -61,6 +61,10 @@ pub struct SpecFile {
     /// empty `[fragility]` table takes every default (default: no fit).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fragility: Option<FragilityOptions>,
+    /// Settings of `rockfrag infer` (default: its defaults; a study run
+    /// ignores them).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub infer: Option<super::infer::InferSettings>,
 }
 
 /// The `[grid]` table: every combination of its values is analysed under

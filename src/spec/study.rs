@@ -55,6 +55,8 @@ pub struct Study {
     pub output: OutputFile,
     /// Fragility fit on completion, if the spec asks for one.
     pub fragility: Option<FragilityOptions>,
+    /// `rockfrag infer`'s settings, if the spec has an `[infer]` table.
+    pub infer: Option<super::infer::InferSettings>,
 }
 
 /// The validated `[uncertainty]` table: what each analysis draws, per
@@ -293,6 +295,7 @@ impl Study {
             solver: self.solver,
             output: self.output,
             fragility: self.fragility.clone(),
+            infer: self.infer.clone(),
         }
     }
 

@@ -49,6 +49,9 @@ impl SpecFile {
         let grid = grid(&spec, self.grid, g, recorded, uncertainty.as_ref())?;
         solver(&spec, &self.solver)?;
         fragility(&spec, self.fragility.as_ref(), &self.output)?;
+        if let Some(infer) = &self.infer {
+            infer.validate().map_err(|e| spec.nested("", e))?;
+        }
         let mut fragility_options = self.fragility;
         if let (Some(options), Some(u)) = (&mut fragility_options, &uncertainty) {
             options.pool = u.drawn();
@@ -69,6 +72,7 @@ impl SpecFile {
             solver: self.solver,
             output: self.output,
             fragility: fragility_options,
+            infer: self.infer,
         })
     }
 }
