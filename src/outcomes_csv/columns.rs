@@ -45,7 +45,8 @@ pub enum Column {
     Moved,
     /// Peak |θ|/θc.
     ThetaMaxOverThetaC,
-    /// Peak |F|/N while rocking, μ_mot.
+    /// Peak |F|/N while rocking, μ_mot; in an overturned run, before its
+    /// final excursion beyond θc, where N → 0 (see [`Outcome::mu_motion`]).
     MuMotion,
     /// Peak |P_t/P_n| over impacts, μ_imp.
     MuImpact,

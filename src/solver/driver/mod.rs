@@ -401,6 +401,13 @@ struct Run<'a> {
     quiet: f64,
     /// The time rest was last left.
     left_rest: f64,
+    /// The peak friction demand |F|/N of the rock steps that ended beyond θc
+    /// since the last one that ended within θc (0 if none). It joins
+    /// `mu_motion` when the block comes back within θc or the run ends
+    /// without overturning; an overturned run drops it, so that its
+    /// `mu_motion` leaves out the final fall, where N → 0 and F/N grows
+    /// without bound (to 1e13–1e16).
+    mu_beyond: f64,
     /// A time at which rest was left and re-entered: the mode it broke into
     /// found no motion (a threshold met within rounding), so rest does not
     /// break again at that instant (it would loop there).
@@ -457,6 +464,7 @@ impl<'a> Run<'a> {
             },
             left_rest: f64::NAN,
             stuck_at: f64::NAN,
+            mu_beyond: 0.0,
         }
     }
 
@@ -634,6 +642,10 @@ impl<'a> Run<'a> {
             }
         }
         self.out.end_time = t;
+        if !self.out.overturned {
+            // the last excursion beyond θc came back (or the record ended)
+            self.out.mu_motion = self.out.mu_motion.max(self.mu_beyond);
+        }
         if self.set.audit_energy {
             self.out.energy_residual = Some(self.resid / self.escale);
         }
