@@ -119,7 +119,13 @@ pub struct Outcome {
     pub end_time: f64,
     /// Time of the first impact, if any.
     pub first_impact_time: Option<f64>,
-    /// Time spent in each mode, in the order of [`Mode::ALL`].
+    /// Time spent in each mode, in the order of [`Mode::ALL`] (s; they sum
+    /// to `end_time`). A cascade of e = 0 rock impacts that the cascade rule
+    /// settles counts as rock for as long as it would have lasted (its
+    /// duration in closed form on the ground of its start, within 1e-4 s of
+    /// every impact followed on still ground) and as rest from then on; the
+    /// history shows the block at rest from the settle. A series of bounces
+    /// closed by the chatter rule counts as rock from the closing impact.
     pub time_in_mode: [f64; 5],
     /// Peak |slip| of the block relative to the ground (m): the largest offset
     /// of its footprint (or of its slipping pivot) from where it started.

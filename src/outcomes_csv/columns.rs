@@ -74,7 +74,8 @@ pub enum Column {
     EndTime,
     /// Time of the first impact (s; empty if none).
     FirstImpactTime,
-    /// Time in one mode (s).
+    /// Time in one mode (s); a cascade the cascade rule settles counts as
+    /// rock for its closed-form duration (see [`Outcome::time_in_mode`]).
     TimeIn(Mode),
     /// Right-hand-side evaluations.
     RhsCalls,
