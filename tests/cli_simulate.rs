@@ -356,3 +356,55 @@ fn follow_cascades_flag_keeps_the_motion_and_adds_events() {
         events(&ruled)
     );
 }
+
+/// `--sensitivity` solves the run again under the record scaled by 1 + 1e-9
+/// and says whether it is sensitive, and why: on the bench record that
+/// decides H/B 2, e = 0.9, μ 0.7/0.6 at 1.2 g by a hair, overturning flips;
+/// with `--json` the outcome carries a `sensitivity` object with the
+/// perturbed run's overturning and θmax/θc.
+#[test]
+fn sensitivity_flag_reports_the_perturbed_run() {
+    let args = [
+        "simulate",
+        "--seed",
+        "1991",
+        "--index",
+        "8",
+        "--pga",
+        "1.2",
+        "--aspect",
+        "2",
+        "--restitution",
+        "0.9",
+        "--mu-s",
+        "0.7",
+        "--mu-k",
+        "0.6",
+        "--sensitivity",
+    ];
+    let o = rockfrag(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("sensitive         yes: overturning flipped"),
+        "{text}"
+    );
+    assert!(
+        text.contains("record × (1+1e-9) overturned false"),
+        "{text}"
+    );
+    let o = rockfrag(&[&args[..], &["--json"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let s = &v["sensitivity"];
+    assert_eq!(v["overturned"], true);
+    assert_eq!(
+        (&s["sensitive"], &s["overturned"]),
+        (&true.into(), &false.into())
+    );
+    assert!(s["theta_max_over_theta_c"].as_f64().unwrap() < 1.0);
+    // without the flag, no second solve and no object
+    let o = rockfrag(&[&args[..args.len() - 1], &["--json"]].concat());
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert!(v.get("sensitivity").is_none());
+}
