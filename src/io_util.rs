@@ -61,6 +61,57 @@ fn temp_path(dir: &Path, path: &Path) -> PathBuf {
     dir.join(format!(".{name}.tmp-{}-{n}{ext}", std::process::id()))
 }
 
+/// Replaces the section of the markdown file at `path` that starts with
+/// the line `heading` (e.g. `## Risk`) and runs to the next `## ` heading
+/// with `section`; a file without it gets `section` before the first of
+/// the headings `before` it has, else at its end. Atomic.
+pub fn replace_section(
+    path: &Path,
+    heading: &str,
+    section: &str,
+    before: &[&str],
+) -> std::io::Result<()> {
+    let text = std::fs::read_to_string(path)?;
+    let lines: Vec<&str> = text.lines().collect();
+    let is = |l: &str, h: &str| l.trim_end() == h;
+    let new: Vec<&str> = section.trim_end().lines().collect();
+    let (keep_to, resume_at) = match lines.iter().position(|l| is(l, heading)) {
+        Some(i) => {
+            let end = lines[i + 1..]
+                .iter()
+                .position(|l| l.starts_with("## "))
+                .map_or(lines.len(), |j| i + 1 + j);
+            (i, end)
+        }
+        None => {
+            let at = lines
+                .iter()
+                .position(|l| before.iter().any(|h| is(l, h)))
+                .unwrap_or(lines.len());
+            (at, at)
+        }
+    };
+    let mut head: Vec<&str> = lines[..keep_to].to_vec();
+    while head.last().is_some_and(|l| l.trim().is_empty()) {
+        head.pop();
+    }
+    let mut out: Vec<&str> = head;
+    if !out.is_empty() {
+        out.push("");
+    }
+    out.extend(new);
+    if resume_at < lines.len() {
+        out.push("");
+        out.extend(&lines[resume_at..]);
+    }
+    write_atomic(path, |w| {
+        for l in &out {
+            writeln!(w, "{l}")?;
+        }
+        Ok(())
+    })
+}
+
 /// The shortest text that reads back as exactly `x`: plain for ordinary
 /// magnitudes, with an exponent below 1e-4 or from 1e15 (so that a tail
 /// probability of 1e-300 is not 300 zeros).
@@ -188,6 +239,31 @@ pub(crate) use named;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A second update replaces the first section instead of adding another,
+    /// the sections after it survive, and a missing section goes before the
+    /// heading named (or at the end).
+    #[test]
+    fn replace_section_replaces_or_inserts() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.md");
+        let read = || std::fs::read_to_string(&path).unwrap();
+        std::fs::write(&path, "# Study\n\ntext\n\n## Tables\n\nrow\n").unwrap();
+        replace_section(&path, "## Risk", "## Risk\n\nfirst\n", &[]).unwrap();
+        replace_section(&path, "## Risk", "## Risk\n\nsecond\n", &[]).unwrap();
+        assert_eq!(
+            read(),
+            "# Study\n\ntext\n\n## Tables\n\nrow\n\n## Risk\n\nsecond\n"
+        );
+        std::fs::write(&path, "# S\n\n## Risk\n\nold\n\n## After\n\nkept\n").unwrap();
+        replace_section(&path, "## Risk", "## Risk\n\nnew\n", &[]).unwrap();
+        assert_eq!(read(), "# S\n\n## Risk\n\nnew\n\n## After\n\nkept\n");
+        replace_section(&path, "## Fit", "## Fit\n\nx\n", &["## Nope", "## After"]).unwrap();
+        assert_eq!(
+            read(),
+            "# S\n\n## Risk\n\nnew\n\n## Fit\n\nx\n\n## After\n\nkept\n"
+        );
+    }
 
     /// Three significant figures; small and large numbers in scientific
     /// notation.

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::figures::{FigureOptions, FiguresReport};
-use crate::fragility::{FitReport, fit_and_write};
+use crate::fragility::{FitReport, FragilityOptions, fit_and_write};
 use crate::paper;
 use crate::spec::Study;
 use crate::study::{self, RunLock, RunOptions, RunReport, Shard, Tally, files};
@@ -81,18 +81,27 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<StudyReport> {
     Ok(StudyReport { run, finish })
 }
 
-/// What a complete study folder `dir` gets when its spec asks:
-/// `summary.md` (from `tally`, or read from `outcomes.csv`), the fragility
-/// fit and the figures into `dir/figures`; the paper's layer adds its
-/// tables and figures for the paper's own study.
+/// What a complete study folder `dir` gets when its spec asks: the
+/// fragility fit, `summary.md` (from `tally`, or read from `outcomes.csv`;
+/// with the fitted curves) and the figures into `dir/figures`; the paper's
+/// layer adds its tables and figures for the paper's own study.
 pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<FinishReport> {
     let mut report = FinishReport::default();
-    if study.output.summary {
-        study::write_summary(dir, study, Shard::WHOLE, tally, paper::reference(study))?;
-        report.summary = Some(dir.join(files::SUMMARY));
-    }
     if let Some(options) = &study.fragility {
         report.fit = Some(fit_and_write(dir, dir, options)?);
+    }
+    if study.output.summary {
+        let read;
+        let tally = match tally {
+            Some(t) => t,
+            None => {
+                read = Tally::read(&dir.join(files::OUTCOMES), study, Shard::WHOLE)?;
+                &read
+            }
+        };
+        let extra: Vec<String> = paper::summary_section(study, tally).into_iter().collect();
+        study::write_summary(dir, study, Shard::WHOLE, Some(tally), &extra)?;
+        report.summary = Some(dir.join(files::SUMMARY));
     }
     if study.output.figures {
         report.figures = Some(figures(
@@ -103,6 +112,39 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
         )?);
     }
     Ok(report)
+}
+
+/// Refits the curves of the study folder `dir` into `out`
+/// ([`fit_and_write`]) and, when they replace the folder's own
+/// (`out` = `dir`), the `## Fragility` section of its `summary.md`.
+pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitReport> {
+    let mut report = fit_and_write(dir, out, options)?;
+    let summary = dir.join(files::SUMMARY);
+    if same_folder(dir, out) && summary.exists() {
+        let rows = crate::fragility::read_fragility_csv(&report.fragility_csv)?;
+        crate::io_util::replace_section(
+            &summary,
+            study::FRAGILITY_HEADING,
+            &study::fragility_section(&rows),
+            &[study::COUNTS_HEADING],
+        )
+        .map_err(Error::io(&summary))?;
+        report.wrote = format!(
+            "{}; updated {} ({})\n",
+            report.wrote.trim_end(),
+            summary.display(),
+            study::FRAGILITY_HEADING
+        );
+    }
+    Ok(report)
+}
+
+/// Whether `a` and `b` name the same folder (both exist).
+fn same_folder(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
 }
 
 /// Draws the figures of the study folder `dir` into `out`: the generic

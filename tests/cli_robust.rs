@@ -234,26 +234,6 @@ fn mu_k_above_mu_s_is_a_usage_error() {
     );
 }
 
-/// `motion --dt 0.003` names the combination that fails (--dt against the
-/// fixed df = 0.05 Hz) and steps that work, instead of blaming `df`, which
-/// the user never gave. 0.0025 and 0.004 are the round steps either side
-/// (20/0.0025 = 8000, 20/0.004 = 5000).
-#[test]
-fn motion_dt_error_names_dt_and_what_works() {
-    let o = rockfrag(&["motion", "--seed", "1", "--pga", "0.5", "--dt", "0.003"]);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert_eq!(stderr(&o).trim_end().lines().count(), 1, "{}", stderr(&o));
-    let err = stderr(&o);
-    assert!(
-        err.contains("--dt 0.003") && err.contains("--dt 0.0025 or --dt 0.004"),
-        "{err}"
-    );
-    assert!(!err.contains("invalid df"), "{err}");
-}
-
-/// A spec named `stüdy 2.toml` with no `name` runs as study `study` (accents
-/// dropped from the file name's first word); before, it was refused as
-/// `invalid name = "stüdy"` at line 0.
 #[test]
 fn non_ascii_spec_file_name_gives_a_valid_study_name() {
     let tmp = tempfile::tempdir().unwrap();

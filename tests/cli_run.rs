@@ -2,7 +2,7 @@
 //! write, and one-line errors that name the file and the field.
 
 mod common;
-use common::{rockfrag, run_spec, stderr};
+use common::{rockfrag, run_spec, stderr, stdout};
 use std::path::Path;
 
 const SMALL: &str = concat!(
@@ -149,6 +149,8 @@ fn run_fits_fragility_and_draws_figures_when_the_spec_asks() {
     }
     let rows = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
     assert_eq!(rows.lines().count(), 1 + 4, "{rows}");
+    let before = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(before.contains("IM the PGA in g"), "{before}");
     for name in common::FIGURES {
         let svg = std::fs::read_to_string(out.join("figures").join(format!("{name}.svg")))
             .unwrap_or_else(|e| panic!("{name}.svg: {e}"));
@@ -185,4 +187,21 @@ fn run_fits_fragility_and_draws_figures_when_the_spec_asks() {
         "0",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+
+    // The refit replaces summary.md's section of curves, in its place (before
+    // the counts), once: the summary describes the curves on disk.
+    let after = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert_eq!(after.matches("## Fragility").count(), 1, "{after}");
+    assert!(after.contains("IM the PGV in m/s"), "{after}");
+    assert!(!after.contains("IM the PGA in g"), "{after}");
+    let (fit, counts) = (
+        after.find("## Fragility"),
+        after.find("## Counts per stripe"),
+    );
+    assert!(fit < counts, "{after}");
+    assert!(
+        stdout(&o).contains("summary.md (## Fragility)"),
+        "{}",
+        stdout(&o)
+    );
 }

@@ -14,8 +14,11 @@ use rockfrag::solver::{
     simulate,
 };
 
+/// Records of the seed paper's ground-motion model (its eq. (5) is what
+/// these tests are about).
 fn records(seed: u64, n: u64, pga_g: f64) -> Vec<Record> {
-    let mut syn = Synthesizer::new(&SynthesisSettings::default()).unwrap();
+    let settings: SynthesisSettings = rockfrag::motion::preset("shenton-jones").unwrap();
+    let mut syn = Synthesizer::new(&settings).unwrap();
     (0..n)
         .map(|i| syn.generate(seed, i, pga_g * G).unwrap())
         .collect()

@@ -25,9 +25,9 @@ fn the_built_in_study_uses_the_rad_s_grid_reading() {
     // Δω = 0.05 rad/s and ω_max = 25 rad/s, in Hz (Δf rounded by < 1e-4).
     let two_pi = 2.0 * std::f64::consts::PI;
     assert!(
-        (settings.df * two_pi / 0.05 - 1.0).abs() < 1e-4,
+        (settings.frequency_step() * two_pi / 0.05 - 1.0).abs() < 1e-4,
         "{}",
-        settings.df
+        settings.frequency_step()
     );
     assert!((settings.f_max * two_pi - 25.0).abs() < 1e-12);
     // The literal reading is kept as its own spec file.

@@ -7,9 +7,7 @@ use std::path::PathBuf;
 use super::args::choice;
 use anyhow::Context;
 use rockfrag::case::Field;
-use rockfrag::fragility::{
-    BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, fit_and_write,
-};
+use rockfrag::fragility::{BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState};
 use rockfrag::spec::Study;
 use rockfrag::study::Manifest;
 
@@ -139,7 +137,7 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     }
     let options = args.options()?;
     let out = args.out.as_ref().unwrap_or(&args.dir);
-    let report = fit_and_write(&args.dir, out, &options)?;
+    let report = rockfrag::pipeline::refit(&args.dir, out, &options)?;
     let mut text = report.table.clone();
     text.push_str(&report.notes(args.verbose));
     text.push_str(&report.wrote);

@@ -9,7 +9,7 @@ use rockfrag::figures::{RiskFigure, save};
 use rockfrag::io_util::sig3;
 use rockfrag::risk::{
     HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, assess, describe_hazard,
-    read_fragility, read_hazard, summary_section, update_summary, write_risk_csv,
+    read_fragility, read_hazard, summary_section, write_risk_csv,
 };
 
 /// Flags of `rockfrag risk`.
@@ -63,7 +63,9 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     let summary = args.dir.join("summary.md");
     let summary = (args.out.is_none() && summary.exists()).then_some(summary);
     if let Some(path) = &summary {
-        update_summary(path, &summary_section(&rows, &hazard, &options))?;
+        let section = summary_section(&rows, &hazard, &options);
+        rockfrag::io_util::replace_section(path, "## Risk", &section, &[])
+            .with_context(|| path.display().to_string())?;
     }
 
     let mut text = format!("hazard: {}\n", describe_hazard(&hazard).replace('`', ""));

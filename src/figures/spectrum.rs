@@ -74,7 +74,7 @@ impl SpectrumFigure {
 
         // stationary process: one period, components on DFT bins
         let n = synth.period_len();
-        let k_min = (f_lo / settings.df).round() as usize;
+        let k_min = (f_lo / settings.frequency_step()).round() as usize;
         let mut planner = RealFftPlanner::<f64>::new();
         let fft = planner.plan_fft_forward(n);
         let mut input = fft.make_input_vec();

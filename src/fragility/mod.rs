@@ -90,7 +90,10 @@ pub use files::{
     BOOTSTRAP_HEADER, BootstrapRow, CURVES_HEADER, CurveRow, FRAGILITY_HEADER, FragilityRow,
     OutputPaths, read_bootstrap_csv, read_curves_csv, read_fragility_csv, write_outputs,
 };
-pub use fit::{LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal};
+pub use fit::{
+    LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal, unfit_advice,
+    unfit_words,
+};
 pub use nrml::{
     IML_SIGMAS, NrmlEntry, NrmlFunction, NrmlShape, lognormal_to_moments, model_range,
     moments_to_lognormal, nrml_model_string, nrml_string, write_nrml,

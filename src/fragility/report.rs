@@ -9,6 +9,7 @@ use super::bootstrap::Interval;
 use super::case::{BetaModel, CaseFit, fit_cases};
 use super::data::read_outcomes_for;
 use super::files::write_outputs;
+use super::fit::{unfit_advice, unfit_words};
 use super::options::FragilityOptions;
 use crate::error::{Error, Result};
 use crate::io_util::{aligned, sig3};
@@ -22,6 +23,9 @@ pub struct FitReport {
     pub case_notes: Vec<String>,
     /// Those notes in one line, or empty.
     pub bootstrap_line: String,
+    /// One line per curve that could not be fitted: which, why and what to
+    /// try (empty when every curve was fitted).
+    pub unfitted: Vec<String>,
     /// A note on failed analyses skipped, or empty.
     pub failed_note: String,
     /// `wrote …` (one line).
@@ -37,14 +41,16 @@ pub struct FitReport {
 }
 
 impl FitReport {
-    /// The notes: every case's (`verbose`) or their summary line, then the
-    /// note on failed analyses.
+    /// The notes: the curves that could not be fitted and what to try, the
+    /// bootstrap's notes (every case's when `verbose`, else one line), then
+    /// the note on failed analyses.
     pub fn notes(&self, verbose: bool) -> String {
-        let mut text = if verbose {
-            self.case_notes.concat()
+        let mut text = self.unfitted.concat();
+        if verbose {
+            text.push_str(&self.case_notes.concat());
         } else {
-            self.bootstrap_line.clone()
-        };
+            text.push_str(&self.bootstrap_line);
+        }
         text.push_str(&self.failed_note);
         text
     }
@@ -90,7 +96,8 @@ pub fn fit_and_write(dir: &Path, out: &Path, options: &FragilityOptions) -> Resu
     Ok(FitReport {
         table: table(&fits, options),
         case_notes: case_notes(&fits),
-        bootstrap_line: bootstrap_line(&fits, &paths.fragility),
+        bootstrap_line: bootstrap_line(&fits, &paths.fragility, options.confidence),
+        unfitted: unfitted_notes(&fits),
         failed_note,
         wrote: format!(
             "wrote {}, {}, {}, {}\n",
@@ -104,6 +111,22 @@ pub fn fit_and_write(dir: &Path, out: &Path, options: &FragilityOptions) -> Resu
         fragility_csv: paths.fragility.clone(),
         fits,
     })
+}
+
+/// One line per curve that could not be fitted: its case id, limit state,
+/// why in words and what to try ([`unfit_advice`]).
+fn unfitted_notes(fits: &[CaseFit]) -> Vec<String> {
+    fits.iter()
+        .filter_map(|f| {
+            let reason = f.fit.as_ref().err()?;
+            Some(format!(
+                "not fitted: {} {}: {}\n",
+                f.key.id(),
+                f.limit_state,
+                unfit_advice(reason.status(), f.im_range)
+            ))
+        })
+        .collect()
 }
 
 /// One note per curve whose bootstrap had replicates that could not be
@@ -127,9 +150,10 @@ fn case_notes(fits: &[CaseFit]) -> Vec<String> {
         .collect()
 }
 
-/// The bootstrap notes in one line, by reason: `bootstrap: 16 cases had
-/// separated replicates (max 12 of 1000); see fragility.csv`; empty if none.
-fn bootstrap_line(fits: &[CaseFit], csv: &Path) -> String {
+/// The bootstrap notes in one line of words, by reason (`bootstrap: for 16
+/// curves, up to 12 of 1000 replicates could not be fitted (…); their 90 %
+/// bands come from the other replicates …`); empty if none.
+fn bootstrap_line(fits: &[CaseFit], csv: &Path, confidence: f64) -> String {
     // reason -> (curves with it, most replicates of one curve, its replicates)
     let mut by_reason: std::collections::BTreeMap<&str, (usize, usize, usize)> =
         std::collections::BTreeMap::new();
@@ -145,16 +169,37 @@ fn bootstrap_line(fits: &[CaseFit], csv: &Path) -> String {
     if by_reason.is_empty() {
         return String::new();
     }
+    // More than a tenth of a curve's replicates left out: its band is not
+    // one to quote.
+    let worst = by_reason
+        .values()
+        .map(|&(_, max, of)| max as f64 / of.max(1) as f64)
+        .fold(0.0, f64::max);
+    let narrow = if worst > 0.1 {
+        "narrow on the steep side, too narrow to quote where more than a tenth were left out"
+    } else {
+        "a little narrow on the steep side"
+    };
     let parts: Vec<String> = by_reason
         .iter()
         .map(|(reason, (curves, max, of))| {
             let what = if *curves == 1 { "curve" } else { "curves" };
-            format!("{curves} {what} had {reason} replicates (max {max} of {of})")
+            let why = match *reason {
+                "separated" => {
+                    " (separated: none exceeded below some stripe, all above it)".to_string()
+                }
+                other => format!(" ({})", unfit_words(other)),
+            };
+            format!("for {curves} {what}, up to {max} of {of} replicates could not be fitted{why}")
         })
         .collect();
     format!(
-        "bootstrap: {}; the intervals come from the others (boot_unfit in {}; --verbose lists them)\n",
-        parts.join(", "),
+        "bootstrap: {}; their {} % bands come from the other replicates and are {}; \
+         more records per stripe, or stripes closer together near \
+         the median, make such replicates fewer (boot_unfit in {}; --verbose lists them)\n",
+        parts.join("; "),
+        (100.0 * confidence).round(),
+        narrow,
         csv.display()
     )
 }

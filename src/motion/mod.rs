@@ -24,4 +24,4 @@ pub use envelope::Envelope;
 pub use io::{At2, DT_REL_TOL, read_at2, read_csv, read_record, write_csv, write_csv_to};
 pub use psd::CloughPenzien;
 pub use record::{G_STANDARD, Record, integrate_linear};
-pub use synth::{SynthesisSettings, Synthesizer, record_seed, synthesize};
+pub use synth::{PRESETS, SynthesisSettings, Synthesizer, preset, record_seed, synthesize};

@@ -9,12 +9,32 @@
 //! a(t) = Σ_k A_k cos(2π f_k t + φ_k),   E[a²] = Σ_k A_k²/2 ≈ ∫ S(f) df
 //! ```
 //!
-//! It is periodic with period 1/Δf (20 s at the defaults). One period is
-//! synthesised exactly on the DFT grid, N = 1/(Δf·Δt) samples, by one inverse
-//! real FFT, and repeated for longer records. Components at or above the
-//! Nyquist frequency 1/(2Δt) cannot be represented (a cosine at Nyquist keeps
-//! only A·cos φ·(−1)ⁿ, its phase is lost) and are left out: at the defaults,
-//! the single 25 Hz component, 0.01 % of the variance.
+//! It is periodic with period 1/Δf. One period is synthesised exactly on the
+//! DFT grid, N = 1/(Δf·Δt) samples, by one inverse real FFT, and repeated
+//! for longer records. Components at or above the Nyquist frequency 1/(2Δt)
+//! cannot be represented (a cosine at Nyquist keeps only A·cos φ·(−1)ⁿ, its
+//! phase is lost) and are left out.
+//!
+//! **The default model** (a study without `[motion]`, `rockfrag motion`,
+//! `simulate --seed`): the Clough–Penzien spectrum with Kung and Pecknold's
+//! firm-soil parameters ([`CloughPenzien::default`]), components from
+//! 0.05 Hz up to 25 Hz (the band of the seed paper's section 4: below
+//! 0.05 Hz the spectrum's second filter and the 0.07 Hz high-pass leave
+//! nothing; above 25 Hz, the Nyquist frequency of the 0.02 s step, firm soil
+//! carries under 0.1 % of the variance and a rigid block, whose rocking
+//! frequencies are a few Hz, does not respond), on the frequency grid of one
+//! FFT over the whole record: Δf = 1/(N·Δt) with N the smallest power of two
+//! of at least as many samples as the record (40.96 s for the 30-s record
+//! at 0.02 s). So the process does not repeat within the record, whatever
+//! its duration and step. A sum of cosines on a coarser grid repeats every
+//! 1/Δf: the seed paper's grid read as written (Δf = 0.05 Hz) repeats every
+//! 20 s inside a 30-s record.
+//!
+//! **Presets** ([`preset`]): named models a spec asks for with `[motion]
+//! preset = "…"`: `shenton-jones`, the seed paper's section 4 with its
+//! frequency grid read in rad/s (Δω = 0.05 rad/s over 0.05–25 rad/s; the
+//! reading that reproduces its Tables 1–3), and `shenton-jones-as-written`
+//! (Δf = 0.05 Hz over 0.05–25 Hz).
 //!
 //! The record is then modulated by the [`Envelope`] c(t), baseline-processed
 //! ([`Baseline`]: zero-phase high-pass, drift-free consistent integration)
@@ -40,16 +60,19 @@ use super::psd::CloughPenzien;
 use super::record::{G_STANDARD, Record};
 use crate::error::{Error, Result};
 
-/// Settings of the stochastic ground-motion generator. Defaults reproduce
-/// the paper's section 4.
+/// Settings of the stochastic ground-motion generator (defaults: see the
+/// [module docs](self)).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SynthesisSettings {
     /// Target power spectral density, eq. (6) (default: "firm soil").
     pub psd: CloughPenzien,
-    /// Frequency step Δf of the components, Hz (default: 0.05). The process
-    /// repeats every 1/Δf seconds; 1/(Δf·Δt) must be an integer.
-    pub df: f64,
+    /// Frequency step Δf of the components, Hz (default: none, one FFT over
+    /// the whole record, 1/(N·Δt) with N the smallest power of two ≥ the
+    /// record's samples). The process repeats every 1/Δf seconds; a step
+    /// given must make 1/(Δf·Δt) an integer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub df: Option<f64>,
     /// Lowest component frequency, Hz (default: 0.05).
     pub f_min: f64,
     /// Highest component frequency, Hz (default: 25.0); components at or
@@ -71,7 +94,7 @@ impl Default for SynthesisSettings {
     fn default() -> Self {
         SynthesisSettings {
             psd: CloughPenzien::default(),
-            df: 0.05,
+            df: None,
             f_min: 0.05,
             f_max: 25.0,
             dt: 0.02,
@@ -91,7 +114,7 @@ impl SynthesisSettings {
     pub fn validate(&self) -> Result<()> {
         self.psd.validate()?;
         for (name, v) in [
-            ("df", self.df),
+            ("df", self.df.unwrap_or(1.0)),
             ("f_min", self.f_min),
             ("f_max", self.f_max),
             ("dt", self.dt),
@@ -125,15 +148,27 @@ impl SynthesisSettings {
         pga_g * self.g
     }
 
+    /// The frequency step Δf (Hz): the one given, or one FFT over the whole
+    /// record (see [`SynthesisSettings::df`]).
+    pub fn frequency_step(&self) -> f64 {
+        match self.df {
+            Some(df) => df,
+            None => 1.0 / (self.samples().next_power_of_two() as f64 * self.dt),
+        }
+    }
+
     /// N = 1/(Δf·Δt), the number of samples in one period of the process;
     /// an error if it is not an integer.
     pub fn period_len(&self) -> Result<usize> {
-        let x = 1.0 / (self.df * self.dt);
+        let Some(df) = self.df else {
+            return Ok(self.samples().next_power_of_two());
+        };
+        let x = 1.0 / (df * self.dt);
         let n = x.round();
         if !(x.is_finite() && n >= 2.0 && (x - n).abs() <= INTEGER_TOL * x) {
             return Err(Error::invalid(
                 "df",
-                self.df,
+                df,
                 &format!(
                     "a frequency step such that 1/(df·dt) is an integer ≥ 2 \
                      (one period of the process on the time grid); with dt = {} it is {x}",
@@ -152,7 +187,7 @@ impl SynthesisSettings {
         if self.period_len().is_ok() {
             return None;
         }
-        let (dt, df) = (self.dt, self.df);
+        let (dt, df) = (self.dt, self.frequency_step());
         let n = 1.0 / (df * dt);
         // Round steps that fit, nearest below and above the one given.
         let fits = |d: f64| {
@@ -194,10 +229,9 @@ impl SynthesisSettings {
     /// ≤ f_max and f_k below Nyquist.
     fn components(&self) -> Result<(usize, usize)> {
         let n = self.period_len()?;
-        let k_min = ((self.f_min / self.df) * (1.0 - INTEGER_TOL))
-            .ceil()
-            .max(1.0) as usize;
-        let k_top = ((self.f_max / self.df) * (1.0 + INTEGER_TOL)).floor() as usize;
+        let df = self.frequency_step();
+        let k_min = ((self.f_min / df) * (1.0 - INTEGER_TOL)).ceil().max(1.0) as usize;
+        let k_top = ((self.f_max / df) * (1.0 + INTEGER_TOL)).floor() as usize;
         let k_max = k_top.min((n - 1) / 2);
         if k_min > k_max {
             return Err(Error::invalid(
@@ -206,12 +240,62 @@ impl SynthesisSettings {
                 &format!(
                     "a band [f_min, f_max] holding at least one multiple of df = {} below \
                      the Nyquist frequency {} Hz",
-                    self.df,
+                    df,
                     0.5 / self.dt
                 ),
             ));
         }
         Ok((k_min, k_max))
+    }
+}
+
+/// The named ground-motion models a spec can ask for (`[motion] preset`):
+/// name and what it is.
+pub const PRESETS: [(&str, &str); 2] = [
+    (
+        "shenton-jones",
+        "the seed paper's section 4 with its frequency grid read in rad/s: components every \
+         0.05 rad/s over 0.05-25 rad/s (0.008-3.98 Hz), firm soil; reproduces its Tables 1-3",
+    ),
+    (
+        "shenton-jones-as-written",
+        "the seed paper's section 4 as written: components every 0.05 Hz over 0.05-25 Hz, firm \
+         soil (repeats every 20 s)",
+    ),
+];
+
+/// The settings of the preset `name` ([`PRESETS`]), `None` for an unknown
+/// name.
+///
+/// ```
+/// use rockfrag::motion::preset;
+/// let p = preset("shenton-jones").unwrap();
+/// assert!((1.0 / (p.df.unwrap() * p.dt) - 6283.0).abs() < 1e-9);
+/// assert!(preset("kanai").is_none());
+/// ```
+pub fn preset(name: &str) -> Option<SynthesisSettings> {
+    let base = SynthesisSettings::default();
+    match name {
+        "shenton-jones-as-written" => Some(SynthesisSettings {
+            df: Some(0.05),
+            f_min: 0.05,
+            f_max: 25.0,
+            ..base
+        }),
+        "shenton-jones" => {
+            let two_pi = 2.0 * std::f64::consts::PI;
+            // Δω = 0.05 rad/s is Δf = 0.05/2π Hz; 1/(Δf·Δt) = 6283.2 at
+            // Δt = 0.02 s, rounded to the integer 6283 the FFT synthesis needs.
+            let n = (two_pi / (0.05 * base.dt)).round();
+            let df = 1.0 / (n * base.dt);
+            Some(SynthesisSettings {
+                df: Some(df),
+                f_min: df,
+                f_max: 25.0 / two_pi,
+                ..base
+            })
+        }
+        _ => None,
     }
 }
 
@@ -279,8 +363,9 @@ impl Synthesizer {
         let (k_min, k_max) = settings.components()?;
         let half_amp = (k_min..=k_max)
             .map(|k| {
-                let f = k as f64 * settings.df;
-                0.5 * (2.0 * settings.psd.density(f) * settings.df).sqrt()
+                let df = settings.frequency_step();
+                let f = k as f64 * df;
+                0.5 * (2.0 * settings.psd.density(f) * df).sqrt()
             })
             .collect();
         let len = settings.samples();
@@ -317,7 +402,7 @@ impl Synthesizer {
     /// Component frequencies f_k (Hz), in the order their phases are drawn.
     pub fn frequencies(&self) -> Vec<f64> {
         (0..self.half_amp.len())
-            .map(|i| (self.k_min + i) as f64 * self.settings.df)
+            .map(|i| (self.k_min + i) as f64 * self.settings.frequency_step())
             .collect()
     }
 
@@ -587,20 +672,38 @@ mod tests {
         assert_eq!(sin_cos_turns(0.25), (1.0, 0.0));
     }
 
+    /// The default model does not repeat within the record: one period of
+    /// 2048 samples (40.96 s) covers the 1501 of a 30-s record at 0.02 s,
+    /// and any step or duration gets a period at least as long as the
+    /// record. The paper's grid read as written repeats every 20 s.
     #[test]
-    fn default_grid() {
+    fn default_grid_covers_the_record() {
         let s = SynthesisSettings::default();
-        assert_eq!(s.period_len().unwrap(), 1000);
         assert_eq!(s.samples(), 1501);
+        assert_eq!(s.period_len().unwrap(), 2048);
+        // 0.0732 Hz (the first multiple of Δf from 0.05 Hz) … below Nyquist.
+        assert_eq!(s.components().unwrap(), (3, 1023));
+        for (dt, duration) in [(0.01, 30.0), (0.005, 61.3), (0.03, 20.0)] {
+            let s = SynthesisSettings {
+                dt,
+                duration,
+                ..SynthesisSettings::default()
+            };
+            let period = s.period_len().unwrap() as f64 * dt;
+            assert!(period >= duration, "{dt} {duration}: {period}");
+            assert!(Synthesizer::new(&s).is_ok());
+        }
+        let written = preset("shenton-jones-as-written").unwrap();
+        assert_eq!(written.period_len().unwrap(), 1000);
         // 0.05 … 24.95 Hz: the 25 Hz component sits on Nyquist and is dropped.
-        assert_eq!(s.components().unwrap(), (1, 499));
+        assert_eq!(written.components().unwrap(), (1, 499));
     }
 
     #[test]
     fn non_integer_period_is_an_error() {
         let s = SynthesisSettings {
             dt: 0.03,
-            ..Default::default()
+            ..preset("shenton-jones-as-written").unwrap()
         };
         let e = s.validate().unwrap_err().to_string();
         assert!(e.contains("df") && e.contains("integer"), "{e}");

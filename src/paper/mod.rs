@@ -7,9 +7,9 @@
 //! them; the generic modules never name the paper. A study that is the
 //! paper's set-up ([`is_papers`]) gets the generic outputs plus this layer:
 //!
-//! - `summary.md`: the published values beside ours in every table, with
-//!   Fisher's test per cell and the trend of the paper's counts over e
-//!   (a [`Reference`] of the generic summary);
+//! - `summary.md`: a section with the study's results in the layout of the
+//!   paper's Tables 1–3, the published values beside ours in every cell,
+//!   Fisher's test per cell and the trend of the paper's counts over e;
 //! - figures: the paper's values drawn beside ours in the friction-demand
 //!   and restitution figures, the paper's illustrative response history
 //!   (H/B 2, e 0.6, μs 0.6, μk 0.4 at 0.9 g), and `e_trend`, the trend of
@@ -20,6 +20,7 @@
 
 mod check;
 pub(crate) mod figures;
+mod summary;
 mod tables;
 
 pub use check::{
@@ -30,13 +31,13 @@ pub use tables::{Reading, readings};
 
 use std::path::Path;
 
-use crate::case::{Case, Param};
+use crate::case::Param;
 use crate::error::Result;
 use crate::figures::{FigureOptions, FiguresReport};
 use crate::motion::G_STANDARD;
 use crate::solver::Friction;
 use crate::spec::{Intensity, Motions, Study};
-use crate::study::{Reference, ReferenceCell};
+use crate::study::Tally;
 
 /// Whether `study` is the paper's set-up, cell for cell comparable with
 /// Tables 1–3: synthetic records under one of the readings of section 4
@@ -61,47 +62,10 @@ pub fn is_papers(study: &Study) -> bool {
             .all(|a| a.fixed().is_some_and(|a| [2.0, 4.0, 6.0].contains(&a)))
 }
 
-/// The paper's Tables 1–3 as the generic summary's [`Reference`]: counts of
-/// 25 runs per cell in the paper's convention, and the means of θmax/θc,
-/// μ_mot and (beside ours of eq. (5)) μ_imp.
-pub(crate) struct PaperTables;
-
-impl Reference for PaperTables {
-    fn intro(&self) -> String {
-        "This is the paper's study: each cell shows ours / the paper's (Shenton and Jones, \
-         Tables 1–3, infinite friction, paper convention); `n/a`: no published value; \
-         `-`: every run overturned."
-            .to_string()
-    }
-
-    fn friction(&self) -> Param<Friction> {
-        Param::Fixed(Friction::Infinite)
-    }
-
-    fn runs(&self) -> u64 {
-        tables::RECORDS as u64
-    }
-
-    fn cell(&self, case: &Case, level: f64) -> Option<ReferenceCell> {
-        let (aspect, e) = (case.aspect.fixed()?, case.restitution.fixed()?);
-        tables::lookup(aspect, e, level).map(|r| ReferenceCell {
-            overturned: u64::from(r.overturned),
-            runs: tables::RECORDS as u64,
-            // The paper's μ_imp is its eq. (5): it stands beside ours of
-            // eq. (5), not beside the impulse ratio.
-            means: [r.theta_max_over_theta_c, r.mu_motion, None, r.mu_impact],
-        })
-    }
-
-    fn has_mean(&self, k: usize) -> bool {
-        k != 2
-    }
-}
-
-/// The summary's reference for `study`: the paper's tables for the paper's
-/// study, none otherwise.
-pub(crate) fn reference(study: &Study) -> Option<&'static dyn Reference> {
-    is_papers(study).then_some(&PaperTables as &dyn Reference)
+/// The paper's section of `summary.md` for `study` (its Tables 1–3 beside
+/// ours), `None` for a study that is not the paper's.
+pub(crate) fn summary_section(study: &Study, tally: &Tally) -> Option<String> {
+    is_papers(study).then(|| summary::tables_section(tally, study))
 }
 
 /// Draws the trend of overturning with e of `rockfrag paper`'s check

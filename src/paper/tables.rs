@@ -7,7 +7,7 @@
 //! Table 1 has no row for A_g = 0.3 (too weak to start rocking at H/B = 2),
 //! and the cells where every run overturned have no averages.
 
-use crate::motion::SynthesisSettings;
+use crate::motion::{SynthesisSettings, preset};
 
 /// One row of Tables 1–3.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -121,20 +121,9 @@ pub struct Reading {
 /// the rad/s band and the whole rad/s grid (see `paper::check`). The
 /// built-in study uses the rad/s grid.
 pub fn readings() -> Vec<Reading> {
-    let two_pi = 2.0 * std::f64::consts::PI;
-    let written = SynthesisSettings::default();
+    let written = preset("shenton-jones-as-written").expect("a preset");
     let band = SynthesisSettings {
-        f_max: 25.0 / two_pi,
-        ..written.clone()
-    };
-    // Δω = 0.05 rad/s is Δf = 0.05/2π Hz; 1/(Δf·Δt) = 6283.2 at Δt = 0.02 s,
-    // rounded to the integer 6283 the FFT synthesis needs.
-    let n = (two_pi / (0.05 * written.dt)).round();
-    let df = 1.0 / (n * written.dt);
-    let grid = SynthesisSettings {
-        df,
-        f_min: df,
-        f_max: 25.0 / two_pi,
+        f_max: written.f_max / (2.0 * std::f64::consts::PI),
         ..written.clone()
     };
     vec![
@@ -151,7 +140,7 @@ pub fn readings() -> Vec<Reading> {
         Reading {
             name: "rad/s grid",
             meaning: "Δω = 0.05 rad/s over 0.05–25 rad/s (Δf ≈ 0.00796 Hz, up to 3.98 Hz)",
-            settings: grid,
+            settings: preset("shenton-jones").expect("a preset"),
         },
     ]
 }

@@ -89,4 +89,4 @@ pub use assess::{RiskOptions, RiskRow, assess};
 pub use hazard::{HazardCurve, HazardSource, MIN_RATE_PRECISION, read_hazard};
 pub use input::{FittedCurve, FittedFragility, read_fragility};
 pub use integrate::{RELATIVE_TOLERANCE, RiskIntegral, annual_rate, deaggregation, risk_integral};
-pub use output::{RISK_HEADER, describe_hazard, summary_section, update_summary, write_risk_csv};
+pub use output::{RISK_HEADER, describe_hazard, summary_section, write_risk_csv};

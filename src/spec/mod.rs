@@ -37,7 +37,7 @@ mod study;
 mod uncertainty;
 mod validate;
 
-pub use raw::{FrictionEntry, GridFile, OutputFile, SpecFile, UncertaintyFile};
+pub use raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, UncertaintyFile};
 pub use study::{
     Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study, Uncertainty,
     fnv1a64, friction_label,

@@ -5,7 +5,7 @@
 use super::locate::key_at;
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
-use crate::motion::SynthesisSettings;
+use crate::motion::{Baseline, CloughPenzien, Envelope, SynthesisSettings};
 use crate::solver::{Friction, SolverSettings};
 use crate::uncertainty::Value;
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
@@ -39,9 +39,10 @@ pub struct SpecFile {
     /// `seed`, `records` and `[motion]` must be left out (default: none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub record_files: Vec<String>,
-    /// Stochastic ground-motion model (default: the paper's section 4).
+    /// Stochastic ground-motion model (default: the generator's default
+    /// model, see [`crate::motion::SynthesisSettings`]; or a named preset).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub motion: Option<SynthesisSettings>,
+    pub motion: Option<MotionFile>,
     /// The grids of the study.
     pub grid: GridFile,
     /// Block parameters drawn per analysis instead of taken from the grid
@@ -262,5 +263,78 @@ impl SpecFile {
                 },
             }
         })
+    }
+}
+/// `[motion]` as written: a named preset (`preset = "shenton-jones"`) and
+/// any field of [`SynthesisSettings`] to override it (or the default model
+/// without a preset); a field left out takes the preset's (or default)
+/// value, `g` the study's.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MotionFile {
+    /// A named model ([`crate::motion::PRESETS`]) whose settings the other
+    /// fields override (default: none, the default model).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
+    /// Target power spectral density.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub psd: Option<CloughPenzien>,
+    /// Frequency step Δf, Hz.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub df: Option<f64>,
+    /// Lowest component frequency, Hz.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub f_min: Option<f64>,
+    /// Highest component frequency, Hz.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub f_max: Option<f64>,
+    /// Sample interval Δt, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Record duration, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub duration: Option<f64>,
+    /// Time envelope.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub envelope: Option<Envelope>,
+    /// High-pass filter and integration.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baseline: Option<Baseline>,
+    /// Gravity, m/s² (must be the study's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g: Option<f64>,
+}
+
+impl MotionFile {
+    /// Every field of `s` written out, no preset: the canonical form.
+    pub fn from_settings(s: &SynthesisSettings) -> MotionFile {
+        MotionFile {
+            preset: None,
+            psd: Some(s.psd.clone()),
+            df: s.df,
+            f_min: Some(s.f_min),
+            f_max: Some(s.f_max),
+            dt: Some(s.dt),
+            duration: Some(s.duration),
+            envelope: Some(s.envelope.clone()),
+            baseline: Some(s.baseline.clone()),
+            g: Some(s.g),
+        }
+    }
+
+    /// The settings: `base` (a preset's, or the default) with the fields
+    /// given here.
+    pub fn resolve(&self, base: SynthesisSettings) -> SynthesisSettings {
+        SynthesisSettings {
+            psd: self.psd.clone().unwrap_or(base.psd),
+            df: self.df.or(base.df),
+            f_min: self.f_min.unwrap_or(base.f_min),
+            f_max: self.f_max.unwrap_or(base.f_max),
+            dt: self.dt.unwrap_or(base.dt),
+            duration: self.duration.unwrap_or(base.duration),
+            envelope: self.envelope.clone().unwrap_or(base.envelope),
+            baseline: self.baseline.clone().unwrap_or(base.baseline),
+            g: self.g.unwrap_or(base.g),
+        }
     }
 }

@@ -2,7 +2,7 @@
 //! in range. It is built only by [`SpecFile::validate`], and written back as
 //! canonical spec text by [`Study::to_toml`].
 
-use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile, UncertaintyFile};
+use super::raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, UncertaintyFile};
 use crate::case::{Case, Field, Param};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
@@ -227,7 +227,7 @@ impl Study {
                 Some(*seed),
                 Some(*records),
                 Vec::new(),
-                Some(settings.clone()),
+                Some(MotionFile::from_settings(settings)),
             ),
             Motions::Files(files) => (
                 None,

@@ -5,13 +5,13 @@
 //! first. `[output]` holds only switches and needs no check.
 
 use super::locate::Origin;
-use super::raw::{FrictionEntry, GridFile, OutputFile, SpecFile};
+use super::raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile};
 use super::study::{Intensity, Motions, RecordFile, Study, Uncertainty, friction_label};
 use super::uncertainty::uncertainty;
 use crate::case::Param;
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
-use crate::motion::{G_STANDARD, SynthesisSettings};
+use crate::motion::{G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{Block, Friction, SolverSettings};
 use crate::uncertainty::{Property, Value};
@@ -164,15 +164,30 @@ fn gravity(spec: &Origin, g: Option<f64>) -> Result<f64> {
 /// and `records`.
 fn synthetic(
     spec: &Origin,
-    motion: Option<SynthesisSettings>,
+    motion: Option<MotionFile>,
     seed: Option<u64>,
     records: Option<usize>,
     g: f64,
 ) -> Result<Motions> {
-    let mut settings = motion.unwrap_or_else(|| SynthesisSettings {
-        g,
-        ..SynthesisSettings::default()
-    });
+    let motion = motion.unwrap_or_default();
+    let base = match &motion.preset {
+        None => SynthesisSettings::default(),
+        Some(name) => preset(name).ok_or_else(|| {
+            spec.bad(
+                "motion.preset",
+                &format!("\"{name}\""),
+                &format!(
+                    "one of {}",
+                    PRESETS
+                        .iter()
+                        .map(|(n, _)| format!("\"{n}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )
+        })?,
+    };
+    let mut settings = motion.resolve(SynthesisSettings { g, ..base });
     if settings.g != g {
         return Err(spec.bad(
             "motion.g",

@@ -3,7 +3,7 @@
 //! and what it counted.
 
 use super::plan::Shard;
-use super::summary::Counts;
+use super::tally::Counts;
 use crate::error::{Error, Result};
 use crate::spec::Study;
 use serde::{Deserialize, Serialize};

@@ -10,7 +10,7 @@
 use super::files;
 use super::manifest::{self, Manifest};
 use super::plan::{self, Shard};
-use super::summary::Tally;
+use super::tally::Tally;
 use crate::error::{Error, Result};
 use crate::spec::Study;
 use std::io::{BufRead, BufReader};

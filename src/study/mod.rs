@@ -35,13 +35,15 @@ pub(crate) mod plan;
 mod progress;
 mod source;
 mod summary;
+mod tally;
 
 pub use lock::RunLock;
 pub use manifest::Manifest;
 pub use merge::merge;
 pub use plan::{Shard, Unit};
 pub use source::Source;
-pub use summary::{Counts, Reference, ReferenceCell, Tally};
+pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
+pub use tally::{Counts, Tally};
 
 use crate::case::Case;
 use crate::error::{Error, Result};
@@ -291,14 +293,16 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
 }
 
 /// Writes `dir/summary.md` of `study` (shard `shard`) from `tally` (read
-/// from `dir/outcomes.csv` when `None`), with `reference`'s published values
-/// beside ours if given. Atomic.
+/// from `dir/outcomes.csv` when `None`), with the fitted curves of
+/// `dir/fragility.csv` when it exists, the provenance of `dir/manifest.json`,
+/// and `extra` sections after the generic ones (a layer's: the paper's
+/// tables for its study). Atomic.
 pub fn write_summary(
     dir: &Path,
     study: &Study,
     shard: Shard,
     tally: Option<&Tally>,
-    reference: Option<&dyn Reference>,
+    extra: &[String],
 ) -> Result<()> {
     let read;
     let tally = match tally {
@@ -308,8 +312,19 @@ pub fn write_summary(
             &read
         }
     };
+    let fragility = dir.join("fragility.csv");
+    let fits = if fragility.exists() {
+        Some(crate::fragility::read_fragility_csv(&fragility)?)
+    } else {
+        None
+    };
+    let manifest = Manifest::read(&dir.join(files::MANIFEST)).ok();
     let path = dir.join(files::SUMMARY);
-    let text = tally.markdown(study, shard, reference);
+    let mut text = tally.markdown(study, shard, fits.as_deref(), manifest.as_ref());
+    for section in extra {
+        text.push('\n');
+        text.push_str(section);
+    }
     crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(Error::io(&path))
 }
 
