@@ -360,9 +360,11 @@ fn follow_cascades_flag_keeps_the_motion_and_adds_events() {
 
 /// `--sensitivity` solves the run again under the record scaled by 1 + 1e-9
 /// and says whether it is sensitive, and why: on the bench record that
-/// decides H/B 2, e = 0.9, μ 0.7/0.6 at 1.2 g by a hair, overturning flips;
-/// with `--json` the outcome carries a `sensitivity` object with the
-/// perturbed run's overturning and θmax/θc.
+/// decides H/B 6, e = 0, μ 0.7/0.6 at 1.0 g by a hair (record 21 of seed
+/// 1991, the default motion model), overturning flips (the block overturns,
+/// and under the record larger by 1e-9 stops at 0.82 θc); with `--json` the
+/// outcome carries a `sensitivity` object with the perturbed run's
+/// overturning and θmax/θc.
 #[test]
 fn sensitivity_flag_reports_the_perturbed_run() {
     let args = [
@@ -370,13 +372,13 @@ fn sensitivity_flag_reports_the_perturbed_run() {
         "--seed",
         "1991",
         "--index",
-        "8",
+        "21",
         "--pga",
-        "1.2",
+        "1.0",
         "--aspect",
-        "2",
+        "6",
         "--restitution",
-        "0.9",
+        "0",
         "--mu-s",
         "0.7",
         "--mu-k",
