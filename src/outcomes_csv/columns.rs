@@ -85,6 +85,10 @@ pub enum Column {
     StepsRejected,
     /// Events handled.
     Events,
+    /// The analysis solved again under its record scaled by 1 + 1e-9 changed
+    /// its outcome (see [`crate::solver::sensitivity`]); empty when either
+    /// solve failed.
+    Sensitive,
     /// Why the analysis failed (empty if it did not).
     Error,
 }
@@ -141,6 +145,9 @@ pub const STATS: [Column; 4] = [
     Column::StepsRejected,
     Column::Events,
 ];
+
+/// The sensitivity column (`[output] sensitivity`).
+pub const SENSITIVITY: [Column; 1] = [Column::Sensitive];
 
 /// What a column holds, when it can serve as a limit state's measure.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -221,6 +228,7 @@ impl Column {
             Column::StepsAccepted => "steps_accepted",
             Column::StepsRejected => "steps_rejected",
             Column::Events => "events",
+            Column::Sensitive => "sensitive",
             Column::Error => "error",
         }
     }
@@ -291,7 +299,9 @@ impl Column {
     /// The kind of the column's values.
     pub fn value_kind(self) -> ValueKind {
         match self {
-            Column::Overturned | Column::Uplifted | Column::Moved => ValueKind::Flag,
+            Column::Overturned | Column::Uplifted | Column::Moved | Column::Sensitive => {
+                ValueKind::Flag
+            }
             Column::Record
             | Column::Impacts
             | Column::Flights
@@ -429,6 +439,8 @@ pub struct Columns {
     pub time_in_mode: bool,
     /// Solver work counters.
     pub stats: bool,
+    /// Whether each analysis is sensitive (`sensitive` column).
+    pub sensitivity: bool,
 }
 
 impl Columns {
@@ -440,6 +452,7 @@ impl Columns {
         scale: true,
         time_in_mode: true,
         stats: true,
+        sensitivity: true,
     };
 
     /// The outcome columns of a successful row, in order: [`OUTCOME`], then
@@ -456,7 +469,7 @@ impl Columns {
     }
 
     /// Every column, in order: the case, the record (and `record_file`),
-    /// `status`, the outcome columns, `error`.
+    /// `status`, the outcome columns, `sensitive` when present, `error`.
     pub fn list(&self) -> Vec<Column> {
         let mut v: Vec<Column> = CASE.into_iter().chain(RECORD).collect();
         if self.files {
@@ -467,6 +480,9 @@ impl Columns {
         }
         v.push(Column::Status);
         v.extend(self.outcome());
+        if self.sensitivity {
+            v.extend(SENSITIVITY);
+        }
         v.push(Column::Error);
         v
     }
@@ -508,6 +524,7 @@ mod tests {
             scale: true,
             time_in_mode: true,
             stats: true,
+            sensitivity: true,
         };
         let names = all.names();
         let mut sorted = names.clone();
@@ -526,7 +543,7 @@ mod tests {
              mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,\
              energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,\
              t_rest,t_slide,t_rock,t_slide_rock,t_flight,\
-             rhs_calls,steps_accepted,steps_rejected,events,error\n"
+             rhs_calls,steps_accepted,steps_rejected,events,sensitive,error\n"
         );
     }
 }

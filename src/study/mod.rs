@@ -50,7 +50,7 @@ use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::Outcome;
 use crate::outcomes_csv::{Columns, RecordInfo};
-use crate::solver::{Analysis, simulate};
+use crate::solver::{Analysis, Sensitivity, sensitivity, simulate};
 use crate::spec::{Motions, Study, fnv1a64};
 use plan::columns;
 use rayon::prelude::*;
@@ -369,14 +369,28 @@ fn run_chunk(
                 file: file_names[unit.record],
             };
             let (own, analysis) = plan::analysis(study, case, ci, &unit);
-            let result = match (analysis, record) {
-                (Ok(analysis), Ok(r)) => solve(&analysis, r, study),
-                (Ok(_), Err(e)) => Err(format!("record: {e}")),
-                (Err(e), _) => Err(format!("block: {e}")),
+            let (result, sensitive) = match (analysis, record) {
+                (Ok(analysis), Ok(r)) => {
+                    let result = solve(&analysis, r, study);
+                    // the same analysis under the record scaled by 1 + 1e-9
+                    let sensitive = match &result {
+                        Ok(base) if cols.sensitivity => {
+                            solve(&analysis, &sensitivity::perturbed(r), study)
+                                .ok()
+                                .map(|o| Sensitivity::compare(base, &o).sensitive)
+                        }
+                        _ => None,
+                    };
+                    (result, sensitive)
+                }
+                (Ok(_), Err(e)) => (Err(format!("record: {e}")), None),
+                (Err(e), _) => (Err(format!("block: {e}")), None),
             };
-            let mut row = String::with_capacity(256);
-            cols.write_row(&mut row, &cols.row(own, &info, result));
-            row
+            let mut row = cols.row(own, &info, result);
+            row.sensitive = sensitive;
+            let mut text = String::with_capacity(256);
+            cols.write_row(&mut text, &row);
+            text
         })
         .collect();
     rows.concat()

@@ -58,6 +58,7 @@ pub fn columns(study: &Study) -> Columns {
         files: matches!(study.motions, Motions::Files(_)),
         time_in_mode: study.output.time_in_mode,
         stats: study.output.stats,
+        sensitivity: study.output.sensitivity,
     }
 }
 
