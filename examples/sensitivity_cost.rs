@@ -1,7 +1,7 @@
-//! The cost of the sensitivity check (`rockfrag::solver::sensitivity`): the
-//! bench ensemble (`rockfrag bench`: 25 records of seed 1991 at 0.6 and
-//! 1.2 g; H/B 2, 4, 6; e 0 and 0.9; infinite friction and μs = 0.7,
-//! μk = 0.6; 600 analyses) solved on one thread with the default settings,
+//! The cost of the sensitivity check (`rockfrag::solver::sensitivity`): two
+//! stripes of the bench ensemble (`rockfrag bench`: 25 records of seed 1991
+//! of the default motion model at 0.6 and 1.2 g; H/B 2, 4, 6; e 0 and 0.9;
+//! infinite friction and μs = 0.7, μk = 0.6; 600 analyses) solved on one thread with the default settings,
 //! without and with the check, in alternating passes. Prints the minimum and
 //! median time per analysis of each, and their ratio.
 //!
