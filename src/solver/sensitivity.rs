@@ -26,40 +26,53 @@
 //! six orders below any physical uncertainty of a record's amplitude (1e-3 at
 //! best). The thresholds are a gain of 1e6 on that: a regular run moves by
 //! about the perturbation times an amplification of 1–1e3. On the bench
-//! ensemble (`rockfrag bench`: 1800 analyses, 25 records at 0.2 … 1.2 g,
-//! reference settings) |Δθmax/θc| is at most 1e-9 in 1328 runs, in
-//! (1e-9, 1e-6] in 282, (1e-6, 1e-4] in 95, (1e-4, 1e-3] in 30 and above
-//! 1e-3 in 56, and overturning flips in 9; of the 640 runs that overturn in
-//! both, the overturning time moves by at most 1e-6 s in 423, by
-//! (1e-6, 1e-2] s in 197 and by more in 20 (up to 0.3 s). The tail is
-//! continuous, so the thresholds are a convention, stated: 85 runs (4.7 %)
-//! are sensitive, none at 0.2 and 0.4 g, then 2.7, 6.0, 10.0 and 9.7 % at
-//! 0.6, 0.8, 1.0 and 1.2 g; a
-//! perturbation of 1e-6 flags 297 (16.5 %), which says that the sensitive
-//! fraction is a lower bound on the chaotic runs and grows with the size of
-//! what is ignored. The overturning time matters: 20 of the 85 are flagged
-//! by it alone, runs that stay overturned under the perturbation but 0.01 to
-//! 0.3 s earlier or later, and three of those flip between solver settings
-//! (H/B 6, e = 0 at 0.6 g, record 17, under Dormand–Prince at rtol 1e-7 and
-//! 1e-8; H/B 4, e = 0.9 at 1.2 g, record 11, under the chatter rule).
+//! ensemble (`rockfrag bench`: 1800 analyses, 25 records of the default
+//! motion model at 0.2 … 1.2 g, reference settings) |Δθmax/θc| is at most
+//! 1e-9 in 1304 runs, in (1e-9, 1e-6] in 323, (1e-6, 1e-4] in 74,
+//! (1e-4, 1e-3] in 23 and above 1e-3 in 71, and overturning flips in 5; of
+//! the 626 runs that overturn in both, the overturning time moves by at most
+//! 1e-6 s in 377, by (1e-6, 1e-2] s in 211 and by more in 38 (up to 1.5 s).
+//! The tail is continuous, so the thresholds are a convention, stated: 114
+//! runs (6.3 %) are sensitive, none at 0.2 g, then 2.0, 1.3, 7.0, 16.7 and
+//! 11.0 % at 0.4, 0.6, 0.8, 1.0 and 1.2 g; a perturbation of 1e-6 flags 349
+//! (19.4 %), which says that the sensitive fraction is a lower bound on the
+//! chaotic runs and grows with the size of what is ignored. The overturning
+//! time matters: 38 of the 114 are flagged by it alone, runs that stay
+//! overturned under the perturbation but 0.01 to 1.5 s earlier or later,
+//! and ten of those (five blocks and records, each under both friction
+//! models) flip between solver settings.
 //!
 //! What it does not see: a run decided by a hair in a direction the
-//! record's amplitude does not probe. Of the 188 overturning mismatches
-//! between the bench's nonlinear settings and the reference, 159 are runs it
-//! flags on the reference; the other 29 fall on 5 runs
-//! (`figures/work_precision.md`): two that a scaling of 1e-6 flips (loose
-//! Dormand–Prince tolerances err by more than that), two where Dormand–Prince
-//! at rtol 1e-8 alone errs, and one the chatter rule decides, where the
-//! ring-down that every bounce followed sets at rest and the rule leaves
-//! rocking at 4e-9 rad meet the next pulse differently.
+//! record's amplitude does not probe, and a solver's own mistake. Of the 140
+//! overturning mismatches between the bench's nonlinear settings and the
+//! reference, 72 are runs it flags on the reference; the other 68 fall on 8
+//! runs (`figures/work_precision.md`; friction changes none of them, so they
+//! are 4 blocks and records, each under both friction models). Two (H/B 4,
+//! e = 0 at 1.2 g, record 24, mismatched by Dormand–Prince at rtol 1e-9
+//! alone) flip under a scaling of the record by 1e-7: a hair, at a size
+//! that tolerance errs by. The other six (H/B 4, e = 0 at 1.0 g, records 22
+//! and 23; H/B 6, e = 0 at 0.8 g, record 10) are solver errors: no scaling
+//! from 1e-9 to 1e-6, either way, changes their outcome under any setting,
+//! and each setting is either robustly right or robustly wrong. The looser
+//! settings, the default among them (all four of its mismatches), miss a
+//! rock impact: while the block rocks at 1e-6 rad near the uplift threshold,
+//! θ returns to 0 and leaves it again within one step (one record sample),
+//! θ̇ changes sign twice in that step, and the impact search, which looks
+//! for one interior minimum per piece of the step, finds none. Searching the
+//! same steps in 8 pieces gives every setting the reference's outcome on
+//! all six.
 //!
 //! **Cost.** One more solve of the analysis (and a copy of its record), so
-//! it doubles the solver's time: on the bench ensemble, one thread, default
-//! settings, 290 µs per analysis without it and 572 µs with it (minima of 7
-//! alternating passes; medians 298 and 597 µs; ratio 1.97 of the minima,
-//! 2.03 the median of the passes' ratios; `cargo run --release --example
-//! sensitivity_cost`). It is therefore off by default (`simulate
-//! --sensitivity`; a study's `[output] sensitivity`).
+//! it doubles the solver's time: on the bench ensemble at 0.6 and 1.2 g,
+//! one thread, default settings, 477 µs per analysis without it and 987 µs
+//! with it (minima of 7 alternating passes; medians 513 and 1027 µs; ratio
+//! 2.07 of the minima, 1.98 the median of the passes' ratios; `cargo run
+//! --release --example sensitivity_cost`, the 2 cores shared, load 9). A
+//! study pays a little less, since its records are made once: the default
+//! study on one thread, without and with it, 0.92 and 1.94 s (minima of 7
+//! alternating runs; medians 1.25 and 2.10 s; the runs' ratios 1.35–2.29,
+//! median 1.63). It is therefore off by default (`simulate --sensitivity`; a
+//! study's `[output] sensitivity`).
 
 use super::driver::simulate;
 use super::settings::{Analysis, SolverSettings};

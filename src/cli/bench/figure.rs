@@ -181,16 +181,30 @@ fn panel<DB: DrawingBackend>(
     if which == Panel::Fragility {
         // the adequacy line and the floor the sensitive runs set
         let thin = style.axis();
-        let note = style.font(6.5).pos(Pos::new(HPos::Left, VPos::Bottom));
+        // each label on the side of its line away from the other line, so
+        // that the two do not overlap when the lines are close
+        let floor_above = !(floor_line.is_finite() && floor_line < ADEQUATE_BANDS);
+        let (note_above, note_below) = (
+            style.font(6.5).pos(Pos::new(HPos::Left, VPos::Bottom)),
+            style.font(6.5).pos(Pos::new(HPos::Left, VPos::Top)),
+        );
         chart.draw_series(std::iter::once(PathElement::new(
             vec![(xl, ADEQUATE_BANDS), (xh, ADEQUATE_BANDS)],
             thin,
         )))?;
-        chart.draw_series(std::iter::once(Text::new(
-            format!("adequate: {ADEQUATE_BANDS} band"),
-            (xl * 1.05, ADEQUATE_BANDS * 1.05),
-            note.clone(),
-        )))?;
+        chart.draw_series(std::iter::once(if floor_above {
+            Text::new(
+                format!("adequate: {ADEQUATE_BANDS} band"),
+                (xl * 1.05, ADEQUATE_BANDS / 1.05),
+                note_below.clone(),
+            )
+        } else {
+            Text::new(
+                format!("adequate: {ADEQUATE_BANDS} band"),
+                (xl * 1.05, ADEQUATE_BANDS * 1.05),
+                note_above.clone(),
+            )
+        }))?;
         if floor_line.is_finite() && floor_line > 0.0 {
             let dotted: Vec<(f64, f64)> = (0..40)
                 .map(|i| xl * dm::powf(xh / xl, i as f64 / 39.0))
@@ -201,9 +215,14 @@ fn panel<DB: DrawingBackend>(
                     .iter()
                     .map(|&p| Circle::new(p, style.ipx(0.5), thin.color.filled())),
             )?;
+            let (y, note) = if floor_above {
+                (floor_line * 1.05, note_above)
+            } else {
+                (floor_line / 1.05, note_below)
+            };
             chart.draw_series(std::iter::once(Text::new(
                 "reference × (1 + 1e-9)".to_string(),
-                (xl * 1.05, floor_line * 1.05),
+                (xl * 1.05, y),
                 note,
             )))?;
         }

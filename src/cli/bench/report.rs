@@ -538,7 +538,7 @@ pub fn markdown(opts: &WorkPrecisionOptions, report: &Report) -> String {
         )),
         None => s.push_str(
             "\nNo setting has both zero overturning mismatches and θmax error < 1e-6: \
-             the mismatches are runs a hair decides (below), which no tolerance removes, \
+             many mismatches are runs a hair decides (below), which no tolerance removes, \
              so the choice is made on the fitted curves (last section).\n",
         ),
     }
@@ -588,6 +588,11 @@ pub fn markdown(opts: &WorkPrecisionOptions, report: &Report) -> String {
                 labels.join("; ")
             ));
         }
+        s.push_str(
+            "\nEach is a run a larger perturbation of the record flips (a hair the 1e-9 does not probe), \
+             or the setting's own error: solved under the record scaled by 1 ± 1e-9 … 1e-6, a setting that errs \
+             there errs under every scaling (the docs of `rockfrag::solver::sensitivity` say which, on this ensemble).\n",
+        );
     }
     for r in reports.iter().filter(|r| r.settings.model == Model::Linear) {
         s.push_str(&format!(
