@@ -82,7 +82,7 @@ pub struct Outcome {
     /// the last one that ended with |θ| ≤ θc, the fall during which N → 0 and
     /// |F|/N grows without bound (to 4e13–5e15 in the studies' overturned
     /// runs before this rule). So it is the friction the run needed while the
-    /// block could still come back, finite in every run (largest 1.7 over the
+    /// block could still come back, finite in every run (largest 1.15 over the
     /// 100,000 analyses of `studies/fragility-100k.toml`). A run that did not
     /// overturn keeps every step, its excursions beyond θc included: its value
     /// is the peak over the whole motion, as before.
