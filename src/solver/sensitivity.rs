@@ -137,9 +137,10 @@ pub fn perturbed(record: &Record) -> Record {
 /// use rockfrag::motion::Record;
 /// use rockfrag::solver::{simulate, sensitivity, Analysis, Block, SolverSettings};
 /// let block = Block::new(0.5, 4.0, 9.81).unwrap();
-/// // 2 s at 0.3 g: the block tips, rocks and does not overturn, far from any
-/// // threshold, so a perturbation of 1e-9 changes nothing that matters
-/// let record = Record::from_acc("pulse", 0.01, vec![0.3 * 9.81; 201]).unwrap();
+/// // 0.5 s at 0.28 g (above the uplift threshold g·B/H = 0.25 g): the block
+/// // tips to 0.12 θc and does not overturn, far from any threshold, so a
+/// // perturbation of 1e-9 changes nothing that matters
+/// let record = Record::from_acc("pulse", 0.01, vec![0.28 * 9.81; 51]).unwrap();
 /// let (an, set) = (Analysis::new(block, 0.0), SolverSettings::default());
 /// let out = simulate(&an, &record, &set, None).unwrap();
 /// let s = sensitivity(&an, &record, &set, &out).unwrap();
