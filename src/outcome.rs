@@ -73,7 +73,19 @@ pub struct Outcome {
     pub moved: bool,
     /// Peak |θ| over the run divided by θc.
     pub theta_max_over_theta_c: f64,
-    /// Peak |F|/N while rocking (friction needed to sustain the motion).
+    /// Peak |F|/N while rocking on a stuck pivot: the friction needed to
+    /// sustain the motion, the paper's μ_mot (the demand at impacts, eq. (5)
+    /// and at a rock impact eq. (8), is `mu_impact`). Taken at the end of
+    /// every rock step (about one per record sample) where N > 0, and at the
+    /// two ends of a cascade the cascade rule settles. In a run that
+    /// overturned, the final excursion beyond θc is left out: the steps after
+    /// the last one that ended with |θ| ≤ θc, the fall during which N → 0 and
+    /// |F|/N grows without bound (to 4e13–5e15 in the studies' overturned
+    /// runs before this rule). So it is the friction the run needed while the
+    /// block could still come back, finite in every run (largest 1.15 over the
+    /// 100,000 analyses of `studies/fragility-100k.toml`). A run that did not
+    /// overturn keeps every step, its excursions beyond θc included: its value
+    /// is the peak over the whole motion, as before.
     pub mu_motion: f64,
     /// Peak |P_t/P_n| over all impacts (friction needed to prevent sliding at impact).
     pub mu_impact: f64,
@@ -107,7 +119,13 @@ pub struct Outcome {
     pub end_time: f64,
     /// Time of the first impact, if any.
     pub first_impact_time: Option<f64>,
-    /// Time spent in each mode, in the order of [`Mode::ALL`].
+    /// Time spent in each mode, in the order of [`Mode::ALL`] (s; they sum
+    /// to `end_time`). A cascade of e = 0 rock impacts that the cascade rule
+    /// settles counts as rock for as long as it would have lasted (its
+    /// duration in closed form on the ground of its start, within 1e-4 s of
+    /// every impact followed on still ground) and as rest from then on; the
+    /// history shows the block at rest from the settle. A series of bounces
+    /// closed by the chatter rule counts as rock from the closing impact.
     pub time_in_mode: [f64; 5],
     /// Peak |slip| of the block relative to the ground (m): the largest offset
     /// of its footprint (or of its slipping pivot) from where it started.

@@ -403,3 +403,57 @@ fn pga_in_the_wrong_unit_is_refused() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("in m/s"), "{}", stderr(&o));
 }
+
+/// `--sensitivity` solves the run again under the record scaled by 1 + 1e-9
+/// and says whether it is sensitive, and why: on the bench record that
+/// decides H/B 6, e = 0, μ 0.7/0.6 at 1.0 g by a hair (record 21 of seed
+/// 1991, the default motion model), overturning flips (the block overturns,
+/// and under the record larger by 1e-9 stops at 0.82 θc); with `--json` the
+/// outcome carries a `sensitivity` object with the perturbed run's
+/// overturning and θmax/θc.
+#[test]
+fn sensitivity_flag_reports_the_perturbed_run() {
+    let args = [
+        "simulate",
+        "--seed",
+        "1991",
+        "--index",
+        "21",
+        "--pga",
+        "1.0",
+        "--aspect",
+        "6",
+        "--restitution",
+        "0",
+        "--mu-s",
+        "0.7",
+        "--mu-k",
+        "0.6",
+        "--sensitivity",
+    ];
+    let o = rockfrag(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("sensitive         yes: overturning flipped"),
+        "{text}"
+    );
+    assert!(
+        text.contains("record × (1+1e-9) overturned false"),
+        "{text}"
+    );
+    let o = rockfrag(&[&args[..], &["--json"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let s = &v["sensitivity"];
+    assert_eq!(v["overturned"], true);
+    assert_eq!(
+        (&s["sensitive"], &s["overturned"]),
+        (&true.into(), &false.into())
+    );
+    assert!(s["theta_max_over_theta_c"].as_f64().unwrap() < 1.0);
+    // without the flag, no second solve and no object
+    let o = rockfrag(&[&args[..args.len() - 1], &["--json"]].concat());
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert!(v.get("sensitivity").is_none());
+}

@@ -324,3 +324,43 @@ fn rock_impact_rule_rock_decays_with_delta_of_e() {
         }
     }
 }
+
+/// Issue 30: the friction demand of an overturning run is finite. Pushed
+/// over by a constant ẍg = 0.5 g (H/B 4, twice the uplift threshold g·B/H),
+/// the block tips past θc and falls; as it falls N → 0 (it is held at N = 0
+/// once) and |F|/N grows without bound (the peak over the whole fall was
+/// 44.6, and 4e13–5e15 in the studies' overturned runs). `mu_motion`
+/// leaves out the final excursion beyond θc: it is the peak |F|/N at the
+/// ends of the rock steps that end within θc, which here are the record's
+/// samples, so it equals the peak over the history's sample rows in rock
+/// with |θ| ≤ θc (1e-12 relative for the rounding of the contact forces,
+/// computed from the series' sine and cosine in the solver and afresh in the
+/// history), while the rows beyond θc reach above 10.
+#[test]
+fn overturning_run_friction_demand_leaves_out_the_fall() {
+    let bl = block(4.0);
+    let rec = constant_record(0.5 * G, 0.01, 3.0);
+    let mut h = History::default();
+    let set = SolverSettings::default();
+    let out = simulate(&Analysis::new(bl, 0.0), &rec, &set, Some(&mut h)).unwrap();
+    assert!(out.overturned && out.liftoff_holds == 1);
+    let demand = |within: bool| {
+        h.rows
+            .iter()
+            .filter(|r| r.mode == Mode::Rock && !r.event && r.n > 0.0)
+            .filter(|r| (r.theta.abs() <= bl.theta_c) == within)
+            .map(|r| r.f.abs() / r.n)
+            .fold(0.0_f64, f64::max)
+    };
+    let (within, beyond) = (demand(true), demand(false));
+    assert!(
+        (out.mu_motion - within).abs() <= 1e-12 * within,
+        "μ_mot {} against the peak within θc {within}",
+        out.mu_motion
+    );
+    assert!(
+        out.mu_motion < 1.0 && beyond > 10.0,
+        "μ_mot {}, beyond θc {beyond}",
+        out.mu_motion
+    );
+}

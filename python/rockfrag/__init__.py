@@ -188,6 +188,7 @@ def simulate(
     vel=None,
     disp=None,
     history=False,
+    sensitivity=False,
     name="record",
     **solver,
 ):
@@ -220,6 +221,13 @@ def simulate(
         ground), ``x_dot``, ``y_dot`` (m/s), ``N``, ``F`` (normal and
         horizontal reactions per unit mass, m/s²): the columns of the CLI's
         ``--history`` CSV; ``event`` marks event rows (bool).
+    sensitivity : bool
+        Also solve the run under the record scaled by 1 + 1e-9 (one more
+        solve: twice the time) and return under key ``sensitivity`` what
+        ``simulate --sensitivity --json`` gives: ``sensitive`` (overturning
+        flipped, θmax/θc moved by more than 1e-3, or the overturning time by
+        more than 0.01 s: a run decided by a hair), and the perturbed run's
+        ``overturned``, ``theta_max_over_theta_c`` and ``overturn_time``.
     name : str
         Name of the record in error messages.
     **solver
@@ -246,6 +254,7 @@ def simulate(
         _f64(disp, "disp"),
         str(name),
         bool(history),
+        bool(sensitivity),
     )
 
 
@@ -262,6 +271,7 @@ def simulate_many(
     mu_s=None,
     mu_k=None,
     threads=None,
+    sensitivity=False,
     **solver,
 ):
     """One block under each of many records, in parallel (rayon, GIL released).
@@ -276,7 +286,7 @@ def simulate_many(
         Sample interval (s) of records given as arrays.
     threads : int, optional
         Worker threads (default: one per core). Results do not depend on it.
-    width, aspect, restitution, mu_s, mu_k, **solver
+    width, aspect, restitution, mu_s, mu_k, sensitivity, **solver
         As for :func:`simulate`.
 
     Returns
@@ -306,7 +316,9 @@ def simulate_many(
             items.append((_f64(r, "acc"), float(dt), None, None, str(i)))
     if threads is not None and int(threads) < 1:
         raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
-    return _rockfrag.simulate_many(setup, items, 0 if threads is None else int(threads))
+    return _rockfrag.simulate_many(
+        setup, items, 0 if threads is None else int(threads), bool(sensitivity)
+    )
 
 
 def run(spec=None, out=None, threads=None):
@@ -320,6 +332,10 @@ def run(spec=None, out=None, threads=None):
         "grid": {"aspect": [4], "pga": [0.3, 0.6]}}``); record files in a
         dict are relative to the working directory. Default: the paper's
         study, built in.
+        ``"output": {"sensitivity": True}`` solves every analysis a second
+        time under its record scaled by 1 + 1e-9 and adds the ``sensitive``
+        column (see :func:`simulate`'s ``sensitivity``) and its share per
+        case and stripe to ``summary.md``; it doubles the run time.
     out : str or os.PathLike, optional
         Output folder (default ``results/<study name>``). Rerunning into a
         folder holding an interrupted run of the same study resumes it.

@@ -209,11 +209,35 @@ fn solve(
     })
 }
 
-/// Simulates one record; returns the outcome as `simulate --json` gives it,
-/// and the time history as arrays when `history` is true.
+/// The outcome as `simulate --json` gives it: with `sensitivity`, the
+/// analysis solved again under the record scaled by 1 + 1e-9 and compared
+/// (`simulate --sensitivity --json`'s `sensitivity` object).
+fn outcome_json(
+    setup: &Setup,
+    r: &Record,
+    outcome: &rockfrag::outcome::Outcome,
+    sensitivity: bool,
+) -> PyResult<serde_json::Value> {
+    let mut v = outcome.to_json();
+    if sensitivity {
+        let s = rockfrag::solver::sensitivity(&setup.analysis, r, &setup.settings, outcome)
+            .map_err(|e| {
+                PyRuntimeError::new_err(format!(
+                    "solving record {} scaled by 1 + 1e-9: {e}",
+                    r.name
+                ))
+            })?;
+        v["sensitivity"] = serde_json::to_value(s).expect("a sensitivity serialises");
+    }
+    Ok(v)
+}
+
+/// Simulates one record; returns the outcome as `simulate --json` gives it
+/// (with `sensitivity`, as `simulate --sensitivity --json` does), and the
+/// time history as arrays when `history` is true.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-#[pyo3(signature = (setup, acc, dt, vel, disp, name, history))]
+#[pyo3(signature = (setup, acc, dt, vel, disp, name, history, sensitivity))]
 fn simulate_one<'py>(
     py: Python<'py>,
     setup: &Setup,
@@ -223,12 +247,15 @@ fn simulate_one<'py>(
     disp: Option<PyReadonlyArray1<'py, f64>>,
     name: String,
     history: bool,
+    sensitivity: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let acc: Vec<f64> = acc.as_array().iter().copied().collect();
     let r = record(name, dt, acc, vec_of(vel), vec_of(disp)).map_err(py_err)?;
     let mut h = history.then(History::default);
-    let outcome = py.detach(|| solve(setup, &r, h.as_mut()))?;
-    let d = json_to_py(py, &outcome.to_json())?.cast_into::<PyDict>()?;
+    let json = py.detach(|| {
+        solve(setup, &r, h.as_mut()).and_then(|o| outcome_json(setup, &r, &o, sensitivity))
+    })?;
+    let d = json_to_py(py, &json)?.cast_into::<PyDict>()?;
     if let Some(h) = h {
         let hd = PyDict::new(py);
         let col = |f: fn(&rockfrag::solver::HistoryRow) -> f64| -> Vec<f64> {
@@ -264,14 +291,17 @@ type RecordArgs<'py> = (
 );
 
 /// Simulates many records on rayon's threads (`threads` = 0: one per core),
-/// the GIL released; each record is `(acc, dt, vel, disp, name)`.
+/// the GIL released; each record is `(acc, dt, vel, disp, name)`; with
+/// `sensitivity`, each outcome carries its `sensitivity` as in
+/// [`simulate_one`].
 #[pyfunction]
-#[pyo3(signature = (setup, records, threads))]
+#[pyo3(signature = (setup, records, threads, sensitivity))]
 fn simulate_many<'py>(
     py: Python<'py>,
     setup: &Setup,
     records: Vec<RecordArgs<'py>>,
     threads: usize,
+    sensitivity: bool,
 ) -> PyResult<Bound<'py, PyList>> {
     let records: Vec<Record> = records
         .into_iter()
@@ -281,8 +311,14 @@ fn simulate_many<'py>(
         })
         .collect::<PyResult<_>>()?;
     let outcomes = py.detach(|| -> PyResult<Vec<_>> {
-        let work =
-            || -> PyResult<Vec<_>> { records.par_iter().map(|r| solve(setup, r, None)).collect() };
+        let work = || -> PyResult<Vec<_>> {
+            records
+                .par_iter()
+                .map(|r| {
+                    solve(setup, r, None).and_then(|o| outcome_json(setup, r, &o, sensitivity))
+                })
+                .collect()
+        };
         if threads == 0 {
             work()
         } else {
@@ -295,7 +331,7 @@ fn simulate_many<'py>(
     })?;
     let items = outcomes
         .iter()
-        .map(|o| json_to_py(py, &o.to_json()))
+        .map(|o| json_to_py(py, o))
         .collect::<PyResult<Vec<_>>>()?;
     PyList::new(py, items)
 }

@@ -52,6 +52,19 @@ def test_simulate_is_the_cli_outcome(cli, seed, pga, index):
     assert abs(got["theta_max_over_theta_c"] - want["theta_max_over_theta_c"]) <= 1e-12
 
 
+@pytest.mark.parametrize("seed,pga,index", RECORDS)
+def test_sensitivity_is_the_cli_sensitivity(cli, seed, pga, index):
+    want = cli.json("simulate", "--seed", seed, "--pga", pga, "--index", index, "--sensitivity")
+    got = rockfrag.simulate(**_args(seed, pga, index), sensitivity=True)
+    assert got == want and set(got["sensitivity"]) == {
+        "sensitive", "overturned", "theta_max_over_theta_c", "overturn_time"
+    }
+    plain = rockfrag.simulate(**_args(seed, pga, index))
+    assert "sensitivity" not in plain and plain == {k: v for k, v in got.items() if k != "sensitivity"}
+    many = rockfrag.simulate_many([rockfrag.motion(seed, pga, index)], sensitivity=True)
+    assert many == [got]
+
+
 def test_the_five_records_overturn_and_survive(cli):
     seen = {rockfrag.simulate(**_args(*r))["overturned"] for r in RECORDS}
     assert seen == {True, False}

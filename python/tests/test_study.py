@@ -80,6 +80,27 @@ def test_a_study_row_is_simulate_on_its_record(dict_run):
         assert abs(o["theta_max_over_theta_c"] - cols["theta_max_over_theta_c"][i]) <= 1e-12
 
 
+def test_sensitivity_adds_a_column_and_changes_nothing_else(tmp_path, dict_run):
+    """`[output] sensitivity`: the same outcomes.csv plus `sensitive`, each
+    row's the flag `simulate(..., sensitivity=True)` gives on its record
+    (the same two solves), and the summary's section."""
+    spec = dict(SPEC, output={"sensitivity": True})
+    out = rockfrag.run(spec, out=tmp_path / "sens", threads=2)
+    cols = rockfrag.read_outcomes(out, as_frame=False)
+    plain = rockfrag.read_outcomes(dict_run, as_frame=False)
+    assert list(cols) == list(plain)[:-1] + ["sensitive", "error"]
+    for k in plain:
+        a, b = cols[k], plain[k]
+        assert (a.dtype == object and list(a) == list(b)) or np.array_equal(a, b, equal_nan=True), k
+    assert cols["sensitive"].dtype == bool
+    for i in range(len(cols["pga"])):
+        m = rockfrag.motion(11, cols["pga"][i], int(cols["record"][i]), duration=10.0)
+        o = rockfrag.simulate(m["acc"], m["dt"], vel=m["vel"], disp=m["disp"], sensitivity=True)
+        assert o["sensitivity"]["sensitive"] == cols["sensitive"][i]
+    assert "## Sensitivity" in open(out + "/summary.md").read()
+    assert "## Sensitivity" not in open(dict_run + "/summary.md").read()
+
+
 def test_fit_is_the_cli_fragility(dict_run):
     cols = rockfrag.read_outcomes(dict_run, as_frame=False)
     got = rockfrag.fit(cols["pga"], cols["overturned"])

@@ -10,7 +10,7 @@ use rockfrag::motion::{self, G_STANDARD, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
     Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, RockImpact,
-    SolverSettings, simulate,
+    Sensitivity, SolverSettings, sensitivity, simulate,
 };
 use std::path::PathBuf;
 
@@ -133,6 +133,11 @@ pub struct SimulateArgs {
     /// Print the outcome as one JSON object.
     #[arg(long)]
     pub json: bool,
+    /// Also solve the run under the record scaled by 1 + 1e-9 and say whether
+    /// it is sensitive: overturning flipped, θmax/θc moved by more than 1e-3,
+    /// or the overturning time by more than 0.01 s (one more solve).
+    #[arg(long)]
+    pub sensitivity: bool,
 }
 
 impl SimulateArgs {
@@ -196,8 +201,19 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     if let (Some(path), Some(h)) = (&args.history, &history) {
         h.write_csv(path)?;
     }
+    let sens = match args.sensitivity {
+        true => Some(
+            sensitivity(&analysis, &record, &settings, &outcome)
+                .with_context(|| format!("solving record {} scaled by 1 + 1e-9", record.name))?,
+        ),
+        false => None,
+    };
     if args.json {
-        println!("{}", outcome.to_json());
+        let mut v = outcome.to_json();
+        if let Some(s) = &sens {
+            v["sensitivity"] = serde_json::to_value(s)?;
+        }
+        println!("{v}");
     } else {
         print_summary(&args, &block, &ground, &outcome);
         if !floor.is_ground() {
@@ -209,8 +225,44 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
                 if floor.modes.len() == 1 { "" } else { "s" }
             );
         }
+        if let Some(s) = &sens {
+            print_sensitivity(&outcome, s);
+        }
     }
     Ok(())
+}
+
+/// The sensitivity lines: whether the run is sensitive and why, and what
+/// the perturbed run found.
+fn print_sensitivity(o: &Outcome, s: &Sensitivity) {
+    let mut why = Vec::new();
+    if o.overturned != s.overturned {
+        why.push("overturning flipped".to_string());
+    }
+    let dth = s.theta_max_over_theta_c - o.theta_max_over_theta_c;
+    if dth.abs() > sensitivity::THETA_TOL {
+        why.push(format!("θmax/θc moved by {dth:+.6}"));
+    }
+    if let (Some(a), Some(b)) = (o.overturn_time, s.overturn_time)
+        && (b - a).abs() > sensitivity::TIME_TOL
+    {
+        why.push(format!("overturning moved by {:+.4} s", b - a));
+    }
+    println!(
+        "sensitive         {}",
+        if s.sensitive {
+            format!("yes: {}", why.join(", "))
+        } else {
+            "no".to_string()
+        }
+    );
+    println!(
+        "record × (1+1e-9) overturned {}{}, θmax/θc {:.6}",
+        s.overturned,
+        s.overturn_time
+            .map_or(String::new(), |t| format!(" at {t:.4} s")),
+        s.theta_max_over_theta_c
+    );
 }
 
 fn load_record(args: &SimulateArgs) -> anyhow::Result<Record> {

@@ -50,7 +50,8 @@ pub enum Column {
     Moved,
     /// Peak |θ|/θc.
     ThetaMaxOverThetaC,
-    /// Peak |F|/N while rocking, μ_mot.
+    /// Peak |F|/N while rocking, μ_mot; in an overturned run, before its
+    /// final excursion beyond θc, where N → 0 (see [`Outcome::mu_motion`]).
     MuMotion,
     /// Peak |P_t/P_n| over impacts, μ_imp.
     MuImpact,
@@ -78,7 +79,8 @@ pub enum Column {
     EndTime,
     /// Time of the first impact (s; empty if none).
     FirstImpactTime,
-    /// Time in one mode (s).
+    /// Time in one mode (s); a cascade the cascade rule settles counts as
+    /// rock for its closed-form duration (see [`Outcome::time_in_mode`]).
     TimeIn(Mode),
     /// Right-hand-side evaluations.
     RhsCalls,
@@ -88,6 +90,10 @@ pub enum Column {
     StepsRejected,
     /// Events handled.
     Events,
+    /// The analysis solved again under its record scaled by 1 + 1e-9 changed
+    /// its outcome (see [`crate::solver::sensitivity`]); empty when either
+    /// solve failed.
+    Sensitive,
     /// Why the analysis failed (empty if it did not).
     Error,
 }
@@ -144,6 +150,9 @@ pub const STATS: [Column; 4] = [
     Column::StepsRejected,
     Column::Events,
 ];
+
+/// The sensitivity column (`[output] sensitivity`).
+pub const SENSITIVITY: [Column; 1] = [Column::Sensitive];
 
 /// What a column holds, when it can serve as a limit state's measure.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -226,6 +235,7 @@ impl Column {
             Column::StepsAccepted => "steps_accepted",
             Column::StepsRejected => "steps_rejected",
             Column::Events => "events",
+            Column::Sensitive => "sensitive",
             Column::Error => "error",
         }
     }
@@ -296,7 +306,9 @@ impl Column {
     /// The kind of the column's values.
     pub fn value_kind(self) -> ValueKind {
         match self {
-            Column::Overturned | Column::Uplifted | Column::Moved => ValueKind::Flag,
+            Column::Overturned | Column::Uplifted | Column::Moved | Column::Sensitive => {
+                ValueKind::Flag
+            }
             Column::Record
             | Column::Impacts
             | Column::Flights
@@ -436,6 +448,8 @@ pub struct Columns {
     pub stats: bool,
     /// The blocks stand on a floor (`pfa`, `pfv` columns after `pgv`).
     pub floor: bool,
+    /// Whether each analysis is sensitive (`sensitive` column).
+    pub sensitivity: bool,
 }
 
 impl Columns {
@@ -448,6 +462,7 @@ impl Columns {
         time_in_mode: true,
         stats: true,
         floor: true,
+        sensitivity: true,
     };
 
     /// The outcome columns of a successful row, in order: [`OUTCOME`], then
@@ -465,7 +480,7 @@ impl Columns {
 
     /// Every column, in order: the case, the ground's peaks (and the
     /// floor's), `record` (and `record_file`, `scale`), `status`, the outcome
-    /// columns, `error`.
+    /// columns, `sensitive` when present, `error`.
     pub fn list(&self) -> Vec<Column> {
         let mut v: Vec<Column> = CASE.into_iter().chain([Column::Pga, Column::Pgv]).collect();
         if self.floor {
@@ -480,6 +495,9 @@ impl Columns {
         }
         v.push(Column::Status);
         v.extend(self.outcome());
+        if self.sensitivity {
+            v.extend(SENSITIVITY);
+        }
         v.push(Column::Error);
         v
     }
@@ -522,6 +540,7 @@ mod tests {
             time_in_mode: true,
             stats: true,
             floor: true,
+            sensitivity: true,
         };
         let names = all.names();
         let mut sorted = names.clone();
@@ -540,7 +559,7 @@ mod tests {
              mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,\
              energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,\
              t_rest,t_slide,t_rock,t_slide_rock,t_flight,\
-             rhs_calls,steps_accepted,steps_rejected,events,error\n"
+             rhs_calls,steps_accepted,steps_rejected,events,sensitive,error\n"
         );
     }
 }

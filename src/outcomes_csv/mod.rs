@@ -12,7 +12,7 @@
 //! mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,
 //! energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,
 //! [t_rest,t_slide,t_rock,t_slide_rock,t_flight],
-//! [rhs_calls,steps_accepted,steps_rejected,events],error
+//! [rhs_calls,steps_accepted,steps_rejected,events],[sensitive],error
 //! ```
 //!
 //! - the case columns are the analysis's own block ([`crate::case`]): a
@@ -30,12 +30,17 @@
 //! - `mu_impact` is the peak impulse ratio |P_t/P_n| of the impacts,
 //!   `mu_impact_eq5` the peak of the paper's eq. (5) (the same ratio with
 //!   |·| also when P_n ≤ 0; unbounded near some landings after flight);
+//! - `sensitive` (`[output] sensitivity`): the analysis solved again under
+//!   its record scaled by 1 + 1e-9 changed its outcome — overturning
+//!   flipped, θmax/θc moved by more than 1e-3 or the overturning time by
+//!   more than 0.01 s ([`crate::solver::sensitivity`]); empty when the
+//!   analysis or its second solve failed;
 //! - absent times (no overturn, no impact) are empty;
 //! - floats use Rust's shortest round-trip form, so the file holds the exact
 //!   `f64` values, and the same run gives the same bytes.
 //!
 //! The columns are defined once, in [`Column`] and the lists [`CASE`],
-//! [`FLOOR`], [`OUTCOME`], [`TIME_IN_MODE`] and [`STATS`]; a row is one type,
+//! [`FLOOR`], [`OUTCOME`], [`TIME_IN_MODE`], [`STATS`] and [`SENSITIVITY`]; a row is one type,
 //! [`OutcomeRow`], written by [`Columns::write_row`] and read by
 //! [`OutcomesFile`] beside it.
 
@@ -43,6 +48,6 @@ mod columns;
 mod row;
 
 pub use columns::{
-    CASE, Column, Columns, FLOOR, MeasureKind, OUTCOME, STATS, TIME_IN_MODE, ValueKind,
+    CASE, Column, Columns, FLOOR, MeasureKind, OUTCOME, SENSITIVITY, STATS, TIME_IN_MODE, ValueKind,
 };
 pub use row::{OutcomeRow, OutcomesFile, RecordInfo};

@@ -39,6 +39,11 @@ pub struct OutcomeRow {
     pub scale: Option<f64>,
     /// The outcome, or why the analysis failed.
     pub result: std::result::Result<Outcome, String>,
+    /// Whether the analysis is sensitive: solved again under its record
+    /// scaled by 1 + 1e-9, its outcome changed
+    /// ([`crate::solver::sensitivity`]). `None` when the study did not ask
+    /// (`[output] sensitivity`) or either solve failed.
+    pub sensitive: Option<bool>,
 }
 
 impl OutcomeRow {
@@ -80,7 +85,8 @@ pub struct RecordInfo<'a> {
 
 impl Columns {
     /// The row of one analysis in a file with these columns: the level goes
-    /// to its column (`pga`, `pgv` or `scale`), measured peaks to the others.
+    /// to its column (`pga`, `pgv` or `scale`), measured peaks to the others;
+    /// no sensitivity (the caller sets [`OutcomeRow::sensitive`]).
     pub fn row(
         &self,
         case: Case,
@@ -104,6 +110,7 @@ impl Columns {
             record_file: record.file.filter(|_| self.files).map(str::to_string),
             scale,
             result,
+            sensitive: None,
         }
     }
 
@@ -155,6 +162,11 @@ impl OutcomeRow {
             Column::RecordFile => push_field(out, self.record_file.as_deref().unwrap_or("")),
             Column::Status => out.push_str(if self.result.is_ok() { "ok" } else { "failed" }),
             Column::Error => push_field(out, self.result.as_ref().err().map_or("", String::as_str)),
+            Column::Sensitive => {
+                if let Some(b) = self.sensitive {
+                    let _ = write!(out, "{b}");
+                }
+            }
             c => {
                 if let Ok(o) = &self.result {
                     c.write_value(o, out);
@@ -259,6 +271,7 @@ impl OutcomesFile {
             record_file: None,
             scale: None,
             result: Ok(Outcome::default()),
+            sensitive: None,
         };
         let failed = row.failed();
         let mut error = String::new();
@@ -283,6 +296,14 @@ impl OutcomesFile {
                 }
                 Column::Error => error = text.to_string(),
                 Column::Status => {}
+                Column::Sensitive => {
+                    out.sensitive = match text {
+                        "" => None,
+                        "true" => Some(true),
+                        "false" => Some(false),
+                        _ => return Err(row.error(i, "true, false or empty")),
+                    }
+                }
                 c if !failed => {
                     if let Ok(o) = out.result.as_mut() {
                         c.read_value(o, text).map_err(|e| row.error(i, e))?;
@@ -327,6 +348,7 @@ mod tests {
                 time_in_mode: false,
                 stats: false,
                 floor: false,
+                sensitivity: false,
             },
             Columns::ALL,
         ] {
@@ -355,10 +377,13 @@ mod tests {
             }
             let dir = tempfile::tempdir().unwrap();
             let path = dir.path().join("outcomes.csv");
-            let rows = [
+            let mut rows = [
                 cols.row(case(), &rec, Ok(outcome)),
                 cols.row(case(), &rec, Err("solver failed, \"x\"".to_string())),
             ];
+            if cols.sensitivity {
+                rows[0].sensitive = Some(true);
+            }
             let mut s = cols.header();
             for row in &rows {
                 let mut line = String::new();

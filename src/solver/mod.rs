@@ -20,7 +20,9 @@
 //! - `roots.rs`, `scan.rs`: root finding and sign-change scans for events;
 //! - `driver/`: the event loop, one file per mode (rest, slide, rock,
 //!   flight), events and impacts, the cascade rule, bookkeeping;
-//! - `history.rs`: the optional full time history ([`History`]).
+//! - `history.rs`: the optional full time history ([`History`]);
+//! - `sensitivity.rs`: the analysis solved again under a record scaled by
+//!   1 + 1e-9, and whether its outcome changed ([`sensitivity()`]).
 
 mod block;
 mod dopri;
@@ -30,6 +32,7 @@ pub(crate) mod impact;
 mod physics;
 mod roots;
 mod scan;
+pub mod sensitivity;
 mod settings;
 mod taylor;
 
@@ -39,4 +42,5 @@ pub use history::{History, HistoryRow};
 pub use impact::{
     ImpactLaw, ImpactResult, Velocity, corner_impact, eq5_mu, rock_impact_mu, rock_impact_ratio,
 };
+pub use sensitivity::{Sensitivity, sensitivity};
 pub use settings::{Analysis, Friction, Initial, Integrator, Model, RockImpact, SolverSettings};

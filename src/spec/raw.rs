@@ -184,6 +184,20 @@ pub struct OutputFile {
     /// Draw the study's figures into `figures/` inside the output folder
     /// when the run completes, as `rockfrag figures` does (default: false).
     pub figures: bool,
+    /// Solve every analysis a second time under its record scaled by
+    /// 1 + 1e-9 and add `sensitive` to `outcomes.csv`: whether the outcome
+    /// changed (overturning flipped, θmax/θc moved by more than 1e-3 or the
+    /// overturning time by more than 0.01 s; [`crate::solver::sensitivity`]),
+    /// with the share of sensitive analyses per case and stripe in
+    /// `summary.md`. Doubles the run time (default: false). Left out of the
+    /// canonical spec when false, so that a study without it keeps its hash.
+    #[serde(skip_serializing_if = "is_false")]
+    pub sensitivity: bool,
+}
+
+/// Whether a switch is off (it is then left out of the canonical spec).
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 impl Default for OutputFile {
@@ -193,6 +207,7 @@ impl Default for OutputFile {
             time_in_mode: false,
             stats: false,
             figures: false,
+            sensitivity: false,
         }
     }
 }

@@ -50,7 +50,7 @@ use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::Outcome;
 use crate::outcomes_csv::{Columns, RecordInfo};
-use crate::solver::{Analysis, simulate};
+use crate::solver::{Analysis, Sensitivity, sensitivity, simulate};
 use crate::spec::{Motions, Study, fnv1a64};
 use plan::columns;
 use rayon::prelude::*;
@@ -498,14 +498,28 @@ fn solve_units(
                 file: file_names[unit.record],
             };
             let (own, analysis) = plan::analysis(study, case, ci, &unit);
-            let result = match (analysis, record) {
-                (Ok(analysis), Ok(m)) => solve(&analysis, &m.felt, study),
-                (Ok(_), Err(e)) => Err(format!("record: {e}")),
-                (Err(e), _) => Err(format!("block: {e}")),
+            let (result, sensitive) = match (analysis, record) {
+                (Ok(analysis), Ok(m)) => {
+                    let result = solve(&analysis, &m.felt, study);
+                    // the same analysis under the motion it feels scaled by 1 + 1e-9
+                    let sensitive = match &result {
+                        Ok(base) if cols.sensitivity => {
+                            solve(&analysis, &sensitivity::perturbed(&m.felt), study)
+                                .ok()
+                                .map(|o| Sensitivity::compare(base, &o).sensitive)
+                        }
+                        _ => None,
+                    };
+                    (result, sensitive)
+                }
+                (Ok(_), Err(e)) => (Err(format!("record: {e}")), None),
+                (Err(e), _) => (Err(format!("block: {e}")), None),
             };
-            let mut row = String::with_capacity(256);
-            cols.write_row(&mut row, &cols.row(own, &info, result));
-            (row, t0.elapsed().as_secs_f64())
+            let mut row = cols.row(own, &info, result);
+            row.sensitive = sensitive;
+            let mut text = String::with_capacity(256);
+            cols.write_row(&mut text, &row);
+            (text, t0.elapsed().as_secs_f64())
         })
         .collect();
     rows.chunks(cases.len().max(1))

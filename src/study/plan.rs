@@ -59,6 +59,7 @@ pub fn columns(study: &Study) -> Columns {
         time_in_mode: study.output.time_in_mode,
         stats: study.output.stats,
         floor: !study.floor.is_ground(),
+        sensitivity: study.output.sensitivity,
     }
 }
 

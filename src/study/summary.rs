@@ -9,7 +9,11 @@
 //! 3. **Counts per stripe**: per case and intensity level, the runs, how
 //!    many failed, overturned, lifted off and left rest, and the mean
 //!    θmax/θc of the runs that stood;
-//! 4. **Provenance**: the spec, its hash and the program's version (the
+//! 4. **Sensitivity**, only when the study asked for it (`[output]
+//!    sensitivity`): per case and intensity level, the share of analyses
+//!    that a perturbation of the record by 1e-9 changes, and where they sit
+//!    on the fragility curve;
+//! 5. **Provenance**: the spec, its hash and the program's version (the
 //!    times and machine are in `manifest.json`).
 //!
 //! A layer above may add sections (the paper's study gets its Tables 1–3)
@@ -87,6 +91,10 @@ impl Tally {
         }
         s.push_str(&self.stripes_section(study));
         s.push('\n');
+        if study.output.sensitivity {
+            s.push_str(&self.sensitivity_section(study));
+            s.push('\n');
+        }
         s.push_str(&provenance_section(study, manifest));
         s
     }
@@ -139,6 +147,118 @@ impl Tally {
         s
     }
 }
+
+impl Tally {
+    /// `## Sensitivity`: per case and level, the analyses whose outcome the
+    /// record scaled by 1 + 1e-9 changed (`sensitive` in `outcomes.csv`),
+    /// their share per level over every case, and where they sit on the
+    /// curve: at levels where none of the case's runs overturned, some, or
+    /// all (the counts the curve is fitted to, so the placement does not
+    /// depend on the fit).
+    fn sensitivity_section(&self, study: &Study) -> String {
+        let (level_name, unit) = match study.intensity {
+            Intensity::Pga(_) => ("PGA", " (g)"),
+            Intensity::Pgv(_) => ("PGV", " (m/s)"),
+            Intensity::Scale(_) => ("scale", ""),
+        };
+        let share = |k: u64, n: u64| {
+            if n == 0 {
+                "-".to_string()
+            } else {
+                format!("{:.1} %", 100.0 * k as f64 / n as f64)
+            }
+        };
+        let cases = plan::cases(study);
+        let levels = study.intensity.levels();
+        let (mut known, mut sensitive, mut unknown) = (0, 0, 0);
+        // sensitive runs at levels where none, some or all of the case's runs overturned
+        let mut place = [0u64; 3];
+        let mut per_level = vec![(0u64, 0u64); levels.len()];
+        let mut table = String::new();
+        for (ci, case) in cases.iter().enumerate() {
+            for (li, level) in levels.iter().enumerate() {
+                let cell = self.cell(ci, li);
+                known += cell.sensitivity_known;
+                sensitive += cell.sensitive;
+                unknown += cell.ok - cell.sensitivity_known;
+                per_level[li].0 += cell.sensitivity_known;
+                per_level[li].1 += cell.sensitive;
+                let at = match cell.overturned {
+                    0 => 0,
+                    k if k == cell.ok => 2,
+                    _ => 1,
+                };
+                place[at] += cell.sensitive;
+                let _ = writeln!(
+                    table,
+                    "| `{}` | {level} | {} | {} | {} | {} |",
+                    case.id(),
+                    cell.ok,
+                    cell.overturned,
+                    cell.sensitive,
+                    share(cell.sensitive, cell.sensitivity_known)
+                );
+            }
+        }
+        let mut s = format!(
+            "{SENSITIVITY_HEADING}\n\nEach analysis was solved a second time under its record \
+             scaled by 1 + 1e-9, a change far below any physical uncertainty of a record and of \
+             the size of the default solver's own error. An analysis is *sensitive* when its \
+             outcome changed: overturning flipped, θmax/θc moved by more than {} or the time of \
+             overturning by more than {} s (`sensitive` in `outcomes.csv`). Such a run is \
+             decided by a hair, near the overturning threshold: another solver setting, or \
+             another solver, can flip it without either being wrong, so a sensitive run that \
+             differs between two solvers is chaos, not a solver error. The share is a lower \
+             bound on such runs (a larger perturbation flags more). The second solve doubles \
+             the solver's work.\n\n",
+            crate::solver::sensitivity::THETA_TOL,
+            crate::solver::sensitivity::TIME_TOL,
+        );
+        let _ = write!(
+            s,
+            "{sensitive} of {known} analyses sensitive ({})",
+            share(sensitive, known)
+        );
+        if unknown > 0 {
+            let _ = write!(
+                s,
+                "; {unknown} whose second solve failed are left out (`sensitive` empty)"
+            );
+        }
+        let by_level: Vec<String> = levels
+            .iter()
+            .zip(&per_level)
+            .map(|(level, &(n, k))| match study.intensity {
+                Intensity::Pga(_) => format!("{level} g: {}", share(k, n)),
+                Intensity::Pgv(_) => format!("{level} m/s: {}", share(k, n)),
+                Intensity::Scale(_) => format!("×{level}: {}", share(k, n)),
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            ". Per {level_name} level, over every case: {}.\n",
+            by_level.join("; ")
+        );
+        if sensitive > 0 {
+            let _ = writeln!(
+                s,
+                "Where they sit on the fragility curve: {} at levels where none of the case's \
+                 runs overturned (below the curve's rise), {} where some did (on the rise, \
+                 where the curve is fitted from) and {} where all did (above it).\n",
+                place[0], place[1], place[2]
+            );
+        }
+        let _ = write!(
+            s,
+            "| case | {level_name}{unit} | runs | overturned | sensitive | share |\n\
+             |---|---|---|---|---|---|\n{table}"
+        );
+        s
+    }
+}
+
+/// The heading of the sensitivity section (`[output] sensitivity`).
+pub const SENSITIVITY_HEADING: &str = "## Sensitivity";
 
 /// The heading of the fitted curves' section ([`fragility_section`]).
 pub const FRAGILITY_HEADING: &str = "## Fragility";

@@ -68,6 +68,10 @@ pub(crate) struct Cell {
     pub(crate) strict: Means,
     /// Means over the runs that neither overturned nor lifted off.
     pub(crate) paper: Means,
+    /// Runs with a sensitivity (`[output] sensitivity`; both solves done).
+    pub(crate) sensitivity_known: u64,
+    /// Of those, runs that are sensitive.
+    pub(crate) sensitive: u64,
 }
 
 /// Statistics of a run read back from its `outcomes.csv`: per case (in
@@ -178,6 +182,10 @@ impl Tally {
                         cell.overturned_or_uplifted += 1;
                     } else {
                         cell.paper.add(values);
+                    }
+                    if let Some(sensitive) = row.sensitive {
+                        cell.sensitivity_known += 1;
+                        cell.sensitive += sensitive as u64;
                     }
                 }
                 Err(_) => {

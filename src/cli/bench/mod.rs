@@ -1,6 +1,7 @@
 //! `rockfrag bench`: the speed-against-error report.
 
 mod figure;
+mod fragility;
 mod report;
 
 use report::{WorkPrecisionOptions, markdown, work_precision};
@@ -27,17 +28,17 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         ..WorkPrecisionOptions::default()
     };
     eprintln!(
-        "rockfrag bench: reference at rtol {:e}, then {} settings …",
+        "rockfrag bench: reference at rtol {:e} and its sensitivity, then {} settings …",
         opts.reference_rtol,
         opts.rtols.len() * opts.integrators.len() + 1
     );
-    let reports = work_precision(&opts)?;
-    let text = markdown(&opts, &reports);
+    let report = work_precision(&opts)?;
+    let text = markdown(&opts, &report);
     let md = args.out.join("work_precision.md");
     rockfrag::io_util::write_atomic(&md, |w| w.write_all(text.as_bytes()))?;
-    figure::plot_work_precision(&reports, &args.out.join("work_precision.svg"))?;
+    figure::plot_work_precision(&report, &args.out.join("work_precision.svg"))?;
     if args.png {
-        figure::plot_work_precision(&reports, &args.out.join("work_precision.png"))?;
+        figure::plot_work_precision(&report, &args.out.join("work_precision.png"))?;
     }
     print!("{text}");
     Ok(())

@@ -3,6 +3,7 @@
 //! documentation).
 
 use super::{Chatter, FlightState, RockState, Run, SlideState, State};
+use crate::outcome::Mode;
 use crate::solver::impact::{self, ImpactResult, Velocity};
 use crate::solver::physics as ph;
 
@@ -345,6 +346,26 @@ impl Run<'_> {
                 }
             }
             self.out.mu_motion = self.out.mu_motion.max(demand);
+            // The cascade's duration, counted as rock rather than rest. On
+            // the ground frozen at the cascade's start, side s restores at
+            // A(ψ) = k[(g + ÿg) sin(θc − ψ) − s ẍg cos(θc − ψ)] = A_s − c_s ψ
+            // + O(ψ²), so a bounce leaving at u lands at u after
+            // (2/λ) atanh(uλ/A_s) = 2u/A_s + (2/3) c_s u³/A_s³ + O(u⁵),
+            // λ² = c_s; the bounces alternate sides, bounce n leaving at
+            // uₙ = ηⁿu0, so the sum is geometric (module documentation). It
+            // ends within the window, where rest cannot break (capped at the
+            // bound `t_cascade`, which it is below: A_s ≥ lo_min, η ≤ ρ).
+            let (ax, gy) = (at_start.0, bl.g + at_start.1);
+            let a_s = |s: f64| kk * (gy * bl.sin_c - s * ax * bl.cos_c);
+            let c_s = |s: f64| kk * (gy * bl.cos_c + s * ax * bl.sin_c);
+            let (a0, a1) = (a_s(rs.s), a_s(-rs.s));
+            let (e2, e3) = (eta * eta, eta * eta * eta);
+            let t_rock = (2.0 * u0 * (1.0 / a0 + eta / a1) / (1.0 - e2)
+                + 2.0 / 3.0 * u0 * u0 * u0 / (1.0 - e3 * e3)
+                    * (c_s(rs.s) / (a0 * a0 * a0) + e3 * c_s(-rs.s) / (a1 * a1 * a1)))
+                .min(t_cascade);
+            self.out.time_in_mode[Mode::Rock.index()] += t_rock;
+            self.out.time_in_mode[Mode::Rest.index()] -= t_rock;
             return true;
         }
         false

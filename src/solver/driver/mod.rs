@@ -39,7 +39,20 @@
 //! overturning are those of the cascade followed impact by impact. The
 //! cascade's own friction demand is taken at its two ends (a rest-like
 //! demand, to O(u²)); its impacts are not counted in `impacts`; it counts one
-//! in `settles`.
+//! in `settles`. Its duration counts as time in rock, summed in closed form
+//! on the ground frozen at its start: with the restoring acceleration
+//! A(ψ) = A_s − c_s ψ on side s, a bounce leaving at u lasts
+//! 2u/A_s + (2/3) c_s u³/A_s³ + O(u⁵) and lands at u, and bounce n leaves at
+//! ηⁿu₀ on alternate sides, so T = 2u₀(1/A₀ + η/A₁)/(1 − η²) +
+//! (2/3) u₀³ (c₀/A₀³ + η³c₁/A₁³)/(1 − η⁶) (within 1e-4 s of every impact
+//! followed, on still ground from θc/2; capped at the bound above, inside
+//! the window, so the block is at rest for at least that long).
+//!
+//! Friction demand `mu_motion`: |F|/N at the end of every rock step with
+//! N > 0. Steps that end beyond θc are held apart until a step ends within
+//! θc again (then they count) or the run ends: a run that overturns leaves
+//! out its final fall, where N → 0 and |F|/N grows without bound; a run
+//! that does not keeps them all ([`Outcome::mu_motion`]).
 //!
 //! Chatter rule (`settle_cascades`, e > 0 and infinite friction). With
 //! e > 0 a rock impact starts a series of bounces on the new corner B: the
@@ -401,6 +414,13 @@ struct Run<'a> {
     quiet: f64,
     /// The time rest was last left.
     left_rest: f64,
+    /// The peak friction demand |F|/N of the rock steps that ended beyond θc
+    /// since the last one that ended within θc (0 if none). It joins
+    /// `mu_motion` when the block comes back within θc or the run ends
+    /// without overturning; an overturned run drops it, so that its
+    /// `mu_motion` leaves out the final fall, where N → 0 and F/N grows
+    /// without bound (to 1e13–1e16).
+    mu_beyond: f64,
     /// A time at which rest was left and re-entered: the mode it broke into
     /// found no motion (a threshold met within rounding), so rest does not
     /// break again at that instant (it would loop there).
@@ -457,6 +477,7 @@ impl<'a> Run<'a> {
             },
             left_rest: f64::NAN,
             stuck_at: f64::NAN,
+            mu_beyond: 0.0,
         }
     }
 
@@ -634,6 +655,10 @@ impl<'a> Run<'a> {
             }
         }
         self.out.end_time = t;
+        if !self.out.overturned {
+            // the last excursion beyond θc came back (or the record ended)
+            self.out.mu_motion = self.out.mu_motion.max(self.mu_beyond);
+        }
         if self.set.audit_energy {
             self.out.energy_residual = Some(self.resid / self.escale);
         }

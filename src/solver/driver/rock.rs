@@ -398,9 +398,19 @@ impl Run<'_> {
         if ratio > self.out.theta_max_over_theta_c {
             self.out.theta_max_over_theta_c = ratio.min(FRAC_PI_2 / bl.theta_c);
         }
-        // Friction demand |F|/N at the end of the step (N > 0 only).
-        if c_b.n > 0.0 {
-            self.out.mu_motion = self.out.mu_motion.max(c_b.f.abs() / c_b.n);
+        // Friction demand |F|/N at the end of the step (N > 0 only); beyond
+        // θc it waits in `mu_beyond` until the block is back within θc, so
+        // that the fall of an overturning block is left out (`Run::mu_beyond`)
+        let demand = if c_b.n > 0.0 {
+            c_b.f.abs() / c_b.n
+        } else {
+            0.0
+        };
+        if th_b.abs() <= bl.theta_c {
+            self.out.mu_motion = self.out.mu_motion.max(demand.max(self.mu_beyond));
+            self.mu_beyond = 0.0;
+        } else {
+            self.mu_beyond = self.mu_beyond.max(demand);
         }
         best
     }
