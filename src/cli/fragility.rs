@@ -8,8 +8,6 @@ use super::args::choice;
 use anyhow::Context;
 use rockfrag::case::Field;
 use rockfrag::fragility::{BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState};
-use rockfrag::spec::Study;
-use rockfrag::study::Manifest;
 
 /// Flags of `rockfrag fragility`.
 #[derive(Debug, clap::Args)]
@@ -88,37 +86,16 @@ impl FragilityArgs {
     /// parameters of the study recorded in `DIR/manifest.json` when there
     /// is one (flags take precedence; pooled parameters add up).
     fn options(&self) -> anyhow::Result<FragilityOptions> {
-        let manifest = self.dir.join("manifest.json");
-        let study = if manifest.exists() {
-            let m = Manifest::read(&manifest)?;
-            Some(Study::from_toml_unchecked(&m.spec_toml, &manifest)?)
-        } else {
-            None
-        };
-        let mut pool = study.as_ref().map_or_else(Vec::new, Study::drawn);
-        for &field in &self.pool {
-            if !pool.contains(&field) {
-                pool.push(field);
-            }
-        }
-        pool.sort();
-        let limit_state = if self.limit_states.is_empty() {
-            study
-                .as_ref()
-                .and_then(|s| s.fragility.as_ref())
-                .map_or(Vec::new(), |f| f.limit_state.clone())
-        } else {
-            self.limit_states.clone()
-        };
-        Ok(FragilityOptions {
+        let given = FragilityOptions {
             im: self.im,
             bootstrap: self.bootstrap,
             unit: self.resample,
             seed: self.seed,
-            limit_state,
-            pool,
+            limit_state: self.limit_states.clone(),
+            pool: self.pool.clone(),
             ..FragilityOptions::default()
-        })
+        };
+        Ok(rockfrag::pipeline::folder_fit_options(&self.dir, &given)?)
     }
 }
 
