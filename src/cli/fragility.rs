@@ -1,5 +1,6 @@
-//! `rockfrag fragility`: lognormal overturning fragility curves from a study's
-//! `outcomes.csv`, with bootstrap bands and an OpenQuake export.
+//! `rockfrag fragility`: lognormal fragility curves (overturning and any
+//! other limit state) from a study's `outcomes.csv`, with bootstrap bands
+//! and an OpenQuake export.
 
 use std::io::Write;
 use std::path::PathBuf;
