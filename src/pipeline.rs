@@ -118,7 +118,7 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
 /// ([`fit_and_write`]) and, when they replace the folder's own
 /// (`out` = `dir`), the `## Fragility` section of its `summary.md`.
 pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitReport> {
-    files::require_finished(dir)?;
+    study::require_finished(dir)?;
     let mut report = fit_and_write(dir, out, options)?;
     let summary = dir.join(files::SUMMARY);
     if same_folder(dir, out) && summary.exists() {
@@ -174,8 +174,9 @@ pub fn folder_fit_options(dir: &Path, options: &FragilityOptions) -> Result<Frag
     })
 }
 
-/// Whether `a` and `b` name the same folder (both exist).
-fn same_folder(a: &Path, b: &Path) -> bool {
+/// Whether `a` and `b` name the same folder (by their canonical paths when
+/// both exist).
+pub fn same_folder(a: &Path, b: &Path) -> bool {
     match (a.canonicalize(), b.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
         _ => a == b,
@@ -190,6 +191,6 @@ pub fn figures(
     out: &Path,
     options: &FigureOptions,
 ) -> Result<FiguresReport> {
-    files::require_finished(dir)?;
+    study::require_finished(dir)?;
     paper::study_figures(study, dir, out, options)
 }

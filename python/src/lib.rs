@@ -384,7 +384,12 @@ fn motion<'py>(
         let synth = last.as_mut().expect("set above");
         synth.generate(seed, index, settings.pga_from_g(pga))
     });
-    let record = record.map_err(py_err)?;
+    record_dict(py, record.map_err(py_err)?)
+}
+
+/// A record as Python gets it: `t`, `acc`, `vel`, `disp` (numpy arrays),
+/// `dt` and `name`.
+fn record_dict(py: Python<'_>, record: Record) -> PyResult<Bound<'_, PyDict>> {
     let t: Vec<f64> = (0..record.len()).map(|k| k as f64 * record.dt).collect();
     let d = PyDict::new(py);
     d.set_item("t", t.into_pyarray(py))?;
@@ -425,15 +430,7 @@ fn floor<'py>(
     let out = py
         .detach(|| floor_record(&ground, &floor))
         .map_err(py_err)?;
-    let t: Vec<f64> = (0..out.len()).map(|k| k as f64 * out.dt).collect();
-    let d = PyDict::new(py);
-    d.set_item("t", t.into_pyarray(py))?;
-    d.set_item("acc", out.acc.into_pyarray(py))?;
-    d.set_item("vel", out.vel.into_pyarray(py))?;
-    d.set_item("disp", out.disp.into_pyarray(py))?;
-    d.set_item("dt", out.dt)?;
-    d.set_item("name", out.name)?;
-    Ok(d)
+    record_dict(py, out)
 }
 
 /// A study from a file, or from a JSON object of the spec's fields (turned
@@ -518,7 +515,7 @@ fn fragility(
     let out = out.map_or_else(|| dir.clone(), PathBuf::from);
     let report = py
         .detach(|| -> rockfrag::Result<_> {
-            rockfrag::study::files::require_finished(&dir)?;
+            rockfrag::study::require_finished(&dir)?;
             let options = rockfrag::pipeline::folder_fit_options(&dir, &given)?;
             options.validate()?;
             rockfrag::pipeline::refit(&dir, &out, &options)

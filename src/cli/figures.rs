@@ -58,7 +58,7 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     if !args.compare.is_empty() {
         return compare(&args);
     }
-    rockfrag::study::files::require_finished(&args.dir)?;
+    rockfrag::study::require_finished(&args.dir)?;
     let study = study_of_folder(&args.dir)?;
     let mut options = study
         .as_ref()

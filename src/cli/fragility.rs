@@ -102,7 +102,7 @@ impl FragilityArgs {
 
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
-    rockfrag::study::files::require_finished(&args.dir)?;
+    rockfrag::study::require_finished(&args.dir)?;
     let manifest = args.dir.join(rockfrag::study::files::MANIFEST);
     if manifest.exists() && !args.partial {
         let m = rockfrag::study::Manifest::read(&manifest)?;
