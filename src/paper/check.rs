@@ -67,7 +67,9 @@ impl Default for CheckOptions {
             replicates: 12,
             seed: match Study::shenton_jones().motions {
                 Motions::Synthetic { seed, .. } => seed,
-                Motions::Files(_) => unreachable!("the built-in study is synthetic"),
+                Motions::Files(_) | Motions::Pairs { .. } => {
+                    unreachable!("the built-in study is synthetic")
+                }
             },
             threads: 0,
         }

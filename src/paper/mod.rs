@@ -49,7 +49,7 @@ pub fn is_papers(study: &Study) -> bool {
         Motions::Synthetic {
             settings, records, ..
         } => readings().iter().any(|r| r.settings == *settings) && *records == tables::RECORDS,
-        Motions::Files(_) => false,
+        Motions::Files(_) | Motions::Pairs { .. } => false,
     };
     synthetic_default
         && study.g == G_STANDARD
