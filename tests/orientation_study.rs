@@ -432,3 +432,69 @@ fn pair_specs_round_trip() {
     let singles = spec(dir.path(), "singles", r#"record_files = ["p0-H1.csv"]"#, "");
     assert!(!singles.to_toml().contains("orientation"));
 }
+
+/// `components = 2`: synthetic pairs of independent components of the same
+/// model, at their natural amplitudes (H1 is record k of the ensemble, H2
+/// record k of [`second_component_seed`]), scaled together to the level's
+/// RotD50 and turned like recorded pairs: at φ = 0° the block feels H1
+/// times the pair's factor, to the bit; H1 and H2 differ; the columns are
+/// those of pairs; `components` is refused beside record files and above 2.
+#[test]
+fn synthetic_pairs_are_two_independent_components() {
+    use rockfrag::motion::{Synthesizer, second_component_seed};
+    let text = "name = \"syn\"\nseed = 4\nrecords = 3\ncomponents = 2\n\n[motion]\nduration = 10.0\n\n\
+                [grid]\nwidth = [0.4]\naspect = [3]\nrestitution = [0.5]\npga = [0.4, 0.8]\n\
+                orientation = [0, 90]\n";
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("syn.toml");
+    std::fs::write(&path, text).unwrap();
+    let study = Study::load(&path).unwrap();
+    assert_eq!(study.records(), 6);
+    let back = Study::from_toml(&study.to_toml(), &path).unwrap();
+    assert_eq!(back, study);
+    let rows = run(&study, &dir.path().join("out"));
+    let Motions::Synthetic { settings, .. } = &study.motions else {
+        panic!("synthetic")
+    };
+    let mut synth = Synthesizer::new(settings).unwrap();
+    for row in &rows {
+        let level = row.pga_rotd50.unwrap();
+        let k = row.record / 2;
+        let h1 = synth.generate_natural(4, k as u64).unwrap();
+        let h2 = synth
+            .generate_natural(second_component_seed(4), k as u64)
+            .unwrap();
+        assert_ne!(h1.acc, h2.acc);
+        let m = MeasuredPair::new(Pair::new(h1.clone(), h2.clone()).unwrap()).unwrap();
+        let scale = level * study.g / m.pga;
+        let (want, phi) = if row.record % 2 == 0 {
+            (h1.scaled(scale), 0.0)
+        } else {
+            (h2.scaled(scale), 90.0)
+        };
+        assert_eq!(row.phi, Some(phi));
+        assert_eq!(row.pga, Some(want.pga() / study.g));
+        assert_eq!(row.pgv, Some(want.pgv()));
+    }
+    for (extra, field, value) in [
+        ("components = 3\n", "components", "3"),
+        (
+            "record_files = [[\"a.csv\", \"b.csv\"]]\ncomponents = 2\n",
+            "components",
+            "2",
+        ),
+    ] {
+        let text = format!("name = \"bad\"\n{extra}[grid]\naspect = [3]\n");
+        let path = dir.path().join("bad.toml");
+        std::fs::write(&path, &text).unwrap();
+        std::fs::write(dir.path().join("a.csv"), "t,acc\n0,0\n0.01,1\n").unwrap();
+        std::fs::write(dir.path().join("b.csv"), "t,acc\n0,0\n0.01,1\n").unwrap();
+        let err = Study::from_toml_unchecked(&text, &path)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("bad.toml") && err.contains(field) && err.contains(value),
+            "{text}\n→ {err}"
+        );
+    }
+}

@@ -247,6 +247,14 @@ impl HistoryFigure {
                         .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
                 },
             ),
+            Some(Motions::Synthetic {
+                seed,
+                pairs: Some(orientation),
+                ..
+            }) => {
+                let (p, phi) = orientation.member(chosen.record);
+                format!("pair {p} of seed {seed} at φ = {}°", sig3(phi))
+            }
             Some(Motions::Synthetic { seed, .. }) => {
                 format!("record {} of seed {seed}", chosen.record)
             }

@@ -35,4 +35,6 @@ pub use io::{At2, DT_REL_TOL, read_at2, read_csv, read_record, write_csv, write_
 pub use orientation::{MeasuredPair, Pair, ROTD_ANGLES, rotated_peaks, rotd, rotd_series};
 pub use psd::CloughPenzien;
 pub use record::{G_STANDARD, Record, integrate_linear};
-pub use synth::{PRESETS, SynthesisSettings, Synthesizer, preset, record_seed, synthesize};
+pub use synth::{
+    PRESETS, SynthesisSettings, Synthesizer, preset, record_seed, second_component_seed, synthesize,
+};

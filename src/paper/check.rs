@@ -185,6 +185,7 @@ fn paper_study(settings: &SynthesisSettings, seed: u64) -> Study {
         settings: settings.clone(),
         seed,
         records: paper::RECORDS,
+        pairs: None,
     };
     study.frictions = vec![Param::Fixed(Friction::Infinite)];
     study.aspects = ASPECTS.map(Param::Fixed).to_vec();

@@ -47,8 +47,12 @@ use crate::study::Tally;
 pub fn is_papers(study: &Study) -> bool {
     let synthetic_default = match &study.motions {
         Motions::Synthetic {
-            settings, records, ..
+            settings,
+            records,
+            pairs: None,
+            ..
         } => readings().iter().any(|r| r.settings == *settings) && *records == tables::RECORDS,
+        Motions::Synthetic { .. } => false,
         Motions::Files(_) | Motions::Pairs { .. } => false,
     };
     synthetic_default

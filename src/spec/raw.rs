@@ -34,6 +34,12 @@ pub struct SpecFile {
     /// Synthetic records per intensity level (default: 25).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub records: Option<usize>,
+    /// Horizontal components per synthetic record: 1, or 2 for pairs of
+    /// independent components of the same model, scaled by their RotD50 and
+    /// turned to the direction the blocks face, as recorded pairs are
+    /// (default: 1; left out of the canonical spec then).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub components: Option<usize>,
     /// Recorded motions (`.AT2` in g or `.csv` in m/s²), paths relative to
     /// the spec file: each entry one component (`"a.AT2"`) or, for every
     /// entry, a pair of horizontal components (`["a-H1.AT2", "a-H2.AT2"]`;

@@ -165,8 +165,15 @@ pub enum Motions {
         settings: SynthesisSettings,
         /// Ensemble seed.
         seed: u64,
-        /// Records per intensity level.
+        /// Records per intensity level (for pairs: pairs, times the angles
+        /// of a grid of orientations, see [`Orientation::per_pair`]).
         records: usize,
+        /// `None`: one horizontal component per record. Some: two
+        /// independent components per record (`components = 2`), H1 the
+        /// ensemble's record and H2 the same index of a second ensemble
+        /// ([`crate::motion::second_component_seed`]), scaled as a pair by
+        /// its RotD50 and turned to the direction the blocks face.
+        pairs: Option<Orientation>,
     },
     /// Recorded motions, each scaled to every intensity level.
     Files(Vec<RecordFile>),
@@ -183,6 +190,16 @@ pub enum Motions {
 }
 
 impl Motions {
+    /// The directions the blocks face, for motions in pairs (recorded or
+    /// synthetic); `None` for single components.
+    pub fn orientation(&self) -> Option<&Orientation> {
+        match self {
+            Motions::Synthetic { pairs, .. } => pairs.as_ref(),
+            Motions::Files(_) => None,
+            Motions::Pairs { orientation, .. } => Some(orientation),
+        }
+    }
+
     /// Every record file, in the spec's order (a pair's H1 then H2); none
     /// for a synthetic ensemble.
     pub fn files(&self) -> Vec<&RecordFile> {
@@ -326,11 +343,14 @@ impl Study {
 
     /// The raw form of this study with every default written out.
     pub fn to_spec_file(&self) -> SpecFile {
+        let components =
+            matches!(self.motions, Motions::Synthetic { pairs: Some(_), .. }).then_some(2);
         let (seed, records, record_files, motion) = match &self.motions {
             Motions::Synthetic {
                 settings,
                 seed,
                 records,
+                ..
             } => (
                 Some(*seed),
                 Some(*records),
@@ -356,10 +376,7 @@ impl Study {
                 None,
             ),
         };
-        let orientation = match &self.motions {
-            Motions::Pairs { orientation, .. } => Some(orientation),
-            _ => None,
-        };
+        let orientation = self.motions.orientation();
         let (grid_orientation, drawn_orientation, orientation_seed) = match orientation {
             Some(Orientation::Grid(angles)) => (Some(angles.clone()), None, None),
             Some(Orientation::Drawn { dist, seed }) => {
@@ -386,6 +403,7 @@ impl Study {
             g: Some(self.g),
             seed,
             records,
+            components,
             record_files,
             motion,
             // the ground writes no [support]: a study without one keeps its hash
@@ -473,6 +491,11 @@ impl Study {
     /// Number of records per intensity level.
     pub fn records(&self) -> usize {
         match &self.motions {
+            Motions::Synthetic {
+                records,
+                pairs: Some(orientation),
+                ..
+            } => records * orientation.per_pair(),
             Motions::Synthetic { records, .. } => *records,
             Motions::Files(files) => files.len(),
             Motions::Pairs { pairs, orientation } => pairs.len() * orientation.per_pair(),

@@ -49,10 +49,38 @@ impl SpecFile {
             uncertainty_file = None;
         }
         let motions = if self.record_files.is_empty() {
-            no_orientation(&spec, &grid_orientation, &drawn_orientation)?;
-            synthetic(&spec, self.motion, self.seed, self.records, g)?
+            let mut motions = synthetic(&spec, self.motion, self.seed, self.records, g)?;
+            match self.components {
+                None | Some(1) => no_orientation(&spec, &grid_orientation, &drawn_orientation)?,
+                Some(2) => {
+                    if let Motions::Synthetic { pairs, .. } = &mut motions {
+                        *pairs = Some(orientation(
+                            &spec,
+                            grid_orientation,
+                            drawn_orientation,
+                            orientation_seed,
+                        )?);
+                    }
+                }
+                Some(n) => {
+                    return Err(spec.bad(
+                        "components",
+                        &n,
+                        "1 or 2 horizontal components per synthetic record",
+                    ));
+                }
+            }
+            motions
         } else {
             no_ensemble(&spec, self.seed, self.records, self.motion.is_some())?;
+            if let Some(n) = self.components {
+                return Err(spec.bad(
+                    "components",
+                    &n,
+                    "to be left out when record_files is given (give the files as pairs \
+                     [\"a-H1.AT2\", \"a-H2.AT2\"] for two components)",
+                ));
+            }
             match record_files(&spec, &self.record_files, check_files)? {
                 Recorded::Files(files) => {
                     no_orientation(&spec, &grid_orientation, &drawn_orientation)?;
@@ -267,6 +295,7 @@ fn synthetic(
         settings,
         seed: seed.unwrap_or(1),
         records,
+        pairs: None,
     })
 }
 
@@ -400,7 +429,8 @@ fn record_files(spec: &Origin, given: &[RecordEntry], check_files: bool) -> Resu
 /// and `uncertainty.orientation` are refused.
 fn no_orientation(spec: &Origin, grid: &Option<Vec<f64>>, drawn: &Option<Value>) -> Result<()> {
     let expected = "to be left out: a block faces a direction only between two horizontal \
-                    components (give record_files as pairs [\"a-H1.AT2\", \"a-H2.AT2\"])";
+                    components (give record_files as pairs [\"a-H1.AT2\", \"a-H2.AT2\"], \
+                    or components = 2 for synthetic pairs)";
     if grid.is_some() {
         return Err(spec.bad("grid.orientation", &"(given)", expected));
     }

@@ -17,7 +17,9 @@
 //! the ground's, and the blocks feel the floor ([`Source::motion`]).
 
 use crate::error::{Error, Result};
-use crate::motion::{MeasuredPair, Pair, Record, Synthesizer, floor_record, read_record};
+use crate::motion::{
+    MeasuredPair, Pair, Record, Synthesizer, floor_record, read_record, second_component_seed,
+};
 use crate::spec::{Intensity, Motions, Orientation, Study};
 use std::sync::Arc;
 
@@ -31,6 +33,17 @@ pub enum Source {
         /// Ensemble seed.
         seed: u64,
     },
+    /// A synthetic ensemble of pairs (`components = 2`): member k's H1 is
+    /// record k of the ensemble, its H2 record k of the ensemble
+    /// [`second_component_seed`]`(seed)`, both at the model's own amplitude.
+    SyntheticPairs {
+        /// The generator (its scratch buffers are per clone).
+        synth: Box<Synthesizer>,
+        /// Ensemble seed.
+        seed: u64,
+        /// The directions the blocks face.
+        orientation: Arc<Orientation>,
+    },
     /// Recorded motions, as read (unscaled).
     Files(Arc<Vec<Record>>),
     /// Record pairs, as read (unscaled), and the directions the blocks face.
@@ -42,9 +55,24 @@ impl Source {
     /// once (an unreadable file is an error here, before any analysis runs).
     pub fn new(study: &Study) -> Result<Source> {
         match &study.motions {
-            Motions::Synthetic { settings, seed, .. } => Ok(Source::Synthetic {
+            Motions::Synthetic {
+                settings,
+                seed,
+                pairs: None,
+                ..
+            } => Ok(Source::Synthetic {
                 synth: Box::new(Synthesizer::new(settings)?),
                 seed: *seed,
+            }),
+            Motions::Synthetic {
+                settings,
+                seed,
+                pairs: Some(orientation),
+                ..
+            } => Ok(Source::SyntheticPairs {
+                synth: Box::new(Synthesizer::new(settings)?),
+                seed: *seed,
+                orientation: Arc::new(orientation.clone()),
             }),
             Motions::Files(files) => {
                 let records = files
@@ -104,7 +132,9 @@ impl Source {
             (Source::Files(records), Intensity::Scale(_)) => {
                 Ok(records[record].clone().scaled(level))
             }
-            (Source::Pairs(pairs), intensity) => Ok(turned(pairs, intensity, level, record, g)?.0),
+            (source @ (Source::Pairs(_) | Source::SyntheticPairs { .. }), intensity) => {
+                Ok(source.turned(intensity, level, record, g)?.0)
+            }
             (Source::Synthetic { .. }, Intensity::Scale(_)) => Err(Error::invalid(
                 "grid.scale_factors",
                 level,
@@ -114,33 +144,55 @@ impl Source {
     }
 }
 
-/// Member `record` of a study of pairs at intensity `level`: the pair
-/// scaled to the level's RotD50 (or by the factor) and turned to the
-/// member's direction; with the scaled pair's RotD50 PGA (m/s²) and PGV
-/// (m/s), and the direction φ (degrees).
-fn turned(
-    pairs: &(Vec<MeasuredPair>, Orientation),
-    intensity: &Intensity,
-    level: f64,
-    record: usize,
-    g: f64,
-) -> Result<(Record, [f64; 2], f64)> {
-    let (pairs, orientation) = pairs;
-    let (p, phi) = orientation.member(record);
-    let pair = &pairs[p];
-    let (target, peak, what) = match intensity {
-        Intensity::Pga(_) => (level * g, pair.pga, "RotD50 PGA"),
-        Intensity::Pgv(_) => (level, pair.pgv, "RotD50 PGV"),
-        Intensity::Scale(_) => (level, 1.0, "scale"),
-    };
-    if !(peak.is_finite() && peak > 0.0) {
-        return Err(Error::InvalidRecord {
-            name: pair.pair.name(),
-            message: format!("the pair's {what} is {peak}; it cannot be scaled to {target}"),
-        });
+impl Source {
+    /// Member `record` of a study of pairs at intensity `level`: the pair
+    /// (read, or generated at the model's own amplitude) scaled to the
+    /// level's RotD50 (or by the factor) and turned to the member's
+    /// direction; with the scaled pair's RotD50 PGA (m/s²) and PGV (m/s),
+    /// and the direction φ (degrees). Single components: an error.
+    fn turned(
+        &mut self,
+        intensity: &Intensity,
+        level: f64,
+        record: usize,
+        g: f64,
+    ) -> Result<(Record, [f64; 2], f64)> {
+        let generated;
+        let (pair, phi) = match self {
+            Source::Pairs(pairs) => {
+                let (pairs, orientation) = &**pairs;
+                let (p, phi) = orientation.member(record);
+                (&pairs[p], phi)
+            }
+            Source::SyntheticPairs {
+                synth,
+                seed,
+                orientation,
+            } => {
+                let (p, phi) = orientation.member(record);
+                let h1 = synth.generate_natural(*seed, p as u64)?;
+                let h2 = synth.generate_natural(second_component_seed(*seed), p as u64)?;
+                generated = MeasuredPair::new(Pair::new(h1, h2)?)?;
+                (&generated, phi)
+            }
+            Source::Synthetic { .. } | Source::Files(_) => {
+                unreachable!("only a source of pairs turns a pair")
+            }
+        };
+        let (target, peak, what) = match intensity {
+            Intensity::Pga(_) => (level * g, pair.pga, "RotD50 PGA"),
+            Intensity::Pgv(_) => (level, pair.pgv, "RotD50 PGV"),
+            Intensity::Scale(_) => (level, 1.0, "scale"),
+        };
+        if !(peak.is_finite() && peak > 0.0) {
+            return Err(Error::InvalidRecord {
+                name: pair.pair.name(),
+                message: format!("the pair's {what} is {peak}; it cannot be scaled to {target}"),
+            });
+        }
+        let k = target / peak;
+        Ok((pair.felt(k, phi)?, [k * pair.pga, k * pair.pgv], phi))
     }
-    let k = target / peak;
-    Ok((pair.felt(k, phi)?, [k * pair.pga, k * pair.pgv], phi))
 }
 
 /// What the blocks of one unit feel, and the peaks measured on the way.
@@ -169,8 +221,8 @@ impl Source {
     /// by every case of the unit.
     pub fn motion(&mut self, study: &Study, level: f64, record: usize) -> Result<UnitMotion> {
         let (ground, pair) = match self {
-            Source::Pairs(pairs) => {
-                let (r, [pga, pgv], phi) = turned(pairs, &study.intensity, level, record, study.g)?;
+            Source::Pairs(_) | Source::SyntheticPairs { .. } => {
+                let (r, [pga, pgv], phi) = self.turned(&study.intensity, level, record, study.g)?;
                 (r, Some(([pga / study.g, pgv], phi)))
             }
             _ => (self.record(&study.intensity, level, record, study.g)?, None),

@@ -61,9 +61,30 @@ impl Tally {
             );
         }
         let motions = match &study.motions {
-            Motions::Synthetic { seed, records, .. } => {
+            Motions::Synthetic {
+                seed,
+                records,
+                pairs: None,
+                ..
+            } => {
                 format!("{records} synthetic records per level (seed {seed})")
             }
+            Motions::Synthetic {
+                seed,
+                records,
+                pairs: Some(orientation),
+                ..
+            } => match orientation {
+                Orientation::Grid(angles) => format!(
+                    "{records} synthetic pairs of independent components (seed {seed}) at {} \
+                     orientations per level",
+                    angles.len()
+                ),
+                Orientation::Drawn { .. } => format!(
+                    "{records} synthetic pairs of independent components per level (seed \
+                     {seed}), each at a drawn orientation"
+                ),
+            },
             Motions::Files(f) => format!("{} recorded motions per level", f.len()),
             Motions::Pairs { pairs, orientation } => match orientation {
                 Orientation::Grid(angles) => format!(
@@ -541,7 +562,7 @@ fn floor_text(floor: &crate::motion::Floor) -> String {
 /// The name and unit of a study's levels in a table heading: `PGA`, `PGV`
 /// (a record pair's RotD50 for studies of pairs) or `scale`.
 fn level_heading(study: &Study) -> (&'static str, &'static str) {
-    let pairs = matches!(study.motions, Motions::Pairs { .. });
+    let pairs = study.motions.orientation().is_some();
     match study.intensity {
         Intensity::Pga(_) if pairs => ("RotD50 PGA", " (g)"),
         Intensity::Pga(_) => ("PGA", " (g)"),
