@@ -450,6 +450,9 @@ fn synthetic_pairs_are_two_independent_components() {
     std::fs::write(&path, text).unwrap();
     let study = Study::load(&path).unwrap();
     assert_eq!(study.records(), 6);
+    // fitted against the pair's RotD50 by default, as recorded pairs are
+    let fitted = Study::from_toml(&format!("{text}\n[fragility]\n"), &path).unwrap();
+    assert_eq!(fitted.fragility.unwrap().im, IntensityMeasure::PgaRotd50);
     let back = Study::from_toml(&study.to_toml(), &path).unwrap();
     assert_eq!(back, study);
     let rows = run(&study, &dir.path().join("out"));

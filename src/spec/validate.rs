@@ -110,7 +110,8 @@ impl SpecFile {
         let mut fragility_options = self.fragility;
         // A study of record pairs is fitted against the pair's RotD50 PGA
         // (what hazard models give) unless the spec names a measure.
-        if let (Some(options), Motions::Pairs { .. }) = (&mut fragility_options, &motions)
+        if let Some(options) = &mut fragility_options
+            && motions.orientation().is_some()
             && options.im == IntensityMeasure::Pga
             && !names_fragility_im(text)
         {
