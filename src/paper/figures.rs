@@ -189,6 +189,35 @@ pub struct ETrendFigure {
 }
 
 impl ETrendFigure {
+    /// The figure of three series of counts per e, in their order: the
+    /// physics (labelled `physics`), the paper's program rule and the
+    /// paper's tables, each labelled with its Cochran–Armitage trend test.
+    fn of_counts(title: String, physics: &str, series: [Vec<(f64, u64, u64)>; 3]) -> ETrendFigure {
+        let label = |what: &str, c: &[(f64, u64, u64)]| {
+            let k: Vec<u64> = c.iter().map(|x| x.1).collect();
+            let n: Vec<u64> = c.iter().map(|x| x.2).collect();
+            let es: Vec<f64> = c.iter().map(|x| x.0).collect();
+            match trend_text(&k, &n, &es) {
+                Some(t) => format!("{what}: {t}"),
+                None => what.to_string(),
+            }
+        };
+        let names = [
+            physics,
+            "paper's program rule (rock_impact = \"rock\")",
+            "paper, Tables 1–3",
+        ];
+        let [a, b, c] = series;
+        let one = |what: &str, counts: Vec<(f64, u64, u64)>| ETrendSeries {
+            label: label(what, &counts),
+            counts,
+        };
+        ETrendFigure {
+            title,
+            series: [one(names[0], a), one(names[1], b), one(names[2], c)],
+        }
+    }
+
     /// The three series for `study` (the paper's): this study's counts from
     /// its figures' data, the program rule's by solving the study's
     /// infinite-friction cases on the same records with
@@ -240,14 +269,6 @@ impl ETrendFigure {
             .zip(pk.iter().zip(&pn))
             .map(|(&e, (&k, &n))| (e, k, n))
             .collect();
-        let label = |what: &str, c: &[(f64, u64, u64)]| {
-            let k: Vec<u64> = c.iter().map(|x| x.1).collect();
-            let n: Vec<u64> = c.iter().map(|x| x.2).collect();
-            match trend_text(&k, &n, &es) {
-                Some(t) => format!("{what}: {t}"),
-                None => what.to_string(),
-            }
-        };
         let runs = ours.first().map_or(0, |c| c.2);
         let title = format!(
             "Overturned or lifted off against e, μ = ∞, {runs} runs per e (H/B {}; {} PGA \
@@ -259,23 +280,11 @@ impl ETrendFigure {
                 .join(", "),
             levels.len()
         );
-        Ok(ETrendFigure {
+        Ok(Self::of_counts(
             title,
-            series: [
-                ETrendSeries {
-                    label: label("physics (this study)", &ours),
-                    counts: ours,
-                },
-                ETrendSeries {
-                    label: label("paper's program rule (rock_impact = \"rock\")", &rule),
-                    counts: rule,
-                },
-                ETrendSeries {
-                    label: label("paper, Tables 1–3", &paper),
-                    counts: paper,
-                },
-            ],
-        })
+            "physics (this study)",
+            [ours, rule, paper],
+        ))
     }
 }
 
@@ -309,37 +318,13 @@ impl ETrendFigure {
             .zip(paper_totals())
             .map(|(&e, k)| (e, u64::from(k), 300))
             .collect();
-        let es = RESTITUTIONS.to_vec();
-        let label = |what: &str, c: &[(f64, u64, u64)]| {
-            let kk: Vec<u64> = c.iter().map(|x| x.1).collect();
-            let n: Vec<u64> = c.iter().map(|x| x.2).collect();
-            match trend_text(&kk, &n, &es) {
-                Some(t) => format!("{what}: {t}"),
-                None => what.to_string(),
-            }
-        };
-        Some(ETrendFigure {
-            title: format!(
-                "Overturned or lifted off against e, μ = ∞, the paper's study on the rad/s grid, \
-                 {k} ensembles ({} runs per e), 95 % binomial intervals; trend tests \
-                 Cochran–Armitage",
-                ours.first().map_or(0, |c| c.2)
-            ),
-            series: [
-                ETrendSeries {
-                    label: label("physics", &ours),
-                    counts: ours,
-                },
-                ETrendSeries {
-                    label: label("paper's program rule (rock_impact = \"rock\")", &rule),
-                    counts: rule,
-                },
-                ETrendSeries {
-                    label: label("paper, Tables 1–3", &paper),
-                    counts: paper,
-                },
-            ],
-        })
+        let title = format!(
+            "Overturned or lifted off against e, μ = ∞, the paper's study on the rad/s grid, \
+             {k} ensembles ({} runs per e), 95 % binomial intervals; trend tests \
+             Cochran–Armitage",
+            ours.first().map_or(0, |c| c.2)
+        );
+        Some(Self::of_counts(title, "physics", [ours, rule, paper]))
     }
 }
 
