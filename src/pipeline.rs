@@ -194,3 +194,78 @@ pub fn figures(
     study::require_finished(dir)?;
     paper::study_figures(study, dir, out, options)
 }
+
+/// What [`risk`] computed and wrote.
+#[derive(Clone, Debug)]
+pub struct RiskReport {
+    /// One row per case and limit state.
+    pub rows: Vec<crate::risk::RiskRow>,
+    /// The hazard curve as integrated (in the fit's unit).
+    pub hazard: crate::risk::HazardCurve,
+    /// The fit's intensity measure and its unit.
+    pub im: (String, String),
+    /// Whether the folder had `fragility_bootstrap.csv` (a band on the
+    /// rates).
+    pub banded: bool,
+    /// `risk.csv`, `risk_hazard.csv` and `figures/risk.svg`, in that order.
+    pub written: [PathBuf; 3],
+    /// `summary.md`, when its `## Risk` section was written (the output is
+    /// the study folder itself).
+    pub summary: Option<PathBuf>,
+}
+
+/// `rockfrag risk` (and Python's `risk`): the fitted folder `dir`'s curves
+/// integrated over the hazard curve `hazard` (site `site` of an OpenQuake
+/// file), written into `out` (default `dir`) as `risk.csv`,
+/// `risk_hazard.csv` (the hazard as integrated, for `rockfrag figures`) and
+/// `figures/risk.svg`, and as `dir/summary.md`'s `## Risk` when `out` is
+/// `dir`.
+///
+/// Errors: bad options, an unfitted or unfinished folder, a hazard curve in
+/// another IM, `out` naming a `.csv` file, or files that cannot be written.
+pub fn risk(
+    dir: &Path,
+    hazard: &Path,
+    site: Option<usize>,
+    options: &crate::risk::RiskOptions,
+    out: Option<&Path>,
+) -> Result<RiskReport> {
+    use crate::risk::{
+        USED_HAZARD, assess, read_fragility, read_hazard, summary_section, write_risk_csv,
+        write_used_hazard,
+    };
+    options.validate()?;
+    let fragility = read_fragility(dir)?;
+    let hazard = read_hazard(hazard, site)?.in_unit_of(fragility.im())?;
+    let rows = assess(&fragility, &hazard, options)?;
+    let out = out.unwrap_or(dir);
+    if out.extension().is_some_and(|e| e == "csv") {
+        return Err(Error::invalid(
+            "out",
+            out.display(),
+            "a folder (risk.csv and figures/risk.svg go into it), not a file",
+        ));
+    }
+    let figures = out.join("figures");
+    std::fs::create_dir_all(&figures).map_err(Error::io(&figures))?;
+    let csv = out.join("risk.csv");
+    write_risk_csv(&csv, &rows, options)?;
+    let used = out.join(USED_HAZARD);
+    write_used_hazard(&used, &hazard)?;
+    let figure = figures.join("risk.svg");
+    crate::figures::save(&crate::figures::RiskFigure::new(&rows, &hazard), &figure)?;
+    let summary = dir.join("summary.md");
+    let summary = (same_folder(out, dir) && summary.exists()).then_some(summary);
+    if let Some(path) = &summary {
+        let section = summary_section(&rows, &hazard, options);
+        crate::io_util::replace_section(path, "## Risk", &section, &[]).map_err(Error::io(path))?;
+    }
+    Ok(RiskReport {
+        im: (fragility.im().to_string(), fragility.im_unit().to_string()),
+        banded: fragility.bootstrap.is_some(),
+        rows,
+        hazard,
+        written: [csv, used, figure],
+        summary,
+    })
+}

@@ -530,8 +530,9 @@ def risk(folder, hazard, *, site=None, years=50.0, out=None):
     years : float
         Exposure time for the probability 1 − exp(−λN) (default 50).
     out : str or os.PathLike, optional
-        Folder for ``risk.csv`` (default ``folder``). The figure and the
-        summary section are the CLI's (``rockfrag risk``).
+        Folder for ``risk.csv``, ``risk_hazard.csv`` and ``figures/risk.svg``
+        (default ``folder``, whose ``summary.md`` then gets its ``## Risk``
+        section), as ``rockfrag risk --out`` writes them (one code path).
 
     Returns
     -------

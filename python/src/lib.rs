@@ -595,23 +595,20 @@ fn risk(
     years: f64,
     out: Option<String>,
 ) -> PyResult<String> {
-    use rockfrag::risk::{RiskOptions, assess, read_fragility, read_hazard, write_risk_csv};
-    let dir = PathBuf::from(dir);
-    let out = out.map_or_else(|| dir.clone(), PathBuf::from);
-    py.detach(|| -> rockfrag::Result<_> {
-        let options = RiskOptions {
-            years,
-            ..RiskOptions::default()
-        };
-        options.validate()?;
-        let fragility = read_fragility(&dir)?;
-        let hazard = read_hazard(Path::new(&hazard), site)?.in_unit_of(fragility.im())?;
-        let rows = assess(&fragility, &hazard, &options)?;
-        std::fs::create_dir_all(&out).map_err(rockfrag::Error::io(&out))?;
-        let csv = out.join("risk.csv");
-        write_risk_csv(&csv, &rows, &options)?;
-        Ok(csv.display().to_string())
+    let options = rockfrag::risk::RiskOptions {
+        years,
+        ..rockfrag::risk::RiskOptions::default()
+    };
+    py.detach(|| {
+        rockfrag::pipeline::risk(
+            Path::new(&dir),
+            Path::new(&hazard),
+            site,
+            &options,
+            out.as_deref().map(Path::new),
+        )
     })
+    .map(|report| report.written[0].display().to_string())
     .map_err(py_err)
 }
 

@@ -5,12 +5,10 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::Context;
-use rockfrag::figures::{RiskFigure, save};
 use rockfrag::io_util::sig3;
 use rockfrag::risk::{
-    HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, USED_HAZARD, assess, describe_hazard,
-    read_fragility, read_hazard, standing_rows, summary_section, survival_cell, write_risk_csv,
-    write_used_hazard,
+    HazardSource, RELATIVE_TOLERANCE, RiskOptions, RiskRow, describe_hazard, standing_rows,
+    survival_cell,
 };
 
 /// Flags of `rockfrag risk`.
@@ -47,44 +45,23 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
         years: args.years,
         ..RiskOptions::default()
     };
-    options.validate()?;
-    let fragility = read_fragility(&args.dir)?;
-    let hazard = read_hazard(&args.hazard, args.site)?.in_unit_of(fragility.im())?;
-    let rows = assess(&fragility, &hazard, &options)?;
-
-    let out = args.out.clone().unwrap_or_else(|| args.dir.clone());
-    if out.extension().is_some_and(|e| e == "csv") {
-        anyhow::bail!(
-            "--out {}: expected a folder (risk.csv and figures/risk.svg go into it), not a file",
-            out.display()
-        );
-    }
-    let figures = out.join("figures");
-    std::fs::create_dir_all(&figures).with_context(|| figures.display().to_string())?;
-    let csv = out.join("risk.csv");
-    write_risk_csv(&csv, &rows, &options)?;
-    // the hazard as integrated, for `rockfrag figures` to redraw the figure
-    let used = out.join(USED_HAZARD);
-    write_used_hazard(&used, &hazard)?;
-    let figure = figures.join("risk.svg");
-    save(&RiskFigure::new(&rows, &hazard), &figure)?;
-    let summary = args.dir.join("summary.md");
-    let summary =
-        (rockfrag::pipeline::same_folder(&out, &args.dir) && summary.exists()).then_some(summary);
-    if let Some(path) = &summary {
-        let section = summary_section(&rows, &hazard, &options);
-        rockfrag::io_util::replace_section(path, "## Risk", &section, &[])
-            .with_context(|| path.display().to_string())?;
-    }
+    let report = rockfrag::pipeline::risk(
+        &args.dir,
+        &args.hazard,
+        args.site,
+        &options,
+        args.out.as_deref(),
+    )?;
+    let (rows, hazard) = (&report.rows, &report.hazard);
+    let [csv, used, figure] = &report.written;
 
     // The table is the data (stdout); what was read and written is status
     // (stderr), as for every subcommand.
-    let mut text = format!("hazard: {}\n", describe_hazard(&hazard).replace('`', ""));
+    let mut text = format!("hazard: {}\n", describe_hazard(hazard).replace('`', ""));
     if hazard.source == HazardSource::Plain {
         text.push_str(&format!(
             "note: plain hazard file: its levels are taken in the fit's unit ({} {})\n",
-            fragility.im(),
-            fragility.im_unit()
+            report.im.0, report.im.1
         ));
     }
     if hazard.dropped_low + hazard.dropped_high > 0 {
@@ -94,7 +71,7 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
             hazard.dropped_low, hazard.dropped_high
         ));
     }
-    if fragility.bootstrap.is_none() {
+    if !report.banded {
         text.push_str(
             "note: no fragility_bootstrap.csv: no band on the rates (rerun rockfrag \
              fragility DIR with --bootstrap N)\n",
@@ -105,9 +82,12 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
         csv.display(),
         used.display(),
         figure.display(),
-        summary.map_or(String::new(), |p| format!(", {} (## Risk)", p.display()))
+        report
+            .summary
+            .as_ref()
+            .map_or(String::new(), |p| format!(", {} (## Risk)", p.display()))
     ));
-    for r in &rows {
+    for r in rows {
         if let Some(w) = r.tail_warning(options.tail_warning) {
             eprintln!("warning: {w}");
         }
@@ -127,8 +107,8 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
     let data = format!(
         "{}{}",
-        table(&rows, &options),
-        still_standing(&rows, &options)
+        table(rows, &options),
+        still_standing(rows, &options)
     );
     match stdout.write_all(data.as_bytes()) {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
