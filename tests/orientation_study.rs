@@ -450,6 +450,15 @@ fn synthetic_pairs_are_two_independent_components() {
     std::fs::write(&path, text).unwrap();
     let study = Study::load(&path).unwrap();
     assert_eq!(study.records(), 6);
+    // drawn directions take the study's seed, as the block's draws do, and
+    // read back the same with a block drawn beside them
+    let drawn_text = text
+        .replace("orientation = [0, 90]\n", "")
+        .replace("restitution = [0.5]\n", "")
+        + "\n[uncertainty]\nrestitution = { dist = \"uniform\", min = 0.2, max = 0.6 }\n";
+    let drawn = Study::from_toml(&drawn_text, &path).unwrap();
+    assert_eq!(drawn.motions.orientation(), Some(&Orientation::unknown(4)));
+    assert_eq!(Study::from_toml(&drawn.to_toml(), &path).unwrap(), drawn);
     // fitted against the pair's RotD50 by default, as recorded pairs are
     let fitted = Study::from_toml(&format!("{text}\n[fragility]\n"), &path).unwrap();
     assert_eq!(fitted.fragility.unwrap().im, IntensityMeasure::PgaRotd50);

@@ -185,7 +185,8 @@ pub struct UncertaintyFile {
     /// each record pair: a distribution, drawn once per record (the same at
     /// every level and for every case), or a number (only with record
     /// pairs; default with pairs and no `grid.orientation`: uniform on
-    /// [0°, 180°), since an object's orientation is rarely known).
+    /// [0°, 180°), since an object's orientation is rarely known). Drawn
+    /// with `seed`, as the block's parameters are.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub orientation: Option<Value>,
 }

@@ -44,7 +44,13 @@ impl SpecFile {
         let grid_orientation = grid_file.orientation.take();
         let mut uncertainty_file = self.uncertainty;
         let drawn_orientation = uncertainty_file.as_mut().and_then(|u| u.orientation.take());
-        let orientation_seed = uncertainty_file.as_ref().and_then(|u| u.seed).unwrap_or(1);
+        // the default seed of every [uncertainty] draw: the study's seed (1
+        // with record files, which leave `seed` out)
+        let orientation_seed = uncertainty_file
+            .as_ref()
+            .and_then(|u| u.seed)
+            .or(self.seed)
+            .unwrap_or(1);
         if drawn_orientation.is_some() && uncertainty_file.as_ref().is_some_and(only_seed) {
             uncertainty_file = None;
         }
