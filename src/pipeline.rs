@@ -118,7 +118,7 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
 /// ([`fit_and_write`]) and, when they replace the folder's own
 /// (`out` = `dir`), the `## Fragility` section of its `summary.md`.
 pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitReport> {
-    files::require_finished(dir)?;
+    study::require_finished(dir)?;
     let mut report = fit_and_write(dir, out, options)?;
     let summary = dir.join(files::SUMMARY);
     if same_folder(dir, out) && summary.exists() {
@@ -140,8 +140,43 @@ pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitRe
     Ok(report)
 }
 
-/// Whether `a` and `b` name the same folder (both exist).
-fn same_folder(a: &Path, b: &Path) -> bool {
+/// `options` completed from the study recorded in `dir/manifest.json`, if
+/// any, as `rockfrag fragility` and Python's `fragility` do: its drawn
+/// parameters are pooled (with those `options` pools), and its own
+/// `[fragility]` limit states are fitted unless `options` names some.
+pub fn folder_fit_options(dir: &Path, options: &FragilityOptions) -> Result<FragilityOptions> {
+    let manifest = dir.join(files::MANIFEST);
+    let study = if manifest.exists() {
+        let m = study::Manifest::read(&manifest)?;
+        Some(Study::from_toml_unchecked(&m.spec_toml, &manifest)?)
+    } else {
+        None
+    };
+    let mut pool = study.as_ref().map_or_else(Vec::new, Study::drawn);
+    for &field in &options.pool {
+        if !pool.contains(&field) {
+            pool.push(field);
+        }
+    }
+    pool.sort();
+    let limit_state = if options.limit_state.is_empty() {
+        study
+            .as_ref()
+            .and_then(|s| s.fragility.as_ref())
+            .map_or(Vec::new(), |f| f.limit_state.clone())
+    } else {
+        options.limit_state.clone()
+    };
+    Ok(FragilityOptions {
+        limit_state,
+        pool,
+        ..options.clone()
+    })
+}
+
+/// Whether `a` and `b` name the same folder (by their canonical paths when
+/// both exist).
+pub fn same_folder(a: &Path, b: &Path) -> bool {
     match (a.canonicalize(), b.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
         _ => a == b,
@@ -156,6 +191,6 @@ pub fn figures(
     out: &Path,
     options: &FigureOptions,
 ) -> Result<FiguresReport> {
-    files::require_finished(dir)?;
+    study::require_finished(dir)?;
     paper::study_figures(study, dir, out, options)
 }

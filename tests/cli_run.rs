@@ -249,3 +249,81 @@ fn run_fits_fragility_and_draws_figures_when_the_spec_asks() {
         stderr(&o)
     );
 }
+
+/// `figures --case ID --level X` draws the history of that case at that
+/// stripe (its title names the block and the level); without them the
+/// figure shows one of the study's own blocks (H/B 4 or 6 of the small
+/// study, never the paper's illustrative H/B 2 block); a case or level the
+/// study does not have is an error naming what it has, not a skipped figure.
+#[test]
+fn figures_history_takes_case_and_level() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("small");
+    let d = out.to_str().unwrap();
+    let o = rockfrag(&["run", SMALL, "--out", d]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let title = |figs: &std::path::Path| {
+        // The title may wrap over several <text> lines: join their texts.
+        let svg = std::fs::read_to_string(figs.join("history.svg")).unwrap();
+        let texts: Vec<&str> = svg
+            .split("<text")
+            .skip(1)
+            .filter_map(|t| {
+                t.split_once('>')
+                    .map(|(_, rest)| rest.split('<').next().unwrap_or(""))
+            })
+            .collect();
+        let all = texts.join(" ");
+        let i = all.find("H/B = ").expect("a title naming the block");
+        all[i..(i + 160).min(all.len())].to_string()
+    };
+    let f0 = tmp.path().join("f0");
+    let o = rockfrag(&["figures", d, "--out", f0.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t = title(&f0);
+    assert!(t.contains("H/B = 4") || t.contains("H/B = 6"), "{t}");
+    assert!(t.contains("2B = 0.5"), "{t}");
+
+    let f1 = tmp.path().join("f1");
+    let o = rockfrag(&[
+        "figures",
+        d,
+        "--out",
+        f1.to_str().unwrap(),
+        "--case",
+        "a6_w0p5_e0p6_inf",
+        "--level",
+        "0.4",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t = title(&f1);
+    assert!(
+        t.contains("H/B = 6") && t.contains("e = 0.6") && t.contains("0.4 g"),
+        "{t}"
+    );
+
+    let o = rockfrag(&[
+        "figures",
+        d,
+        "--out",
+        f1.to_str().unwrap(),
+        "--case",
+        "a3_nope",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("a3_nope") && stderr(&o).contains("a6_w0p5_e0p6_inf"),
+        "{}",
+        stderr(&o)
+    );
+    let o = rockfrag(&[
+        "figures",
+        d,
+        "--out",
+        f1.to_str().unwrap(),
+        "--level",
+        "0.5",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("0.4, 0.8"), "{}", stderr(&o));
+}

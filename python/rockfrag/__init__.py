@@ -10,20 +10,31 @@ a result here equals the CLI's on the same input, bit for bit. Units are SI
     >>> o["overturned"], o["theta_max_over_theta_c"]
 
 Functions: :func:`motion`, :func:`floor`, :func:`simulate`, :func:`simulate_many`,
-:func:`run`, :func:`read_outcomes`, :func:`fit`, :func:`infer`. Bad input raises
+:func:`run`, :func:`fragility`, :func:`risk`, :func:`read_outcomes`, :func:`fit`,
+:func:`infer`. Bad input raises
 ``ValueError`` with the CLI's message; files that cannot be read or written
 raise ``OSError``; a solver failure raises ``RuntimeError``.
 """
 
+import difflib as _difflib
 import json as _json
 import os as _os
+import warnings as _warnings
 
 import numpy as _np
 
 from . import _rockfrag
 
 __version__ = _rockfrag.__version__
-__all__ = ["motion", "floor", "simulate", "simulate_many", "run", "read_outcomes", "fit", "infer"]
+__all__ = [
+    "motion", "floor", "simulate", "simulate_many", "run", "fragility", "risk", "read_outcomes",
+    "fit", "infer", "FitWarning",
+]
+
+
+class FitWarning(UserWarning):
+    """A fragility curve that could not be fitted (the message says which and
+    what to try: stripes nearer the threshold, more records)."""
 
 #: Standard gravity used to convert accelerations given in g (m/s²).
 G_STANDARD = 9.81
@@ -125,7 +136,9 @@ def floor(acc, dt, period, damping, participation=1.0, *, vel=None, disp=None, n
     )
 
 
-def _setup(width, aspect, restitution, mu_s, mu_k, solver):
+def _setup(width, aspect, restitution, mu_s, mu_k, solver, named):
+    """The solver setup; ``named`` lists the caller's own keywords, for the
+    message of a misspelt one."""
     solver = dict(solver)
     args = dict(
         theta0=0.0,
@@ -142,9 +155,14 @@ def _setup(width, aspect, restitution, mu_s, mu_k, solver):
     )
     unknown = sorted(set(solver) - set(args))
     if unknown:
+        known = list(named) + sorted(args)
+        hints = []
+        for u in unknown:
+            close = _difflib.get_close_matches(u, known, n=1)
+            hints.append("%s (did you mean %s?)" % (u, close[0]) if close else u)
         raise TypeError(
-            "unknown solver keyword(s) %s: expected %s"
-            % (", ".join(unknown), ", ".join(sorted(args)))
+            "unknown keyword(s) %s: expected one of %s, or the solver's %s"
+            % (", ".join(hints), ", ".join(named), ", ".join(sorted(args)))
         )
     args.update(solver)
     return _rockfrag.Setup(
@@ -245,7 +263,7 @@ def simulate(
         (s or None), ``theta_max_over_theta_c``, ``mu_motion``,
         ``mu_impact``, ``impacts``, ``time_in_mode`` (s, by mode), ``stats``…
     """
-    setup = _setup(width, aspect, restitution, mu_s, mu_k, solver)
+    setup = _setup(width, aspect, restitution, mu_s, mu_k, solver, _SIMULATE_KEYWORDS)
     return _rockfrag.simulate_one(
         setup,
         _f64(acc, "acc"),
@@ -259,6 +277,13 @@ def simulate(
 
 
 simulate.__doc__ = simulate.__doc__ % {"rtol": _RTOL, "settle": _SETTLE_TOL}
+
+_SIMULATE_KEYWORDS = (
+    "width", "aspect", "restitution", "mu_s", "mu_k", "vel", "disp", "history", "sensitivity", "name",
+)
+_SIMULATE_MANY_KEYWORDS = (
+    "width", "aspect", "restitution", "mu_s", "mu_k", "threads", "sensitivity",
+)
 
 
 def simulate_many(
@@ -294,7 +319,7 @@ def simulate_many(
     list of dict
         The outcome of each record, in order, as :func:`simulate` gives it.
     """
-    setup = _setup(width, aspect, restitution, mu_s, mu_k, solver)
+    setup = _setup(width, aspect, restitution, mu_s, mu_k, solver, _SIMULATE_MANY_KEYWORDS)
     items = []
     for i, r in enumerate(records):
         if isinstance(r, dict):
@@ -356,9 +381,106 @@ def run(spec=None, out=None, threads=None):
         path = _os.fspath(spec)
     if threads is not None and int(threads) < 1:
         raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
-    return _rockfrag.run(
+    folder, unfitted = _rockfrag.run(
         path, js, None if out is None else _os.fspath(out), 0 if threads is None else int(threads)
     )
+    for message in unfitted:
+        _warnings.warn(message, FitWarning, stacklevel=2)
+    return folder
+
+
+def fragility(folder, *, out=None, **options):
+    """Fits fragility curves to a finished study folder, as ``rockfrag
+    fragility`` does, with limit states and the bootstrap.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        A finished run's folder (``outcomes.csv``, ``manifest.json``).
+    out : str or os.PathLike, optional
+        Folder for the fragility files (default ``folder``, whose
+        ``summary.md`` then gets the new curves).
+    **options
+        The spec's ``[fragility]`` fields: ``im`` ("pga", "pgv", ...),
+        ``bootstrap`` (replicates, 0 for none), ``unit`` ("record" |
+        "analysis"), ``seed``, ``confidence``, ``grid_points`` and
+        ``limit_state``, a list of dicts such as ``{"name": "rocking",
+        "measure": "theta_max_over_theta_c", "exceeds": 0.2}`` (default: the
+        study's own, else overturning). Parameters drawn per analysis are
+        pooled as by the CLI.
+
+    Returns
+    -------
+    str
+        The path of ``fragility.csv`` (with ``fragility_curves.csv``,
+        ``fragility_bootstrap.csv`` and ``fragility.xml`` beside it). Each
+        curve that could not be fitted raises a :class:`FitWarning` saying
+        why and what to try.
+    """
+    known = {"im", "bootstrap", "unit", "seed", "confidence", "grid_points", "limit_state"}
+    unknown = sorted(set(options) - known)
+    if unknown:
+        hints = []
+        for u in unknown:
+            close = _difflib.get_close_matches(u, sorted(known) + ["out"], n=1)
+            hints.append("%s (did you mean %s?)" % (u, close[0]) if close else u)
+        raise TypeError(
+            "unknown keyword(s) %s: expected one of out, %s" % (", ".join(hints), ", ".join(sorted(known)))
+        )
+    csv, _table, unfitted = _rockfrag.fragility(
+        _os.fspath(folder), _json.dumps(options), None if out is None else _os.fspath(out)
+    )
+    for message in unfitted:
+        _warnings.warn(message, FitWarning, stacklevel=2)
+    return csv
+
+
+def risk(folder, hazard, *, site=None, years=50.0, out=None):
+    """The annual rate of each fitted curve at a site, as ``rockfrag risk``
+    computes it: the fragility of ``folder`` integrated over a hazard curve.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        A folder holding ``fragility.csv`` (and ``fragility_bootstrap.csv``
+        for the 90 % band), e.g. from :func:`fragility`.
+    hazard : str or os.PathLike
+        OpenQuake's hazard-curve CSV for the fit's IM, or a plain CSV
+        ``iml,annual_rate`` (IML in the fit's unit).
+    site : int, optional
+        The 0-based data row of an OpenQuake file (default 0).
+    years : float
+        Exposure time for the probability 1 − exp(−λN) (default 50).
+    out : str or os.PathLike, optional
+        Folder for ``risk.csv`` (default ``folder``). The figure and the
+        summary section are the CLI's (``rockfrag risk``).
+
+    Returns
+    -------
+    dict of numpy.ndarray or list
+        The columns of ``risk.csv`` by name (numbers as float arrays, NaN
+        where empty; text as lists), and ``path``, the file's path.
+    """
+    path = _rockfrag.risk(
+        _os.fspath(folder),
+        _os.fspath(hazard),
+        None if site is None else int(site),
+        float(years),
+        None if out is None else _os.fspath(out),
+    )
+    import csv as _csv
+
+    with open(path, newline="") as f:
+        rows = list(_csv.reader(f))
+    header, body = rows[0], rows[1:]
+    table = {"path": path}
+    for i, name in enumerate(header):
+        values = [r[i] for r in body]
+        try:
+            table[name] = _np.array([float(v) if v != "" else _np.nan for v in values])
+        except ValueError:
+            table[name] = values
+    return table
 
 
 def _column(kind, values):

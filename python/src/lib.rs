@@ -384,7 +384,12 @@ fn motion<'py>(
         let synth = last.as_mut().expect("set above");
         synth.generate(seed, index, settings.pga_from_g(pga))
     });
-    let record = record.map_err(py_err)?;
+    record_dict(py, record.map_err(py_err)?)
+}
+
+/// A record as Python gets it: `t`, `acc`, `vel`, `disp` (numpy arrays),
+/// `dt` and `name`.
+fn record_dict(py: Python<'_>, record: Record) -> PyResult<Bound<'_, PyDict>> {
     let t: Vec<f64> = (0..record.len()).map(|k| k as f64 * record.dt).collect();
     let d = PyDict::new(py);
     d.set_item("t", t.into_pyarray(py))?;
@@ -425,15 +430,7 @@ fn floor<'py>(
     let out = py
         .detach(|| floor_record(&ground, &floor))
         .map_err(py_err)?;
-    let t: Vec<f64> = (0..out.len()).map(|k| k as f64 * out.dt).collect();
-    let d = PyDict::new(py);
-    d.set_item("t", t.into_pyarray(py))?;
-    d.set_item("acc", out.acc.into_pyarray(py))?;
-    d.set_item("vel", out.vel.into_pyarray(py))?;
-    d.set_item("disp", out.disp.into_pyarray(py))?;
-    d.set_item("dt", out.dt)?;
-    d.set_item("name", out.name)?;
-    Ok(d)
+    record_dict(py, out)
 }
 
 /// A study from a file, or from a JSON object of the spec's fields (turned
@@ -475,7 +472,7 @@ fn run(
     json: Option<String>,
     out: Option<String>,
     threads: usize,
-) -> PyResult<String> {
+) -> PyResult<(String, Vec<String>)> {
     let (study, spec_file) = load_study(path.as_deref(), json.as_deref())?;
     let out = out.map_or_else(|| PathBuf::from("results").join(&study.name), PathBuf::from);
     let opts = RunOptions {
@@ -491,7 +488,77 @@ fn run(
     if let Some(message) = report.failure() {
         return Err(PyRuntimeError::new_err(message));
     }
-    Ok(out.display().to_string())
+    // The curves that could not be fitted, with advice, for Python's warnings.
+    let unfitted = report
+        .finish
+        .as_ref()
+        .and_then(|f| f.fit.as_ref())
+        .map_or_else(Vec::new, |fit| fit.unfitted.clone());
+    Ok((out.display().to_string(), unfitted))
+}
+
+/// `rockfrag fragility DIR`: fits the curves of a finished study folder
+/// with `options` (the spec's `[fragility]` table as JSON) into `out`
+/// (default DIR, whose summary.md then gets the new curves); returns the
+/// fragility.csv path, the table, and the curves not fitted with advice.
+#[pyfunction]
+#[pyo3(signature = (dir, options, out))]
+fn fragility(
+    py: Python<'_>,
+    dir: String,
+    options: String,
+    out: Option<String>,
+) -> PyResult<(String, String, Vec<String>)> {
+    let dir = PathBuf::from(dir);
+    let given: rockfrag::fragility::FragilityOptions = serde_json::from_str(&options)
+        .map_err(|e| PyValueError::new_err(format!("invalid fragility options: {e}")))?;
+    let out = out.map_or_else(|| dir.clone(), PathBuf::from);
+    let report = py
+        .detach(|| -> rockfrag::Result<_> {
+            rockfrag::study::require_finished(&dir)?;
+            let options = rockfrag::pipeline::folder_fit_options(&dir, &given)?;
+            options.validate()?;
+            rockfrag::pipeline::refit(&dir, &out, &options)
+        })
+        .map_err(py_err)?;
+    Ok((
+        report.fragility_csv.display().to_string(),
+        report.table.clone(),
+        report.unfitted.clone(),
+    ))
+}
+
+/// `rockfrag risk DIR --hazard FILE`: the annual rate of each fitted curve
+/// of `dir` over the hazard curve `hazard` (site `site` of an OpenQuake
+/// file), written to `out/risk.csv` (default DIR); returns its path.
+#[pyfunction]
+#[pyo3(signature = (dir, hazard, site, years, out))]
+fn risk(
+    py: Python<'_>,
+    dir: String,
+    hazard: String,
+    site: Option<usize>,
+    years: f64,
+    out: Option<String>,
+) -> PyResult<String> {
+    use rockfrag::risk::{RiskOptions, assess, read_fragility, read_hazard, write_risk_csv};
+    let dir = PathBuf::from(dir);
+    let out = out.map_or_else(|| dir.clone(), PathBuf::from);
+    py.detach(|| -> rockfrag::Result<_> {
+        let options = RiskOptions {
+            years,
+            ..RiskOptions::default()
+        };
+        options.validate()?;
+        let fragility = read_fragility(&dir)?;
+        let hazard = read_hazard(Path::new(&hazard), site)?.in_unit_of(fragility.im())?;
+        let rows = assess(&fragility, &hazard, &options)?;
+        std::fs::create_dir_all(&out).map_err(rockfrag::Error::io(&out))?;
+        let csv = out.join("risk.csv");
+        write_risk_csv(&csv, &rows, &options)?;
+        Ok(csv.display().to_string())
+    })
+    .map_err(py_err)
 }
 
 /// The columns of a study's `outcomes.csv`, read by the library's reader
@@ -701,6 +768,8 @@ fn _rockfrag(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(motion, m)?)?;
     m.add_function(wrap_pyfunction!(floor, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(fragility, m)?)?;
+    m.add_function(wrap_pyfunction!(risk, m)?)?;
     m.add_function(wrap_pyfunction!(read_outcomes, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(infer, m)?)?;

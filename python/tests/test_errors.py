@@ -28,7 +28,7 @@ def test_bad_block_is_a_value_error():
 
 
 def test_unknown_keyword_is_a_type_error():
-    with pytest.raises(TypeError, match="unknown solver keyword"):
+    with pytest.raises(TypeError, match=r"unknown keyword\(s\) rtl \(did you mean rtol\?\)"):
         rockfrag.simulate(ACC, 0.02, rtl=1e-6)
 
 

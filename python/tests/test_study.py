@@ -133,3 +133,41 @@ def test_notebook_sized_example():
     assert f["status"] in ("ok", "separated")
     if f["status"] == "ok":
         assert 0.1 < f["median"] < 3.0
+
+
+def test_fragility_and_risk_from_python_equal_the_cli(cli, tmp_path):
+    """`fragility` (limit states, bootstrap) writes the same fragility.csv as
+    `rockfrag fragility` with the same settings, byte for byte, and `risk`
+    the same risk.csv as `rockfrag risk`: the same library code runs."""
+    folder = rockfrag.run(SPEC, out=tmp_path / "study")
+    states = [
+        {"name": "rocking", "measure": "theta_max_over_theta_c", "exceeds": 0.2},
+        {"name": "overturning", "measure": "overturned"},
+    ]
+    py = tmp_path / "py"
+    csv_path = rockfrag.fragility(folder, out=py, bootstrap=30, seed=4, limit_state=states)
+    assert csv_path == str(py / "fragility.csv")
+    cli_dir = tmp_path / "cli"
+    cli(
+        "fragility", folder, "--out", cli_dir, "--bootstrap", 30, "--seed", 4,
+        "--limit-state", "rocking=theta_max_over_theta_c>0.2", "--limit-state", "overturning=overturned",
+    )
+    assert (py / "fragility.csv").read_bytes() == (cli_dir / "fragility.csv").read_bytes()
+    hazard = rockfrag.__file__.rsplit("/python/", 1)[0] + "/studies/hazard/hazard_curve-mean-PGA_example.csv"
+    r = rockfrag.risk(py, hazard, out=tmp_path / "risk-py")
+    cli("risk", cli_dir, "--hazard", hazard, "--out", tmp_path / "risk-cli")
+    assert (tmp_path / "risk-py" / "risk.csv").read_bytes() == (tmp_path / "risk-cli" / "risk.csv").read_bytes()
+    assert np.all(r["annual_rate"][~np.isnan(r["annual_rate"])] > 0)
+
+
+def test_unfitted_curves_warn_and_misspelt_keywords_are_named(tmp_path):
+    """A curve that cannot be fitted (no run rocks at 0.05 g) is a FitWarning
+    naming it and what to try; a misspelt keyword names the keyword it
+    resembles and lists the function's own keywords, not only the solver's."""
+    spec = dict(SPEC, name="py-flat", grid=dict(SPEC["grid"], pga=[0.02, 0.05]))
+    with pytest.warns(rockfrag.FitWarning, match="not fitted"):
+        rockfrag.run(spec, out=tmp_path / "flat")
+    with pytest.raises(TypeError, match=r"witdh \(did you mean width\?\).*aspect.*theta0"):
+        rockfrag.simulate([0.0, 1.0, 0.0], 0.01, witdh=0.5)
+    with pytest.raises(TypeError, match=r"bootstrp \(did you mean bootstrap\?\)"):
+        rockfrag.fragility(tmp_path / "flat", bootstrp=10)

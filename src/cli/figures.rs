@@ -2,8 +2,11 @@
 
 use std::path::PathBuf;
 
+use super::args::positive;
 use clap::ValueEnum;
-use rockfrag::figures::{CompareFigure, FigureOptions, Format, study_figures, study_of_folder};
+use rockfrag::figures::{
+    CompareFigure, FigureOptions, Format, HistoryChoice, study_figures, study_of_folder,
+};
 
 /// Output format, as a CLI value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -39,6 +42,15 @@ pub struct FiguresArgs {
     /// (e.g. the same block on the ground and on a floor); repeat for more.
     #[arg(long, value_name = "DIR")]
     pub compare: Vec<PathBuf>,
+    /// The history figure's case: its id (the `case_id` of fragility.csv,
+    /// e.g. `a4_w0p5_e0_inf`) [default: the first case with a run that
+    /// rocked without overturning].
+    #[arg(long, value_name = "CASE_ID")]
+    pub case: Option<String>,
+    /// The history figure's stripe: an intensity level of the study, in its
+    /// unit (g for PGA) [default: the stripe nearest the case's fitted median].
+    #[arg(long, value_name = "X", value_parser = positive)]
+    pub level: Option<f64>,
 }
 
 /// Runs `rockfrag figures`.
@@ -46,7 +58,7 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     if !args.compare.is_empty() {
         return compare(&args);
     }
-    rockfrag::study::files::require_finished(&args.dir)?;
+    rockfrag::study::require_finished(&args.dir)?;
     let study = study_of_folder(&args.dir)?;
     let mut options = study
         .as_ref()
@@ -58,16 +70,32 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     if let Some(seed) = args.seed {
         options.seed = seed;
     }
+    if args.case.is_some() || args.level.is_some() {
+        options.history = HistoryChoice::At {
+            case: args.case.clone(),
+            level: args.level,
+        };
+    }
     let out = args.out.unwrap_or_else(|| args.dir.join("figures"));
     let report = match &study {
         Some(study) => rockfrag::pipeline::figures(study, &args.dir, &out, &options)?,
         None => study_figures(&args.dir, &out, &options)?,
     };
-    for note in &report.notes {
-        eprintln!("note: {note}");
-    }
     for path in &report.written {
         println!("{}", path.display());
+    }
+    // A history asked for by --case/--level that cannot be drawn is an
+    // error, not a note: the user named it.
+    let asked = args.case.is_some() || args.level.is_some();
+    let mut failed = None;
+    for note in &report.notes {
+        match note.strip_prefix("history: skipped, ") {
+            Some(why) if asked => failed = Some(why.to_string()),
+            _ => eprintln!("note: {note}"),
+        }
+    }
+    if let Some(why) = failed {
+        anyhow::bail!("figures --case/--level: {why}");
     }
     Ok(())
 }

@@ -1,5 +1,6 @@
-//! `rockfrag fragility`: lognormal overturning fragility curves from a study's
-//! `outcomes.csv`, with bootstrap bands and an OpenQuake export.
+//! `rockfrag fragility`: lognormal fragility curves (overturning and any
+//! other limit state) from a study's `outcomes.csv`, with bootstrap bands
+//! and an OpenQuake export.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -8,8 +9,6 @@ use super::args::choice;
 use anyhow::Context;
 use rockfrag::case::Field;
 use rockfrag::fragility::{BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState};
-use rockfrag::spec::Study;
-use rockfrag::study::Manifest;
 
 /// Flags of `rockfrag fragility`.
 #[derive(Debug, clap::Args)]
@@ -88,43 +87,22 @@ impl FragilityArgs {
     /// parameters of the study recorded in `DIR/manifest.json` when there
     /// is one (flags take precedence; pooled parameters add up).
     fn options(&self) -> anyhow::Result<FragilityOptions> {
-        let manifest = self.dir.join("manifest.json");
-        let study = if manifest.exists() {
-            let m = Manifest::read(&manifest)?;
-            Some(Study::from_toml_unchecked(&m.spec_toml, &manifest)?)
-        } else {
-            None
-        };
-        let mut pool = study.as_ref().map_or_else(Vec::new, Study::drawn);
-        for &field in &self.pool {
-            if !pool.contains(&field) {
-                pool.push(field);
-            }
-        }
-        pool.sort();
-        let limit_state = if self.limit_states.is_empty() {
-            study
-                .as_ref()
-                .and_then(|s| s.fragility.as_ref())
-                .map_or(Vec::new(), |f| f.limit_state.clone())
-        } else {
-            self.limit_states.clone()
-        };
-        Ok(FragilityOptions {
+        let given = FragilityOptions {
             im: self.im,
             bootstrap: self.bootstrap,
             unit: self.resample,
             seed: self.seed,
-            limit_state,
-            pool,
+            limit_state: self.limit_states.clone(),
+            pool: self.pool.clone(),
             ..FragilityOptions::default()
-        })
+        };
+        Ok(rockfrag::pipeline::folder_fit_options(&self.dir, &given)?)
     }
 }
 
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
-    rockfrag::study::files::require_finished(&args.dir)?;
+    rockfrag::study::require_finished(&args.dir)?;
     let manifest = args.dir.join(rockfrag::study::files::MANIFEST);
     if manifest.exists() && !args.partial {
         let m = rockfrag::study::Manifest::read(&manifest)?;

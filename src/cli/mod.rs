@@ -42,7 +42,8 @@ pub enum Command {
     Run(run::RunArgs),
     /// Merge the folders of shards 1/N..N/N of a study into one.
     Merge(merge::MergeArgs),
-    /// Fit lognormal overturning fragility curves to a study's outcomes.
+    /// Fit lognormal fragility curves (overturning and any other limit
+    /// state) to a study's outcomes.
     Fragility(fragility::FragilityArgs),
     /// Annual rate of each limit state at a site: the fitted fragility
     /// integrated over a hazard curve (OpenQuake CSV or iml,annual_rate).

@@ -68,12 +68,9 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     write_used_hazard(&used, &hazard)?;
     let figure = figures.join("risk.svg");
     save(&RiskFigure::new(&rows, &hazard), &figure)?;
-    let same = match (out.canonicalize(), args.dir.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => out == args.dir,
-    };
     let summary = args.dir.join("summary.md");
-    let summary = (same && summary.exists()).then_some(summary);
+    let summary =
+        (rockfrag::pipeline::same_folder(&out, &args.dir) && summary.exists()).then_some(summary);
     if let Some(path) = &summary {
         let section = summary_section(&rows, &hazard, &options);
         rockfrag::io_util::replace_section(path, "## Risk", &section, &[])

@@ -6,7 +6,7 @@ use super::args::{
 };
 use anyhow::Context;
 use clap::ValueEnum;
-use rockfrag::motion::{self, G_STANDARD, Record, SynthesisSettings};
+use rockfrag::motion::{self, G_STANDARD, Pair, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
     Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, RockImpact,
@@ -47,6 +47,18 @@ pub struct SimulateArgs {
     /// used as recorded unless --scale, --pga or --pgv scales it.
     #[arg(long, value_name = "FILE", conflicts_with = "seed")]
     pub motion: Option<PathBuf>,
+    /// Second horizontal component H2 of the --motion record (H1), same
+    /// format, sampled together with it: the block feels
+    /// cos φ·H1 + sin φ·H2 with φ from --orientation. --scale multiplies
+    /// both components; --pga and --pgv then scale the pair to its RotD50
+    /// PGA or PGV (orientation-independent), not the rotated component's.
+    #[arg(long, value_name = "FILE", requires_all = ["motion", "orientation"])]
+    pub motion2: Option<PathBuf>,
+    /// Angle φ (degrees) from the --motion component H1 towards --motion2
+    /// (H2) of the plane the block rocks in: 0 gives H1, 90 gives H2 bit
+    /// for bit.
+    #[arg(long, value_name = "DEG", value_parser = finite, requires = "motion2", allow_negative_numbers = true)]
+    pub orientation: Option<f64>,
     /// Multiply the --motion record by X (acceleration, velocity and displacement).
     #[arg(long, value_name = "X", value_parser = positive, requires = "motion", conflicts_with_all = ["pga", "pgv"], allow_negative_numbers = true)]
     pub scale: Option<f64>,
@@ -159,7 +171,7 @@ impl SimulateArgs {
 
 /// Runs `rockfrag simulate`.
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
-    let ground = load_record(&args)?;
+    let (ground, rotd50) = load_record(&args)?;
     let floor = super::floor::floor_of(
         &args.floor_period,
         &args.floor_damping,
@@ -216,6 +228,12 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         println!("{v}");
     } else {
         print_summary(&args, &block, &ground, &outcome);
+        if let (Some(pga), Some(phi)) = (rotd50, args.orientation) {
+            println!(
+                "pair              RotD50 PGA {:.3} g, the block faces φ = {phi}° from H1",
+                pga / args.g
+            );
+        }
         if !floor.is_ground() {
             println!(
                 "floor             PFA {:.3} g, PFV {:.3} m/s ({} mode{})",
@@ -265,38 +283,76 @@ fn print_sensitivity(o: &Outcome, s: &Sensitivity) {
     );
 }
 
-fn load_record(args: &SimulateArgs) -> anyhow::Result<Record> {
+/// The ground motion the block feels, scaled as asked, and with --motion2
+/// the RotD50 PGA of the scaled pair (m/s²).
+fn load_record(args: &SimulateArgs) -> anyhow::Result<(Record, Option<f64>)> {
     match (&args.motion, args.seed, args.pga) {
         (Some(path), _, _) => {
             let record = motion::read_record(path, args.g)?;
+            let pair = match &args.motion2 {
+                Some(path2) => {
+                    let h2 = motion::read_record(path2, args.g)?;
+                    Some(Pair::new(record.clone(), h2).with_context(|| {
+                        format!(
+                            "--motion {} and --motion2 {} are not a pair of components",
+                            path.display(),
+                            path2.display()
+                        )
+                    })?)
+                }
+                None => None,
+            };
+            // The peaks the scaling reads: of the record, or the pair's RotD50.
+            let (pga, pgv) = match &pair {
+                Some(p) => (
+                    motion::rotd(p, 50.0)?,
+                    motion::rotd_series(&p.h1.vel, &p.h2.vel, 50.0)?,
+                ),
+                None => (record.pga(), record.pgv()),
+            };
             // The factor that brings the record to the asked scale.
             let (k, what) = match (args.scale, args.pga, args.pgv) {
                 (Some(x), _, _) => (x, "--scale"),
-                (_, Some(g), _) => (g * args.g / record.pga(), "--pga"),
-                (_, _, Some(v)) => (v / record.pgv(), "--pgv"),
+                (_, Some(g), _) => (g * args.g / pga, "--pga"),
+                (_, _, Some(v)) => (v / pgv, "--pgv"),
                 _ => (1.0, ""),
             };
             if !(k.is_finite() && k > 0.0) {
                 anyhow::bail!(
-                    "cannot scale {} by {what}: its PGA is {} m/s² and its PGV {} m/s",
+                    "cannot scale {} by {what}: its PGA is {pga} m/s² and its PGV {pgv} m/s{}",
                     path.display(),
-                    record.pga(),
-                    record.pgv()
+                    if pair.is_some() {
+                        " (RotD50 of the pair)"
+                    } else {
+                        ""
+                    }
                 );
             }
-            Ok(record.scaled(k))
+            match (pair, args.orientation) {
+                (Some(p), Some(phi)) => {
+                    let scaled = Pair {
+                        h1: p.h1.scaled(k),
+                        h2: p.h2.scaled(k),
+                    };
+                    // (scaling both by k > 0 scales every rotated peak by k)
+                    let rotd50 = motion::rotd(&scaled, 50.0)?;
+                    let rotated = scaled
+                        .rotated(phi)
+                        .with_context(|| format!("--orientation {phi}"))?;
+                    Ok((rotated, Some(rotd50)))
+                }
+                _ => Ok((record.scaled(k), None)),
+            }
         }
         (None, Some(seed), Some(pga)) => {
             let settings = SynthesisSettings {
                 g: args.g,
                 ..SynthesisSettings::default()
             };
-            Ok(motion::synthesize(
-                &settings,
-                seed,
-                args.index,
-                pga * args.g,
-            )?)
+            Ok((
+                motion::synthesize(&settings, seed, args.index, pga * args.g)?,
+                None,
+            ))
         }
         _ => anyhow::bail!("give either --motion FILE or both --seed N and --pga G"),
     }

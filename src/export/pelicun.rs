@@ -74,7 +74,7 @@ pub fn export_pelicun(
     let rows = {
         if !dir.join("fragility.csv").exists() {
             // An unfinished run or another folder: say so, not "No such file".
-            crate::study::files::require_finished(dir)?;
+            crate::study::require_finished(dir)?;
         }
         read_fragility_csv(&dir.join("fragility.csv"))?
     };

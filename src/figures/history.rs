@@ -65,11 +65,12 @@ pub enum HistoryChoice {
     /// `figures::history` say.
     #[default]
     Chosen,
-    /// One of the study's analyses at this case (its [`Case::id`]) and, if
-    /// given, this stripe (the level, in the study's unit).
+    /// One of the study's analyses at this case (its [`Case::id`]) and/or
+    /// this stripe (the level, in the study's unit); what is not given is
+    /// chosen as for [`HistoryChoice::Chosen`].
     At {
         /// The case's id.
-        case: String,
+        case: Option<String>,
         /// The stripe's level.
         level: Option<f64>,
     },
@@ -201,7 +202,7 @@ impl HistoryFigure {
                 };
             }
             HistoryChoice::Chosen => (None, None),
-            HistoryChoice::At { case, level } => (Some(case.as_str()), *level),
+            HistoryChoice::At { case, level } => (case.as_deref(), *level),
         };
         let chosen = choose_run(dir, data, options, case_id, level)?;
         let solver = options

@@ -64,7 +64,7 @@ pub fn read_fragility(dir: &Path) -> Result<FittedFragility> {
     let path = dir.join("fragility.csv");
     if !path.exists() {
         // An unfinished run or another folder: say so, not "No such file".
-        crate::study::files::require_finished(dir)?;
+        crate::study::require_finished(dir)?;
     }
     let rows = read_fragility_csv(&path)?;
     let Some(first) = rows.first() else {

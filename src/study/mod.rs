@@ -343,6 +343,40 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     Ok(report)
 }
 
+/// Checks that `dir` holds a finished run (its `outcomes.csv`), before a
+/// command reads from it. An interrupted run (its checkpoint or partial
+/// outcomes) is told to be finished by rerunning `rockfrag run`; a folder
+/// that is not a run's is said to be so, not met with a bare "No such file".
+pub fn require_finished(dir: &Path) -> Result<()> {
+    if dir.join(files::OUTCOMES).is_file() {
+        return Ok(());
+    }
+    let message = if !dir.is_dir() {
+        "no such folder: expected the output folder of a `rockfrag run` (with its outcomes.csv)"
+            .to_string()
+    } else if dir.join(files::CHECKPOINT).exists() || dir.join(files::PARTIAL).exists() {
+        let done = read_checkpoint(&dir.join(files::CHECKPOINT))
+            .ok()
+            .flatten()
+            .map(|c| c.units_done);
+        format!(
+            "holds an unfinished run{}: rerun the `rockfrag run` that started it (the same \
+             spec, with `--out {}`) to finish it; it resumes where it stopped",
+            done.map_or(String::new(), |n| format!(" ({n} work units done)")),
+            dir.display()
+        )
+    } else {
+        format!(
+            "holds no {}: not the output folder of a `rockfrag run`",
+            files::OUTCOMES
+        )
+    };
+    Err(Error::Conflict {
+        path: dir.to_path_buf(),
+        message,
+    })
+}
+
 /// The report of a run into `dir` that found a finished run of the same
 /// analyses (`old`, its manifest): `outcomes.csv` is read back and checked
 /// against the plan, and the manifest takes this spec (its post-processing
