@@ -5,9 +5,10 @@
 //! tight tolerance. These runs are not chaotic: no scaling of the record by
 //! 1e-9 … 1e-6 changes their outcome under any setting (issue 30), so an
 //! exact agreement of the overturning outcome is the right assertion.
-//! Records 23 and 10 fail on the one-minimum search (main's solver) and pass
-//! with the bounded search wired into the rock driver; record 22 passes on
-//! both here (the bench's mismatch on it did not reproduce in this setting).
+//! Records 23 and 10 fail on the one-minimum search (`scan::first_descent`,
+//! the rock driver's search before `scan::first_descent_bounded`) and pass
+//! with the bounded one; record 22 passes on both here (the bench's mismatch
+//! on it did not reproduce in this setting).
 
 use rockfrag::motion::{G_STANDARD as G, Record, SynthesisSettings, Synthesizer};
 use rockfrag::solver::{Analysis, Block, Friction, Integrator, SolverSettings, simulate};
@@ -58,14 +59,12 @@ fn hb4_record_22_at_1g() {
 }
 
 #[test]
-#[ignore = "fails until the rock driver uses scan::first_descent_bounded (the one-minimum search misses the impact); passes with it wired"]
 fn hb4_record_23_at_1g() {
     agrees(4.0, 1.0, 23, Friction::Infinite);
     agrees(4.0, 1.0, 23, COULOMB);
 }
 
 #[test]
-#[ignore = "fails until the rock driver uses scan::first_descent_bounded (the one-minimum search misses the impact); passes with it wired"]
 fn hb6_record_10_at_0_8g() {
     agrees(6.0, 0.8, 10, Friction::Infinite);
     agrees(6.0, 0.8, 10, COULOMB);

@@ -74,10 +74,6 @@ fn descent(
 /// one-minimum check decides. The answer is that of the one-piece search
 /// (to the bit) unless a descent is found before it. `released` as in
 /// [`first_descent_after_release`].
-// Not yet called by the rock driver: wired alone it disagrees with the
-// references it is tested against (the linear model and Dormand–Prince
-// share the one-minimum search and its misses); see the branch's report.
-#[allow(dead_code)]
 pub fn first_descent_bounded(
     fd: impl Fn(f64) -> (f64, f64),
     a: f64,

@@ -191,7 +191,6 @@ impl RockSeries {
 
     /// A bound of |ψ″| over τ ∈ [0, h]: Σ_{j≥2} j (j − 1) |ψ_j| h^(j−2)
     /// (the triangle inequality on the series of ψ″).
-    #[allow(dead_code)] // for `scan::first_descent_bounded`, not yet wired
     #[inline]
     pub fn curvature_bound(&self, h: f64) -> f64 {
         let mut r = 0.0;
