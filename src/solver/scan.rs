@@ -74,6 +74,13 @@ fn descent(
 /// one-minimum check decides. The answer is that of the one-piece search
 /// (to the bit) unless a descent is found before it. `released` as in
 /// [`first_descent_after_release`].
+///
+/// A start below zero and rising (f(a) < 0 < f′(a): the state a closed
+/// bounce series leaves, carried back along the linearised motion, can lie
+/// a hair below the ground) is departing, as the one-piece search takes it:
+/// the descent sought is the first after f's first return to ≥ 0, which the
+/// same sweep on −f finds (without one, the one-piece answer: a descent at
+/// once unless it finds f above zero).
 pub fn first_descent_bounded(
     fd: impl Fn(f64) -> (f64, f64),
     a: f64,
@@ -83,14 +90,41 @@ pub fn first_descent_bounded(
     xtol: f64,
     released: bool,
 ) -> Option<f64> {
-    let (fa0, da0) = fd(a);
-    let (fa0, da0) = if released {
-        (0.0, da0.max(0.0))
+    let (fa, da) = fd(a);
+    let (fa, da) = if released {
+        (0.0, da.max(0.0))
     } else {
-        (fa0, da0)
+        (fa, da)
     };
-    let (fb0, db0) = fd(b);
-    let found = piece(&fd, (a, fa0, da0), (b, fb0, db0), xtol);
+    let (fb, db) = fd(b);
+    if fa < 0.0 && da > 0.0 {
+        let neg = |t: f64| {
+            let (f, d) = fd(t);
+            (-f, -d)
+        };
+        return match bounded((a, -fa, -da), (b, -fb, -db), &neg, m2, floor, xtol) {
+            Some(up) if up < b => {
+                // f(up) ≥ 0 (the "after" side of −f ≤ 0): on from there as released
+                let (_, du) = fd(up);
+                bounded((up, 0.0, du.max(0.0)), (b, fb, db), &fd, m2, floor, xtol)
+            }
+            // no return to ≥ 0 (deeper than `floor`): the one-piece answer
+            _ => piece(&fd, (a, fa, da), (b, fb, db), xtol),
+        };
+    }
+    bounded((a, fa, da), (b, fb, db), &fd, m2, floor, xtol)
+}
+
+/// [`first_descent_bounded`] given f, f′ at both ends.
+fn bounded(
+    (a, fa0, da0): (f64, f64, f64),
+    (b, fb0, db0): (f64, f64, f64),
+    fd: &impl Fn(f64) -> (f64, f64),
+    m2: f64,
+    floor: f64,
+    xtol: f64,
+) -> Option<f64> {
+    let found = piece(fd, (a, fa0, da0), (b, fb0, db0), xtol);
     let end = found.unwrap_or(b);
     if end <= a {
         return found;
@@ -119,7 +153,7 @@ pub fn first_descent_bounded(
             return found;
         }
         if (fb <= 0.0 || !proven)
-            && let Some(t) = piece(&fd, (ta, fa, da), (tb, fb, db), xtol)
+            && let Some(t) = piece(fd, (ta, fa, da), (tb, fb, db), xtol)
             && t < end
         {
             return Some(t);
@@ -253,6 +287,34 @@ mod tests {
         // the root is simple (f′(0.3) = −0.04), so 1e-15 in τ is ~1e-16 in f
         assert!((r - 0.3).abs() < 1e-14, "{r}");
         assert!(fd(r).0 <= 0.0, "returned point must be on the after side");
+    }
+
+    #[test]
+    fn a_start_below_zero_and_rising_is_departing() {
+        // f = (τ − 0.1)(τ − 0.3)(τ − 0.4): f(0) < 0 < f′(0) and f(1) > 0; f rises
+        // through 0 at 0.1, descends at 0.3 and rises again at 0.4. The
+        // one-piece search takes the start as departing and sees nothing; the
+        // bounded search finds the descent after the rise, not the start.
+        let fd = |t: f64| {
+            (
+                (t - 0.1) * (t - 0.3) * (t - 0.4),
+                (3.0 * t - 1.6) * t + 0.19,
+            )
+        };
+        assert_eq!(first_descent(fd, 0.0, 1.0, 1, 1e-15), None);
+        let r = first_descent_bounded(fd, 0.0, 1.0, 4.4, 1e-12, 1e-15, false).unwrap();
+        assert!((r - 0.3).abs() < 1e-14, "{r}");
+        // f = −(τ − 0.1)(τ − 0.3) rises through 0 at 0.1 and descends at 0.3
+        // with f(1) < 0: the descent is at 0.3, not at the start below zero
+        let fd = |t: f64| (-(t - 0.1) * (t - 0.3), 0.4 - 2.0 * t);
+        let r = first_descent_bounded(fd, 0.0, 1.0, 2.0, 1e-12, 1e-15, false).unwrap();
+        assert!((r - 0.3).abs() < 1e-14, "{r}");
+        // rising through zero and staying up: no descent
+        let fd = |t: f64| (t - 0.1, 1.0);
+        assert_eq!(
+            first_descent_bounded(fd, 0.0, 1.0, 0.0, 1e-12, 1e-15, false),
+            None
+        );
     }
 
     #[test]
