@@ -187,9 +187,9 @@ impl Run<'_> {
         let (s, theta_c) = (rs.s, self.bl.theta_c);
         let trig = |tt: f64| dm::sin_cos(theta_c - s * path(tt).0);
         let unknown = (f64::NEG_INFINITY, f64::INFINITY);
-        // θ″ = (λ²θ0 + c0) cosh λτ + (λω0 + c1/λ) sinh λτ (the closed form
-        // above differentiated twice), both growing in τ ≥ 0: their values at
-        // the end bound |θ″|. A dip shallower than the nonlinear solvers'
+        // linearised eq. (1): θ″ = (λ²θ0 + c0) cosh λτ + (λω0 + c1/λ) sinh λτ
+        // (the closed form above differentiated twice), both growing in τ ≥ 0:
+        // their values at the end bound |θ″|. A dip shallower than the nonlinear solvers'
         // tolerance for θ is not sought (as in `rock_taylor`).
         let x_end = lam * (t_end - t0);
         let m2 = ((l2 * th0 + c0).abs() * dm::cosh(x_end)
