@@ -393,6 +393,28 @@ pub fn analysis_seed(seed: u64, record: u64, level: u64, case: u64) -> u64 {
     z
 }
 
+/// The level and case keys of the orientation draws in [`analysis_seed`]:
+/// no level or case has this number, so the direction the blocks face under
+/// a record is drawn from a stream of its own.
+const ORIENTATION_STREAM: u64 = u64::MAX;
+
+/// The uniform number in [0, 1) that the direction φ of ensemble member
+/// `record` is drawn with (see `Orientation` in the spec): one per record,
+/// the same at every level (the object faces the same way as the shaking
+/// grows) and for every case (the cases share their orientations as they
+/// share their records).
+///
+/// ```
+/// use rockfrag::uncertainty::orientation_uniform;
+/// let u = orientation_uniform(1, 3);
+/// assert!((0.0..1.0).contains(&u));
+/// assert_ne!(u, orientation_uniform(1, 4));
+/// ```
+pub fn orientation_uniform(seed: u64, record: u64) -> f64 {
+    let stream = analysis_seed(seed, record, ORIENTATION_STREAM, ORIENTATION_STREAM);
+    Xoshiro256PlusPlus::seed_from_u64(stream).random::<f64>()
+}
+
 /// The splitmix64 finaliser (Steele, Lea and Flood 2014).
 fn splitmix64(x: u64) -> u64 {
     let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);

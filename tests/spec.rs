@@ -81,9 +81,11 @@ fn empty_spec_takes_the_documented_defaults() {
             settings,
             seed,
             records,
+            pairs,
         } => {
             assert_eq!(settings, Default::default());
             assert_eq!((seed, records), (1, 25));
+            assert_eq!(pairs, None, "one horizontal component by default");
         }
         m => panic!("expected synthetic motions, got {m:?}"),
     }

@@ -27,7 +27,7 @@ from . import _rockfrag
 
 __version__ = _rockfrag.__version__
 __all__ = [
-    "motion", "floor", "simulate", "simulate_many", "run", "fragility", "risk", "read_outcomes",
+    "motion", "floor", "rotate", "rotd", "simulate", "simulate_many", "run", "fragility", "risk", "read_outcomes",
     "fit", "infer", "FitWarning",
 ]
 
@@ -72,6 +72,84 @@ def motion(seed, pga, index=0, *, dt=None, duration=None, highpass=None):
         sample k at t = k·dt; ``dt`` (s) and ``name`` (``seed/index``).
     """
     return _rockfrag.motion(int(seed), float(pga), int(index), dt, duration, highpass)
+
+
+def _component(record, what):
+    """A component of a pair as the extension takes it: a record dict (as
+    :func:`motion` and :func:`floor` return, or with ``acc`` and ``dt`` and
+    optional ``vel``, ``disp``, ``name``)."""
+    try:
+        acc, dt = record["acc"], record["dt"]
+    except (TypeError, KeyError, IndexError):
+        raise TypeError(
+            "%s: expected a record dict with 'acc' (m/s²) and 'dt' (s), as motion() "
+            "and floor() return, got %r" % (what, type(record).__name__)
+        ) from None
+    vel, disp = record.get("vel"), record.get("disp")
+    return (
+        str(record.get("name", what)),
+        float(dt),
+        _f64(acc, what + "['acc']"),
+        None if vel is None else _f64(vel, what + "['vel']"),
+        None if disp is None else _f64(disp, what + "['disp']"),
+    )
+
+
+def rotate(h1, h2, orientation):
+    """The ground motion along a direction, from two horizontal components.
+
+    A block whose rocking plane makes the angle φ = ``orientation`` (degrees,
+    from H1 towards H2) with the first component feels cos φ·H1 + sin φ·H2
+    (acceleration, velocity and displacement alike): ``rockfrag simulate
+    --motion H1 --motion2 H2 --orientation φ`` and a study of record pairs
+    turn a pair this way (same bits). φ = 0 and 90 give H1 and H2 exactly.
+    See docs/orientation.md.
+
+    Parameters
+    ----------
+    h1, h2 : dict
+        The two components as record dicts (``acc`` in m/s², ``dt`` in s,
+        optional ``vel``, ``disp``, ``name``), as :func:`motion` and
+        :func:`floor` return; same ``dt`` and length.
+    orientation : float
+        φ in degrees.
+
+    Returns
+    -------
+    dict
+        ``t``, ``acc``, ``vel``, ``disp``, ``dt``, ``name``: pass ``acc``,
+        ``vel`` and ``disp`` to :func:`simulate`.
+    """
+    return _rockfrag.rotate(_component(h1, "h1"), _component(h2, "h2"), float(orientation))
+
+
+def rotd(h1, h2, percentile=50.0, *, velocity=False):
+    """RotDnn of a pair of horizontal components (Boore 2010).
+
+    The ``percentile`` over the directions 0°, 1°, …, 179° of the peak of
+    the rotated acceleration (m/s²), or of the rotated velocity (m/s) with
+    ``velocity=True``: RotD50 (the default) is the orientation-independent
+    intensity ground-motion models and OpenQuake's hazard give, RotD100 the
+    largest peak over directions. A study of record pairs scales each pair
+    to its levels by this RotD50.
+
+    Parameters
+    ----------
+    h1, h2 : dict
+        The two components as record dicts (see :func:`rotate`).
+    percentile : float
+        In [0, 100] (default 50).
+    velocity : bool
+        Of the velocity instead of the acceleration.
+
+    Returns
+    -------
+    float
+        m/s² (divide by 9.81 for g), or m/s.
+    """
+    return _rockfrag.rotd(
+        _component(h1, "h1"), _component(h2, "h2"), float(percentile), bool(velocity)
+    )
 
 
 def floor(acc, dt, period, damping, participation=1.0, *, vel=None, disp=None, name="record"):

@@ -13,7 +13,7 @@ use pyo3::types::{PyBool, PyDict, PyList, PyString};
 use rayon::prelude::*;
 use rockfrag::fragility::{Observation, fit_lognormal};
 use rockfrag::motion::{
-    Floor, Mode, Record, SynthesisSettings, Synthesizer, floor_record, integrate_linear,
+    Floor, Mode, Pair, Record, SynthesisSettings, Synthesizer, floor_record, integrate_linear,
 };
 use rockfrag::solver::{
     Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, RockImpact,
@@ -433,6 +433,60 @@ fn floor<'py>(
     record_dict(py, out)
 }
 
+/// One component of a pair as Rust reads it: (name, dt, acc, vel, disp).
+type Component<'py> = (
+    String,
+    f64,
+    PyReadonlyArray1<'py, f64>,
+    Option<PyReadonlyArray1<'py, f64>>,
+    Option<PyReadonlyArray1<'py, f64>>,
+);
+
+/// The pair (H1, H2) of two components, checked as `rockfrag simulate
+/// --motion2` checks it.
+fn pair_of(h1: Component<'_>, h2: Component<'_>) -> rockfrag::Result<Pair> {
+    let one = |(name, dt, acc, vel, disp): Component<'_>| {
+        record(
+            name,
+            dt,
+            acc.as_array().iter().copied().collect(),
+            vec_of(vel),
+            vec_of(disp),
+        )
+    };
+    Pair::new(one(h1)?, one(h2)?)
+}
+
+/// The motion along the direction `orientation` degrees from H1 towards
+/// H2: cos φ·H1 + sin φ·H2, as a study of record pairs turns a pair.
+#[pyfunction]
+#[pyo3(signature = (h1, h2, orientation))]
+fn rotate<'py>(
+    py: Python<'py>,
+    h1: Component<'py>,
+    h2: Component<'py>,
+    orientation: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let pair = pair_of(h1, h2).map_err(py_err)?;
+    let out = py.detach(|| pair.rotated(orientation)).map_err(py_err)?;
+    record_dict(py, out)
+}
+
+/// RotDnn of a pair (Boore 2010): the `percentile` over 0°, 1°, …, 179° of
+/// the peak of the rotated acceleration (m/s²) or, with `velocity`, of the
+/// rotated velocity (m/s).
+#[pyfunction]
+#[pyo3(signature = (h1, h2, percentile, velocity))]
+fn rotd(h1: Component<'_>, h2: Component<'_>, percentile: f64, velocity: bool) -> PyResult<f64> {
+    let pair = pair_of(h1, h2).map_err(py_err)?;
+    if velocity {
+        rockfrag::motion::rotd_series(&pair.h1.vel, &pair.h2.vel, percentile)
+    } else {
+        rockfrag::motion::rotd(&pair, percentile)
+    }
+    .map_err(py_err)
+}
+
 /// A study from a file, or from a JSON object of the spec's fields (turned
 /// into TOML and read as a file in the working directory would be).
 fn load_study(path: Option<&str>, json: Option<&str>) -> PyResult<(Study, String)> {
@@ -767,6 +821,8 @@ fn _rockfrag(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(motion, m)?)?;
     m.add_function(wrap_pyfunction!(floor, m)?)?;
+    m.add_function(wrap_pyfunction!(rotate, m)?)?;
+    m.add_function(wrap_pyfunction!(rotd, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(fragility, m)?)?;
     m.add_function(wrap_pyfunction!(risk, m)?)?;

@@ -6,7 +6,7 @@ use super::args::{
 };
 use anyhow::Context;
 use clap::ValueEnum;
-use rockfrag::motion::{self, G_STANDARD, Pair, Record, SynthesisSettings};
+use rockfrag::motion::{self, G_STANDARD, MeasuredPair, Pair, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
     Analysis, Block, Friction, History, ImpactLaw, Initial, Integrator, Model, RockImpact,
@@ -292,22 +292,20 @@ fn load_record(args: &SimulateArgs) -> anyhow::Result<(Record, Option<f64>)> {
             let pair = match &args.motion2 {
                 Some(path2) => {
                     let h2 = motion::read_record(path2, args.g)?;
-                    Some(Pair::new(record.clone(), h2).with_context(|| {
+                    let pair = Pair::new(record.clone(), h2).with_context(|| {
                         format!(
                             "--motion {} and --motion2 {} are not a pair of components",
                             path.display(),
                             path2.display()
                         )
-                    })?)
+                    })?;
+                    Some(MeasuredPair::new(pair)?)
                 }
                 None => None,
             };
             // The peaks the scaling reads: of the record, or the pair's RotD50.
             let (pga, pgv) = match &pair {
-                Some(p) => (
-                    motion::rotd(p, 50.0)?,
-                    motion::rotd_series(&p.h1.vel, &p.h2.vel, 50.0)?,
-                ),
+                Some(p) => (p.pga, p.pgv),
                 None => (record.pga(), record.pgv()),
             };
             // The factor that brings the record to the asked scale.
@@ -330,16 +328,12 @@ fn load_record(args: &SimulateArgs) -> anyhow::Result<(Record, Option<f64>)> {
             }
             match (pair, args.orientation) {
                 (Some(p), Some(phi)) => {
-                    let scaled = Pair {
-                        h1: p.h1.scaled(k),
-                        h2: p.h2.scaled(k),
-                    };
-                    // (scaling both by k > 0 scales every rotated peak by k)
-                    let rotd50 = motion::rotd(&scaled, 50.0)?;
-                    let rotated = scaled
-                        .rotated(phi)
+                    // as a study of record pairs turns its pairs, to the bit
+                    let rotated = p
+                        .felt(k, phi)
                         .with_context(|| format!("--orientation {phi}"))?;
-                    Ok((rotated, Some(rotd50)))
+                    // (scaling both by k > 0 scales every rotated peak by k)
+                    Ok((rotated, Some(k * p.pga)))
                 }
                 _ => Ok((record.scaled(k), None)),
             }

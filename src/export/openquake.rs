@@ -95,9 +95,9 @@ pub fn export_openquake(
     };
     let im = rows.first().map_or(IntensityMeasure::Pga, |r| r.im);
     let factor = match im {
-        IntensityMeasure::Pga => 1.0,
+        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50 => 1.0,
         // OpenQuake's PGV is in cm/s.
-        IntensityMeasure::Pgv => 100.0,
+        IntensityMeasure::Pgv | IntensityMeasure::PgvRotd50 => 100.0,
         IntensityMeasure::PgaOverTan | IntensityMeasure::Pfa | IntensityMeasure::Pfv => {
             return Err(Error::invalid(
                 "fragility.im",

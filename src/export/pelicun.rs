@@ -43,8 +43,10 @@ pub struct PelicunDatabase {
 /// pelicun's demand type and unit for curves fitted against `im`.
 pub fn demand(im: IntensityMeasure) -> Result<(&'static str, &'static str)> {
     match im {
-        IntensityMeasure::Pga => Ok(("Peak Ground Acceleration", "g")),
-        IntensityMeasure::Pgv => Ok(("Peak Ground Velocity", "mps")),
+        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50 => {
+            Ok(("Peak Ground Acceleration", "g"))
+        }
+        IntensityMeasure::Pgv | IntensityMeasure::PgvRotd50 => Ok(("Peak Ground Velocity", "mps")),
         // pelicun's floor demands, at the floor the block stands on
         IntensityMeasure::Pfa => Ok(("Peak Floor Acceleration", "g")),
         IntensityMeasure::Pfv => Ok(("Peak Floor Velocity", "mps")),

@@ -112,9 +112,15 @@ impl FigureOptions {
                 options.seed = *seed;
                 options.synthesis = settings.clone();
             }
-            Motions::Files(files) => {
+            // a pair's components each count as a record of the spectrum
+            Motions::Files(_) | Motions::Pairs { .. } => {
                 options.synthesis.g = study.g;
-                options.record_files = files.iter().map(|f| f.path.clone()).collect();
+                options.record_files = study
+                    .motions
+                    .files()
+                    .iter()
+                    .map(|f| f.path.clone())
+                    .collect();
             }
         }
         options
@@ -149,15 +155,13 @@ pub fn study_of_folder(dir: &Path) -> Result<Option<Study>> {
     }
     let manifest = Manifest::read(&path)?;
     let mut study = Study::from_toml_unchecked(&manifest.spec_toml, &path)?;
-    if let Motions::Files(files) = &mut study.motions {
-        let base = Path::new(&manifest.spec_file)
-            .parent()
-            .unwrap_or(Path::new(""));
-        for f in files {
-            let from_spec = base.join(&f.given);
-            if from_spec.is_file() || !f.path.is_file() {
-                f.path = from_spec;
-            }
+    let base = Path::new(&manifest.spec_file)
+        .parent()
+        .unwrap_or(Path::new(""));
+    for f in study.motions.files_mut() {
+        let from_spec = base.join(&f.given);
+        if from_spec.is_file() || !f.path.is_file() {
+            f.path = from_spec;
         }
     }
     Ok(Some(study))

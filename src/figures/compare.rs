@@ -48,6 +48,9 @@ pub struct CompareFigure {
     pub series: Vec<CompareSeries>,
     /// Largest PGA shown (g).
     pub im_max: f64,
+    /// The x axis's label: ground PGA, or a record pair's RotD50 PGA when
+    /// the folders are studies of pairs.
+    pub x_label: String,
 }
 
 impl CompareFigure {
@@ -59,8 +62,10 @@ impl CompareFigure {
     pub fn from_folders(title: &str, folders: &[(String, PathBuf)]) -> Result<CompareFigure> {
         let mut series = Vec::new();
         let mut im_max = 0.0_f64;
+        let mut measures = Vec::new();
         for (label, dir) in folders {
             let data = StudyData::load(dir)?;
+            measures.push(data.pga_label());
             let curves = data.curves.unwrap_or_default();
             // the first case's most severe limit state
             let fit: Vec<(f64, f64, f64, f64)> = match curves.first() {
@@ -114,10 +119,16 @@ impl CompareFigure {
                 "at least one study folder",
             ));
         }
+        measures.dedup();
+        let x_label = match measures[..] {
+            [one] => format!("ground {one}"),
+            _ => "ground PGA (g; RotD50 for the studies of record pairs)".to_string(),
+        };
         Ok(CompareFigure {
             title: title.to_string(),
             series,
             im_max,
+            x_label,
         })
     }
 
@@ -167,7 +178,7 @@ impl Figure for CompareFigure {
         let mut mesh = layout::mesh(&mut chart, style);
         mesh.x_labels(6)
             .y_labels(6)
-            .x_desc("ground PGA (g)")
+            .x_desc(self.x_label.as_str())
             .draw()?;
         for (i, s) in self.series.iter().enumerate() {
             if s.fit.is_empty() {

@@ -26,7 +26,9 @@ use crate::solver::Friction;
 pub struct PlotRow {
     /// The block and its contact (drawn parameters as drawn, or pooled).
     pub case: Case,
-    /// Peak ground acceleration of the record (g).
+    /// Peak ground acceleration of the stripe (g): the record's, or a
+    /// record pair's RotD50 (studies of pairs: the level, whatever
+    /// direction the block faces).
     pub pga: f64,
     /// Record index in the ensemble.
     pub record: u64,
@@ -112,6 +114,20 @@ pub struct StudyData {
     /// The fitted curves' θ and β (against PGA), from `fragility.csv`;
     /// empty when the folder has none.
     pub lognormal: Vec<LognormalCurve>,
+    /// The PGA of the stripes and curves: the record's, or a record pair's
+    /// RotD50 ([`stripe_measure`]).
+    pub im: IntensityMeasure,
+}
+
+impl StudyData {
+    /// The label of the PGA axis: `PGA (g)`, or `RotD50 PGA (g)` for a
+    /// study of record pairs.
+    pub fn pga_label(&self) -> &'static str {
+        match self.im {
+            IntensityMeasure::PgaRotd50 => "RotD50 PGA (g)",
+            _ => "PGA (g)",
+        }
+    }
 }
 
 impl StudyData {
@@ -123,7 +139,9 @@ impl StudyData {
     /// As [`StudyData::load`], with each analysis in the case that pools
     /// the fields `pooled` (those the study draws per analysis).
     pub fn load_pooled(dir: &Path, pooled: &[Field]) -> Result<StudyData> {
-        let mut outcomes = read_outcomes(&dir.join("outcomes.csv"))?;
+        let path = dir.join("outcomes.csv");
+        let mut outcomes = read_outcomes(&path)?;
+        let im = stripe_measure(&path)?;
         if !pooled.is_empty() {
             for row in &mut outcomes {
                 row.case = row.case.pooled(pooled);
@@ -132,13 +150,13 @@ impl StudyData {
         }
         let curves_path = dir.join("fragility_curves.csv");
         let curves = if curves_path.exists() {
-            Some(read_fragility_curves(&curves_path)?)
+            Some(read_fragility_curves(&curves_path, im)?)
         } else {
             None
         };
         let fits_path = dir.join("fragility.csv");
         let lognormal = if fits_path.exists() {
-            read_lognormal(&fits_path)?
+            read_lognormal(&fits_path, im)?
         } else {
             Vec::new()
         };
@@ -146,6 +164,7 @@ impl StudyData {
             outcomes,
             curves,
             lognormal,
+            im,
         })
     }
 }
@@ -159,8 +178,20 @@ fn sort(rows: &mut [PlotRow]) {
     });
 }
 
+/// The PGA the figures plot the stripes of `outcomes.csv` at: a record
+/// pair's RotD50 when the file has `pga_rotd50`, else the record's PGA.
+pub fn stripe_measure(path: &Path) -> Result<IntensityMeasure> {
+    let table = OutcomesFile::open(path, &[], "the figures")?;
+    Ok(if table.has(Column::PgaRotd50) {
+        IntensityMeasure::PgaRotd50
+    } else {
+        IntensityMeasure::Pga
+    })
+}
+
 /// Reads `outcomes.csv` through [`OutcomesFile`]; skips failed rows;
-/// returns the rows sorted by case, PGA and record.
+/// returns the rows sorted by case, PGA (a pair's RotD50, see
+/// [`stripe_measure`]) and record.
 ///
 /// Errors: [`Error::Io`] if the file cannot be read,
 /// [`Error::Parse`] naming the line for a missing
@@ -182,13 +213,19 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<PlotRow>> {
     )?;
     // optional: files written before the column existed lack it
     let has_eq5 = table.has(Column::MuImpactEq5);
+    let rotd50 = table.has(Column::PgaRotd50);
     let mut rows = Vec::new();
     while let Some((line, row)) = table.next_row()? {
         let Ok(o) = &row.result else { continue };
-        let pga = row.pga.ok_or_else(|| Error::Parse {
+        let (pga, column) = if rotd50 {
+            (row.pga_rotd50, Column::PgaRotd50)
+        } else {
+            (row.pga, Column::Pga)
+        };
+        let pga = pga.ok_or_else(|| Error::Parse {
             path: path.to_path_buf(),
             line,
-            message: "column `pga` = \"\": expected a number".into(),
+            message: format!("column `{column}` = \"\": expected a number"),
         })?;
         rows.push(PlotRow {
             case: row.case,
@@ -209,14 +246,15 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<PlotRow>> {
 
 /// Reads `fragility_curves.csv` ([`read_curves_csv`]): the fitted
 /// probability and its 90 % band on an IM grid. Only curves fitted against
-/// PGA are kept, since the figure draws them over the PGA stripes; an empty
+/// `im` are kept, the PGA the figure draws the stripes at
+/// ([`stripe_measure`]); an empty
 /// band (no bootstrap) reads as the curve itself. Returns the points sorted
 /// by case, limit state (in the file's order: a case's limit states in
 /// order of severity) and IM.
-pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
+pub fn read_fragility_curves(path: &Path, im: IntensityMeasure) -> Result<Vec<CurvePoint>> {
     let mut points: Vec<CurvePoint> = read_curves_csv(path)?
         .into_iter()
-        .filter(|r| r.im == IntensityMeasure::Pga)
+        .filter(|r| r.im == im)
         .map(|r| CurvePoint {
             case: r.case,
             limit_state: r.limit_state,
@@ -244,11 +282,12 @@ pub fn read_fragility_curves(path: &Path) -> Result<Vec<CurvePoint>> {
 }
 
 /// Reads the fitted θ and β of `fragility.csv` ([`read_fragility_csv`]):
-/// the cases and limit states fitted against PGA, in the file's order.
-pub fn read_lognormal(path: &Path) -> Result<Vec<LognormalCurve>> {
+/// the cases and limit states fitted against `im` (see
+/// [`read_fragility_curves`]), in the file's order.
+pub fn read_lognormal(path: &Path, im: IntensityMeasure) -> Result<Vec<LognormalCurve>> {
     Ok(read_fragility_csv(path)?
         .into_iter()
-        .filter(|r| r.im == IntensityMeasure::Pga)
+        .filter(|r| r.im == im)
         .filter_map(|r| match (r.median, r.beta) {
             (Some(median), Some(beta)) if median > 0.0 && beta > 0.0 => Some(LognormalCurve {
                 case: r.case,

@@ -128,6 +128,8 @@ pub struct FragilityFigure {
     /// The limit states with fitted curves, in order of severity (as
     /// `fragility_curves.csv` lists them); `["overturning"]` without fits.
     pub limit_states: Vec<String>,
+    /// The IM axis's label ([`StudyData::pga_label`]).
+    pub x_label: String,
 }
 
 impl FragilityFigure {
@@ -257,6 +259,7 @@ impl FragilityFigure {
             short_of_reach,
             as_infinite,
             limit_states,
+            x_label: data.pga_label().to_string(),
         }
     }
 
@@ -551,7 +554,10 @@ impl Figure for FragilityFigure {
                 .chart(area, true)
                 .build_cartesian_2d(0.0..x_max, 0.0..1.0)?;
             let mut mesh = layout::mesh(&mut chart, style);
-            mesh.x_labels(6).y_labels(6).x_desc("PGA (g)").draw()?;
+            mesh.x_labels(6)
+                .y_labels(6)
+                .x_desc(self.x_label.as_str())
+                .draw()?;
 
             let n_ls = self.limit_states.len();
             for s in &panel.series {

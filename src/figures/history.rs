@@ -34,6 +34,7 @@ use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
 use crate::case::{Case, Field, Param};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
+use crate::fragility::IntensityMeasure;
 use crate::io_util::sig3;
 use crate::motion::{Record, SynthesisSettings, Synthesizer};
 use crate::outcome::{Mode, Outcome};
@@ -246,8 +247,30 @@ impl HistoryFigure {
                         .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
                 },
             ),
+            Some(Motions::Synthetic {
+                seed,
+                pairs: Some(orientation),
+                ..
+            }) => {
+                let (p, phi) = orientation.member(chosen.record);
+                format!("pair {p} of seed {seed} at φ = {}°", sig3(phi))
+            }
             Some(Motions::Synthetic { seed, .. }) => {
                 format!("record {} of seed {seed}", chosen.record)
+            }
+            Some(Motions::Pairs { pairs, orientation }) => {
+                let (p, phi) = orientation.member(chosen.record);
+                let name = |f: &crate::spec::RecordFile| {
+                    Path::new(&f.given)
+                        .file_name()
+                        .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
+                };
+                format!(
+                    "{} + {} at φ = {}°",
+                    name(&pairs[p][0]),
+                    name(&pairs[p][1]),
+                    sig3(phi)
+                )
             }
             None => format!("record {} of seed {}", chosen.record, options.seed),
         };
@@ -593,9 +616,12 @@ fn choose_run(
     let pooled = options.pooled;
     let cols = options.study.map(plan::columns);
     let mut table = OutcomesFile::open(&dir.join("outcomes.csv"), &[Column::Pga], "the history")?;
+    let rotd50 = data.im == IntensityMeasure::PgaRotd50;
     while let Some((_, row)) = table.next_row()? {
+        // the stripe's PGA as `read_outcomes` took it
+        let stripe = if rotd50 { row.pga_rotd50 } else { row.pga };
         if row.record as u64 == run.record
-            && row.pga == Some(run.pga)
+            && stripe == Some(run.pga)
             && row.case.pooled(pooled) == case
             && row.result.is_ok()
         {
@@ -606,6 +632,7 @@ fn choose_run(
             let level_text = match options.study.map(|s| &s.intensity) {
                 Some(Intensity::Pgv(_)) => format!("PGV {} m/s", tick_label(level)),
                 Some(Intensity::Scale(_)) => format!("scale {}", tick_label(level)),
+                _ if rotd50 => format!("RotD50 PGA {} g", tick_label(level)),
                 _ => format!("{} g", tick_label(level)),
             };
             return Ok(ChosenRun {

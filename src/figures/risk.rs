@@ -216,6 +216,8 @@ impl RiskFigure {
             ("pgv", _) => "PGV (m/s)".to_string(),
             ("pfa", _) => "PFA (g)".to_string(),
             ("pfv", _) => "PFV (m/s)".to_string(),
+            ("pga-rotd50", _) => "RotD50 PGA (g)".to_string(),
+            ("pgv-rotd50", _) => "RotD50 PGV (m/s)".to_string(),
             (name, "1" | "") => name.to_string(),
             (name, u) => format!("{name} ({u})"),
         };

@@ -142,7 +142,18 @@ fn read_outcomes_with(
         };
         measures.push((column, kind, ls.exceeds.unwrap_or(0.0)));
     }
-    let mut table = OutcomesFile::open(path, &required, "the fragility fit")?;
+    let purpose = match im {
+        IntensityMeasure::PgaRotd50 | IntensityMeasure::PgvRotd50 => format!(
+            "the fragility fit against {}, which only studies of record pairs have",
+            im.name()
+        ),
+        IntensityMeasure::Pfa | IntensityMeasure::Pfv => format!(
+            "the fragility fit against {}, which only studies on a floor ([support]) have",
+            im.name()
+        ),
+        _ => "the fragility fit".to_string(),
+    };
+    let mut table = OutcomesFile::open(path, &required, &purpose)?;
     for (ls, &(column, _, _)) in limit_states.iter().zip(&measures) {
         if !table.has(column) {
             return Err(table.header_error(format!(
@@ -195,6 +206,8 @@ fn read_outcomes_with(
             IntensityMeasure::Pgv => positive(row.pgv, Column::Pgv)?,
             IntensityMeasure::Pfa => positive(row.pfa, Column::Pfa)?,
             IntensityMeasure::Pfv => positive(row.pfv, Column::Pfv)?,
+            IntensityMeasure::PgaRotd50 => positive(row.pga_rotd50, Column::PgaRotd50)?,
+            IntensityMeasure::PgvRotd50 => positive(row.pgv_rotd50, Column::PgvRotd50)?,
         };
         let mut exceeded = 0u64;
         for (k, &(column, kind, threshold)) in measures.iter().enumerate() {

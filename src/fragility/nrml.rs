@@ -85,8 +85,10 @@ pub fn moments_to_lognormal(mean: f64, stddev: f64) -> (f64, f64) {
 /// single PGA equivalent).
 pub(crate) fn openquake_imt(im: IntensityMeasure, key: &Case) -> (&'static str, Option<f64>) {
     match im {
-        IntensityMeasure::Pga => ("PGA", Some(1.0)),
-        IntensityMeasure::Pgv => ("PGV", Some(100.0)),
+        // OpenQuake's PGA and PGV are what its ground-motion models give:
+        // for most of them the RotD50 of the two components
+        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50 => ("PGA", Some(1.0)),
+        IntensityMeasure::Pgv | IntensityMeasure::PgvRotd50 => ("PGV", Some(100.0)),
         IntensityMeasure::PgaOverTan => ("PGA", key.aspect.fixed().map(|a| 1.0 / a)),
         // OpenQuake has no floor IMT: its hazard is the ground's
         IntensityMeasure::Pfa => ("PFA", None),

@@ -68,6 +68,15 @@ pub enum IntensityMeasure {
     Pfa,
     /// Peak floor velocity, in m/s (needs a `pfv` column), as [`IntensityMeasure::Pfa`].
     Pfv,
+    /// RotD50 PGA of a record pair, in g: the median over directions of the
+    /// peak of the rotated component, independent of how the block faces
+    /// (Boore 2010; what ground-motion models and OpenQuake's hazard give).
+    /// Studies of record pairs (needs a `pga_rotd50` column); the default
+    /// measure of their fit.
+    PgaRotd50,
+    /// RotD50 PGV of a record pair, in m/s (needs a `pgv_rotd50` column), as
+    /// [`IntensityMeasure::PgaRotd50`].
+    PgvRotd50,
 }
 
 crate::io_util::named!(IntensityMeasure, "im" {
@@ -76,6 +85,8 @@ crate::io_util::named!(IntensityMeasure, "im" {
     PgaOverTan => "pga-over-tan",
     Pfa => "pfa",
     Pfv => "pfv",
+    PgaRotd50 => "pga-rotd50",
+    PgvRotd50 => "pgv-rotd50",
 });
 
 impl IntensityMeasure {
@@ -92,6 +103,8 @@ impl IntensityMeasure {
             IntensityMeasure::Pgv => Column::Pgv,
             IntensityMeasure::Pfa => Column::Pfa,
             IntensityMeasure::Pfv => Column::Pfv,
+            IntensityMeasure::PgaRotd50 => Column::PgaRotd50,
+            IntensityMeasure::PgvRotd50 => Column::PgvRotd50,
         }
     }
 
@@ -104,8 +117,8 @@ impl IntensityMeasure {
     /// Unit of the intensity (`1` for dimensionless).
     pub fn unit(self) -> &'static str {
         match self {
-            IntensityMeasure::Pga | IntensityMeasure::Pfa => "g",
-            IntensityMeasure::Pgv | IntensityMeasure::Pfv => "m/s",
+            IntensityMeasure::Pga | IntensityMeasure::Pfa | IntensityMeasure::PgaRotd50 => "g",
+            IntensityMeasure::Pgv | IntensityMeasure::Pfv | IntensityMeasure::PgvRotd50 => "m/s",
             IntensityMeasure::PgaOverTan => "1",
         }
     }

@@ -9,7 +9,7 @@ use super::output;
 use super::simulate::{self, Im, Table};
 use super::survey::{self, KindModel, SlideRule, Survey};
 use crate::error::{Error, Result};
-use crate::spec::{InferSettings, Motions, Study, fnv1a64};
+use crate::spec::{InferSettings, Study, fnv1a64};
 use crate::study::{RunLock, Source};
 
 /// Options of one `rockfrag infer` (they do not change the results, save
@@ -95,11 +95,9 @@ fn inputs_hash(
     bare.infer = None;
     let mut text = bare.to_toml();
     text.push_str(&format!("\n{models:?}\n{slide:?}\n{}\n", im.name()));
-    if let Motions::Files(files) = &study.motions {
-        for f in files {
-            let bytes = std::fs::read(&f.path).map_err(Error::io(&f.path))?;
-            text.push_str(&format!("{:016x}\n", fnv1a64(&bytes)));
-        }
+    for f in study.motions.files() {
+        let bytes = std::fs::read(&f.path).map_err(Error::io(&f.path))?;
+        text.push_str(&format!("{:016x}\n", fnv1a64(&bytes)));
     }
     Ok(fnv1a64(text.as_bytes()))
 }

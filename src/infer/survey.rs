@@ -365,7 +365,7 @@ pub fn draws_seed(study: &Study, settings: &InferSettings) -> u64 {
     let fallback = match (&study.uncertainty, &study.motions) {
         (Some(u), _) => u.seed,
         (None, Motions::Synthetic { seed, .. }) => *seed,
-        (None, Motions::Files(_)) => 1,
+        (None, Motions::Files(_) | Motions::Pairs { .. }) => 1,
     };
     settings.seed.unwrap_or(fallback)
 }

@@ -342,6 +342,48 @@ pub fn rotd(pair: &Pair, percentile: f64) -> Result<f64> {
     rotd_series(&pair.h1.acc, &pair.h2.acc, percentile)
 }
 
+/// A record pair with its RotD50 peaks, measured once: scaling a pair by
+/// k > 0 scales every rotated peak by k, so the factor that brings it to a
+/// RotD50 level is target/RotD50.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeasuredPair {
+    /// The two components.
+    pub pair: Pair,
+    /// RotD50 of the acceleration (PGA), m/s².
+    pub pga: f64,
+    /// RotD50 of the velocity (PGV), m/s.
+    pub pgv: f64,
+}
+
+impl MeasuredPair {
+    /// Checks `pair` and measures its RotD50 PGA and PGV.
+    pub fn new(pair: Pair) -> Result<MeasuredPair> {
+        let pga = rotd(&pair, 50.0)?;
+        let pgv = rotd_series(&pair.h1.vel, &pair.h2.vel, 50.0)?;
+        Ok(MeasuredPair { pair, pga, pgv })
+    }
+
+    /// The motion along `angle_deg` of the pair scaled by `k`: both
+    /// components scaled first, then turned ([`Pair::rotated`]), the order
+    /// `rockfrag simulate --motion2` and a study share, so both give the
+    /// same bits.
+    ///
+    /// ```
+    /// use rockfrag::motion::{MeasuredPair, Pair, Record};
+    /// let h1 = Record::from_acc("H1", 0.01, vec![0.0, 1.0, -0.5]).unwrap();
+    /// let h2 = Record::from_acc("H2", 0.01, vec![0.0, 0.5, 1.0]).unwrap();
+    /// let m = MeasuredPair::new(Pair::new(h1.clone(), h2).unwrap()).unwrap();
+    /// assert_eq!(m.felt(2.0, 0.0).unwrap().acc, h1.scaled(2.0).acc);
+    /// ```
+    pub fn felt(&self, k: f64, angle_deg: f64) -> Result<Record> {
+        let scaled = Pair {
+            h1: self.pair.h1.clone().scaled(k),
+            h2: self.pair.h2.clone().scaled(k),
+        };
+        scaled.rotated(angle_deg)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

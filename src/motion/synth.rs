@@ -309,6 +309,27 @@ pub fn preset(name: &str) -> Option<SynthesisSettings> {
 /// assert_ne!(record_seed(1, 0), record_seed(2, 0));
 /// ```
 pub fn record_seed(seed: u64, index: u64) -> u64 {
+    record_seed_raw(seed, index)
+}
+
+/// The ensemble seed whose record i is the second horizontal component of
+/// record i of ensemble `seed`, in a study of synthetic pairs
+/// (`components = 2`): a stream of its own, independent of the first
+/// component's.
+///
+/// ```
+/// use rockfrag::motion::{record_seed, second_component_seed};
+/// let s2 = second_component_seed(1);
+/// assert_ne!(s2, 1);
+/// assert_ne!(record_seed(s2, 0), record_seed(1, 0));
+/// ```
+pub fn second_component_seed(seed: u64) -> u64 {
+    // "rockfrag:H2" domain tag (an arbitrary odd constant), mixed
+    record_seed_raw(seed ^ 0x4832_C0B1_7E5E_ED2B, u64::MAX)
+}
+
+/// splitmix64 of `seed` and `index` (see [`record_seed`]).
+fn record_seed_raw(seed: u64, index: u64) -> u64 {
     const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut z = (seed ^ index.wrapping_mul(GOLDEN)).wrapping_add(GOLDEN);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -472,6 +493,35 @@ impl Synthesizer {
                 "a positive finite peak ground acceleration",
             ));
         }
+        self.generate_scaled(seed, index, Some(pga_m_s2), out)
+    }
+
+    /// Record (`seed`, `index`) at the model's own amplitude (its spectral
+    /// density's, not scaled to a PGA): for the two components of a
+    /// synthetic pair, whose amplitudes keep their natural ratio and which
+    /// are then scaled together by their RotD50.
+    pub fn generate_natural(&mut self, seed: u64, index: u64) -> Result<Record> {
+        let mut r = Record {
+            name: String::new(),
+            dt: self.settings.dt,
+            acc: Vec::new(),
+            vel: Vec::new(),
+            disp: Vec::new(),
+            acc_v: None,
+        };
+        self.generate_scaled(seed, index, None, &mut r)?;
+        Ok(r)
+    }
+
+    /// [`Synthesizer::generate_into`] to the peak `pga_m_s2`, or unscaled
+    /// (`None`).
+    fn generate_scaled(
+        &mut self,
+        seed: u64,
+        index: u64,
+        pga_m_s2: Option<f64>,
+        out: &mut Record,
+    ) -> Result<()> {
         let len = self.samples();
         self.stationary(seed, index);
         let n = self.period.len();
@@ -495,11 +545,17 @@ impl Synthesizer {
                 message: format!("peak acceleration before scaling is {peak}"),
             });
         }
-        let scale = pga_m_s2 / peak;
-        for a in out.acc.iter_mut() {
-            *a = (*a * scale).clamp(-pga_m_s2, pga_m_s2);
-        }
-        out.acc[i_peak] = pga_m_s2.copysign(out.acc[i_peak]);
+        let scale = match pga_m_s2 {
+            Some(pga) => {
+                let scale = pga / peak;
+                for a in out.acc.iter_mut() {
+                    *a = (*a * scale).clamp(-pga, pga);
+                }
+                out.acc[i_peak] = pga.copysign(out.acc[i_peak]);
+                scale
+            }
+            None => 1.0,
+        };
         integrate_into(
             self.settings.dt,
             &out.acc,

@@ -27,6 +27,12 @@ pub enum Column {
     Pga,
     /// Peak ground velocity (m/s): the level, or the record's measured peak.
     Pgv,
+    /// RotD50 PGA of the record pair (g; studies of record pairs): the
+    /// level, or the scaled pair's measured RotD50. `pga` is then the peak
+    /// of the component the block feels.
+    PgaRotd50,
+    /// RotD50 PGV of the record pair (m/s), as [`Column::PgaRotd50`].
+    PgvRotd50,
     /// Peak floor acceleration (g): the peak absolute acceleration of the
     /// floor the block stands on (studies with `[support] floor`).
     Pfa,
@@ -34,8 +40,12 @@ pub enum Column {
     Pfv,
     /// Record index in the ensemble (0-based).
     Record,
-    /// The record file as the spec names it (recorded motions only).
+    /// The record file as the spec names it (recorded motions only; a
+    /// pair's two files joined by ` + `).
     RecordFile,
+    /// The direction the block faces, degrees from the pair's first
+    /// component (studies of record pairs).
+    Phi,
     /// The factor the record was multiplied by (`scale_factors` studies).
     Scale,
     /// `ok` or `failed`.
@@ -107,6 +117,10 @@ pub const CASE: [Column; 6] = [
     Column::MuS,
     Column::MuK,
 ];
+
+/// The pair's orientation-independent peaks, after the felt component's
+/// (studies of record pairs).
+pub const ROTD50: [Column; 2] = [Column::PgaRotd50, Column::PgvRotd50];
 
 /// The floor's peaks, after the ground's (studies on a floor).
 pub const FLOOR: [Column; 2] = [Column::Pfa, Column::Pfv];
@@ -201,10 +215,13 @@ impl Column {
             Column::MuK => "mu_k",
             Column::Pga => "pga",
             Column::Pgv => "pgv",
+            Column::PgaRotd50 => "pga_rotd50",
+            Column::PgvRotd50 => "pgv_rotd50",
             Column::Pfa => "pfa",
             Column::Pfv => "pfv",
             Column::Record => "record",
             Column::RecordFile => "record_file",
+            Column::Phi => "phi",
             Column::Scale => "scale",
             Column::Status => "status",
             Column::Overturned => "overturned",
@@ -439,6 +456,9 @@ pub struct Columns {
     pub pgv: bool,
     /// Recorded motions (`record_file` column).
     pub files: bool,
+    /// Record pairs (`pga_rotd50`, `pgv_rotd50` after `pgv`, `phi` after
+    /// `record_file`; the level is then the RotD50).
+    pub pairs: bool,
     /// Records multiplied by scale factors (`scale` column; `pga` and `pgv`
     /// are then both the scaled record's measured peaks).
     pub scale: bool,
@@ -458,6 +478,7 @@ impl Columns {
     pub const ALL: Columns = Columns {
         pgv: true,
         files: true,
+        pairs: true,
         scale: true,
         time_in_mode: true,
         stats: true,
@@ -483,12 +504,18 @@ impl Columns {
     /// columns, `sensitive` when present, `error`.
     pub fn list(&self) -> Vec<Column> {
         let mut v: Vec<Column> = CASE.into_iter().chain([Column::Pga, Column::Pgv]).collect();
+        if self.pairs {
+            v.extend(ROTD50);
+        }
         if self.floor {
             v.extend(FLOOR);
         }
         v.push(Column::Record);
         if self.files {
             v.push(Column::RecordFile);
+        }
+        if self.pairs {
+            v.push(Column::Phi);
         }
         if self.scale {
             v.push(Column::Scale);
@@ -515,14 +542,14 @@ impl Columns {
     }
 
     /// The level's column: `scale` for scale-factor studies, `pgv` for PGV
-    /// studies, else `pga`.
+    /// studies, else `pga` (`pgv_rotd50`, `pga_rotd50` for record pairs).
     pub fn level(&self) -> Column {
-        if self.scale {
-            Column::Scale
-        } else if self.pgv {
-            Column::Pgv
-        } else {
-            Column::Pga
+        match (self.scale, self.pgv, self.pairs) {
+            (true, _, _) => Column::Scale,
+            (false, true, false) => Column::Pgv,
+            (false, true, true) => Column::PgvRotd50,
+            (false, false, false) => Column::Pga,
+            (false, false, true) => Column::PgaRotd50,
         }
     }
 }
@@ -536,6 +563,7 @@ mod tests {
         let all = Columns {
             pgv: false,
             files: true,
+            pairs: true,
             scale: true,
             time_in_mode: true,
             stats: true,
@@ -554,7 +582,8 @@ mod tests {
         // The layout documented in the module docs of `outcomes_csv`.
         assert_eq!(
             all.header(),
-            "aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,pfa,pfv,record,record_file,scale,\
+            "aspect,width,restitution,friction,mu_s,mu_k,pga,pgv,pga_rotd50,pgv_rotd50,pfa,pfv,\
+             record,record_file,phi,scale,\
              status,overturned,overturn_time,uplifted,moved,theta_max_over_theta_c,\
              mu_motion,mu_impact,mu_impact_eq5,impacts,flights,uplifts,liftoff_holds,\
              energy_gains,settles,slip_max,slip_final,stick_holds,end_time,first_impact_time,\

@@ -25,6 +25,13 @@ pub struct OutcomeRow {
     /// Peak ground velocity, m/s: the level of a PGV study, else the scaled
     /// record's measured peak (`None` if the record failed).
     pub pgv: Option<f64>,
+    /// RotD50 PGA of the record pair, g (studies of record pairs; `None`
+    /// otherwise, or if the record failed): the level of a PGA study, else
+    /// the scaled pair's measured RotD50. `pga` is then the peak of the
+    /// component the block feels.
+    pub pga_rotd50: Option<f64>,
+    /// RotD50 PGV of the record pair, m/s (as `pga_rotd50`).
+    pub pgv_rotd50: Option<f64>,
     /// Peak floor acceleration, g: the peak absolute acceleration of the
     /// floor the block stands on (`None` on the ground, or if the record
     /// failed).
@@ -35,6 +42,9 @@ pub struct OutcomeRow {
     pub record: usize,
     /// The record file as the spec names it (recorded motions only).
     pub record_file: Option<String>,
+    /// The direction the block faces, degrees from the pair's first
+    /// component (studies of record pairs).
+    pub phi: Option<f64>,
     /// The factor the record was multiplied by (`scale_factors` studies).
     pub scale: Option<f64>,
     /// The outcome, or why the analysis failed.
@@ -53,11 +63,14 @@ impl OutcomeRow {
     }
 
     /// The row's intensity level: `scale` for scale-factor studies, `pgv`
-    /// for PGV studies, else `pga` (see [`Columns::level`]).
+    /// for PGV studies, else `pga` (the RotD50 of a pair; see
+    /// [`Columns::level`]).
     pub fn level(&self, columns: &Columns) -> Option<f64> {
         match columns.level() {
             Column::Scale => self.scale,
             Column::Pgv => self.pgv,
+            Column::PgvRotd50 => self.pgv_rotd50,
+            Column::PgaRotd50 => self.pga_rotd50,
             _ => self.pga,
         }
     }
@@ -74,6 +87,14 @@ pub struct RecordInfo<'a> {
     pub pga_g: Option<f64>,
     /// Measured PGV of the scaled record, m/s (`None` if the record failed).
     pub pgv: Option<f64>,
+    /// Measured RotD50 PGA of the scaled pair, g (`None` without pairs or
+    /// if the record failed).
+    pub pga_rotd50_g: Option<f64>,
+    /// Measured RotD50 PGV of the scaled pair, m/s (as `pga_rotd50_g`).
+    pub pgv_rotd50: Option<f64>,
+    /// The direction the block faces, degrees from the pair's H1 (`None`
+    /// without pairs).
+    pub phi: Option<f64>,
     /// Measured peak floor acceleration, g (`None` on the ground or if the
     /// record failed).
     pub pfa_g: Option<f64>,
@@ -85,29 +106,37 @@ pub struct RecordInfo<'a> {
 
 impl Columns {
     /// The row of one analysis in a file with these columns: the level goes
-    /// to its column (`pga`, `pgv` or `scale`), measured peaks to the others;
-    /// no sensitivity (the caller sets [`OutcomeRow::sensitive`]).
+    /// to its column (`pga`, `pgv`, `pga_rotd50`, `pgv_rotd50` or `scale`),
+    /// measured peaks to the others; no sensitivity (the caller sets
+    /// [`OutcomeRow::sensitive`]).
     pub fn row(
         &self,
         case: Case,
         record: &RecordInfo,
         result: std::result::Result<Outcome, String>,
     ) -> OutcomeRow {
-        let (pga, pgv, scale) = if self.scale {
-            (record.pga_g, record.pgv, Some(record.level))
-        } else if self.pgv {
-            (record.pga_g, Some(record.level), None)
-        } else {
-            (Some(record.level), record.pgv, None)
-        };
+        let level = Some(record.level);
+        let (mut pga, mut pgv) = (record.pga_g, record.pgv);
+        let (mut pga_rotd50, mut pgv_rotd50) = (record.pga_rotd50_g, record.pgv_rotd50);
+        let mut scale = None;
+        match self.level() {
+            Column::Scale => scale = level,
+            Column::Pgv => pgv = level,
+            Column::PgvRotd50 => pgv_rotd50 = level,
+            Column::PgaRotd50 => pga_rotd50 = level,
+            _ => pga = level,
+        }
         OutcomeRow {
             case,
             pga,
             pgv,
+            pga_rotd50: pga_rotd50.filter(|_| self.pairs),
+            pgv_rotd50: pgv_rotd50.filter(|_| self.pairs),
             pfa: record.pfa_g.filter(|_| self.floor),
             pfv: record.pfv.filter(|_| self.floor),
             record: record.index,
             record_file: record.file.filter(|_| self.files).map(str::to_string),
+            phi: record.phi.filter(|_| self.pairs),
             scale,
             result,
             sensitive: None,
@@ -153,6 +182,9 @@ impl OutcomeRow {
             Column::MuK => param(out, self.case.mu_k()),
             Column::Pga => num(out, self.pga),
             Column::Pgv => num(out, self.pgv),
+            Column::PgaRotd50 => num(out, self.pga_rotd50),
+            Column::PgvRotd50 => num(out, self.pgv_rotd50),
+            Column::Phi => num(out, self.phi),
             Column::Pfa => num(out, self.pfa),
             Column::Pfv => num(out, self.pfv),
             Column::Scale => num(out, self.scale),
@@ -265,10 +297,13 @@ impl OutcomesFile {
             case,
             pga: None,
             pgv: None,
+            pga_rotd50: None,
+            pgv_rotd50: None,
             pfa: None,
             pfv: None,
             record: 0,
             record_file: None,
+            phi: None,
             scale: None,
             result: Ok(Outcome::default()),
             sensitive: None,
@@ -287,6 +322,9 @@ impl OutcomesFile {
             match column {
                 Column::Pga => out.pga = opt()?,
                 Column::Pgv => out.pgv = opt()?,
+                Column::PgaRotd50 => out.pga_rotd50 = opt()?,
+                Column::PgvRotd50 => out.pgv_rotd50 = opt()?,
+                Column::Phi => out.phi = opt()?,
                 Column::Pfa => out.pfa = opt()?,
                 Column::Pfv => out.pfv = opt()?,
                 Column::Scale => out.scale = opt()?,
@@ -344,6 +382,7 @@ mod tests {
             Columns {
                 pgv: false,
                 files: false,
+                pairs: false,
                 scale: false,
                 time_in_mode: false,
                 stats: false,
@@ -358,6 +397,9 @@ mod tests {
                 level: 0.3,
                 pga_g: Some(0.5),
                 pgv: Some(0.4),
+                pga_rotd50_g: Some(0.45),
+                pgv_rotd50: Some(0.35),
+                phi: Some(37.5),
                 pfa_g: Some(0.9),
                 pfv: Some(0.7),
                 file: Some("a,b.csv"),

@@ -67,7 +67,9 @@ impl Default for CheckOptions {
             replicates: 12,
             seed: match Study::shenton_jones().motions {
                 Motions::Synthetic { seed, .. } => seed,
-                Motions::Files(_) => unreachable!("the built-in study is synthetic"),
+                Motions::Files(_) | Motions::Pairs { .. } => {
+                    unreachable!("the built-in study is synthetic")
+                }
             },
             threads: 0,
         }
@@ -183,6 +185,7 @@ fn paper_study(settings: &SynthesisSettings, seed: u64) -> Study {
         settings: settings.clone(),
         seed,
         records: paper::RECORDS,
+        pairs: None,
     };
     study.frictions = vec![Param::Fixed(Friction::Infinite)];
     study.aspects = ASPECTS.map(Param::Fixed).to_vec();

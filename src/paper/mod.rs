@@ -47,9 +47,13 @@ use crate::study::Tally;
 pub fn is_papers(study: &Study) -> bool {
     let synthetic_default = match &study.motions {
         Motions::Synthetic {
-            settings, records, ..
+            settings,
+            records,
+            pairs: None,
+            ..
         } => readings().iter().any(|r| r.settings == *settings) && *records == tables::RECORDS,
-        Motions::Files(_) => false,
+        Motions::Synthetic { .. } => false,
+        Motions::Files(_) | Motions::Pairs { .. } => false,
     };
     synthetic_default
         && study.g == G_STANDARD

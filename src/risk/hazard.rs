@@ -85,9 +85,11 @@ impl HazardCurve {
             return Ok(self);
         };
         let scale = match (imt.as_str(), im) {
-            ("PGA", "pga") => 1.0,
+            // (OpenQuake's PGA is its ground-motion models', for most the
+            // RotD50 of the two components: a pair's pga-rotd50 is that)
+            ("PGA", "pga" | "pga-rotd50") => 1.0,
             // OpenQuake's PGV is in cm/s, the fit's in m/s.
-            ("PGV", "pgv") => 0.01,
+            ("PGV", "pgv" | "pgv-rotd50") => 0.01,
             _ => {
                 return Err(Error::Conflict {
                     path: self.path.clone(),
@@ -187,8 +189,8 @@ pub fn write_used_hazard(path: &Path, hazard: &HazardCurve) -> Result<()> {
 /// OpenQuake's name of a fit's IM, for messages.
 fn openquake_name(im: &str) -> &str {
     match im {
-        "pga" => "PGA (g)",
-        "pgv" => "PGV (cm/s)",
+        "pga" | "pga-rotd50" => "PGA (g)",
+        "pgv" | "pgv-rotd50" => "PGV (cm/s)",
         "pfa" | "pfv" => {
             "the floor's peak: OpenQuake computes ground hazard only, so give a plain \
              iml,annual_rate file of the floor's peak (e.g. a floor spectrum hazard), or refit \

@@ -12,7 +12,8 @@
 //! name = "example"            # default: the file's stem
 //! seed = 7                    # ensemble seed (default: 1)
 //! records = 25                # synthetic records per intensity level (default: 25)
-//! # record_files = ["motions/elcentro.AT2"]   # or recorded motions instead
+//! # record_files = ["motions/elcentro.AT2"]   # or recorded motions instead,
+//! # record_files = [["a-H1.AT2", "a-H2.AT2"]]   # or pairs of components
 //!
 //! [motion]                    # SynthesisSettings (default: the paper's firm soil)
 //! duration = 30.0
@@ -39,9 +40,11 @@ mod uncertainty;
 mod validate;
 
 pub use infer::InferSettings;
-pub use raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, UncertaintyFile};
+pub use raw::{
+    FrictionEntry, GridFile, MotionFile, OutputFile, RecordEntry, SpecFile, UncertaintyFile,
+};
 pub use study::{
-    Intensity, Motions, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study, Uncertainty,
-    fnv1a64, friction_label,
+    Intensity, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study,
+    Uncertainty, fnv1a64, friction_label,
 };
 pub use validate::{MAX_PGA_G, MAX_PGV};

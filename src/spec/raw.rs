@@ -34,11 +34,21 @@ pub struct SpecFile {
     /// Synthetic records per intensity level (default: 25).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub records: Option<usize>,
+    /// Horizontal components per synthetic record: 1, or 2 for pairs of
+    /// independent components of the same model, scaled by their RotD50 and
+    /// turned to the direction the blocks face, as recorded pairs are
+    /// (default: 1; left out of the canonical spec then).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub components: Option<usize>,
     /// Recorded motions (`.AT2` in g or `.csv` in m/s²), paths relative to
-    /// the spec file; when given, they replace the synthetic ensemble and
-    /// `seed`, `records` and `[motion]` must be left out (default: none).
+    /// the spec file: each entry one component (`"a.AT2"`) or, for every
+    /// entry, a pair of horizontal components (`["a-H1.AT2", "a-H2.AT2"]`;
+    /// the block faces `grid.orientation` or a drawn
+    /// `uncertainty.orientation`). When given, they replace the synthetic
+    /// ensemble and `seed`, `records` and `[motion]` must be left out
+    /// (default: none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub record_files: Vec<String>,
+    pub record_files: Vec<RecordEntry>,
     /// Stochastic ground-motion model (default: the generator's default
     /// model, see [`crate::motion::SynthesisSettings`]; or a named preset).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -94,6 +104,12 @@ pub struct GridFile {
     /// PGA (default: not used).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pgv: Option<Vec<f64>>,
+    /// Directions φ the blocks face, degrees from the first component of
+    /// each record pair towards the second: every pair is run at every
+    /// angle, and a case's curve pools them with the pairs (only with
+    /// record pairs; default: φ drawn, see `uncertainty.orientation`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<Vec<f64>>,
     /// Factors each recorded motion is multiplied by, instead of scaling it
     /// to a PGA or PGV: `[1.0]` runs each record as recorded (a cloud
     /// analysis), several factors an incremental dynamic analysis. Only with
@@ -165,6 +181,13 @@ pub struct UncertaintyFile {
     /// μk/μs within [0, 1]: a distribution or a number (needs `mu_s`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mu_k_over_mu_s: Option<Value>,
+    /// Direction φ the blocks face, degrees from the first component of
+    /// each record pair: a distribution, drawn once per record (the same at
+    /// every level and for every case), or a number (only with record
+    /// pairs; default with pairs and no `grid.orientation`: uniform on
+    /// [0°, 180°), since an object's orientation is rarely known).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<Value>,
 }
 
 /// The `[output]` table. `outcomes.csv` and `manifest.json` are always
@@ -210,6 +233,20 @@ impl Default for OutputFile {
             sensitivity: false,
         }
     }
+}
+
+/// One entry of `record_files`: a file (one horizontal component), or the
+/// two horizontal components of one record, `["a-H1.AT2", "a-H2.AT2"]`.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a file name \"a.AT2\" or a pair of component files [\"a-H1.AT2\", \"a-H2.AT2\"]"
+)]
+pub enum RecordEntry {
+    /// One component.
+    One(String),
+    /// Two horizontal components, H1 then H2.
+    Pair([String; 2]),
 }
 
 /// One entry of `grid.friction`: `"inf"`, `{ mu_s = 0.7, mu_k = 0.6 }` or

@@ -3,14 +3,17 @@
 //! canonical spec text by [`Study::to_toml`].
 
 use super::raw::{
-    FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, SupportFile, UncertaintyFile,
+    FrictionEntry, GridFile, MotionFile, OutputFile, RecordEntry, SpecFile, SupportFile,
+    UncertaintyFile,
 };
 use crate::case::{Case, Field, Param};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::{Floor, SynthesisSettings};
 use crate::solver::{Friction, SolverSettings};
-use crate::uncertainty::{Property, Value, analysis_seed, uniforms};
+use crate::uncertainty::{
+    Distribution, Property, Value, analysis_seed, orientation_uniform, uniforms,
+};
 use std::path::{Path, PathBuf};
 
 /// The paper's study (Shenton and Jones), the default of `rockfrag run`.
@@ -162,11 +165,124 @@ pub enum Motions {
         settings: SynthesisSettings,
         /// Ensemble seed.
         seed: u64,
-        /// Records per intensity level.
+        /// Records per intensity level (for pairs: pairs, times the angles
+        /// of a grid of orientations, see [`Orientation::per_pair`]).
         records: usize,
+        /// `None`: one horizontal component per record. Some: two
+        /// independent components per record (`components = 2`), H1 the
+        /// ensemble's record and H2 the same index of a second ensemble
+        /// ([`crate::motion::second_component_seed`]), scaled as a pair by
+        /// its RotD50 and turned to the direction the blocks face.
+        pairs: Option<Orientation>,
     },
     /// Recorded motions, each scaled to every intensity level.
     Files(Vec<RecordFile>),
+    /// Recorded motions as pairs of horizontal components (H1, H2), each
+    /// pair scaled to every intensity level by its RotD50 (PGA or PGV
+    /// levels) or by the factor; the blocks feel the component along the
+    /// direction they face, cos φ·H1 + sin φ·H2.
+    Pairs {
+        /// The pairs, H1 then H2.
+        pairs: Vec<[RecordFile; 2]>,
+        /// The directions the blocks face.
+        orientation: Orientation,
+    },
+}
+
+impl Motions {
+    /// The directions the blocks face, for motions in pairs (recorded or
+    /// synthetic); `None` for single components.
+    pub fn orientation(&self) -> Option<&Orientation> {
+        match self {
+            Motions::Synthetic { pairs, .. } => pairs.as_ref(),
+            Motions::Files(_) => None,
+            Motions::Pairs { orientation, .. } => Some(orientation),
+        }
+    }
+
+    /// Every record file, in the spec's order (a pair's H1 then H2); none
+    /// for a synthetic ensemble.
+    pub fn files(&self) -> Vec<&RecordFile> {
+        match self {
+            Motions::Synthetic { .. } => Vec::new(),
+            Motions::Files(files) => files.iter().collect(),
+            Motions::Pairs { pairs, .. } => pairs.iter().flatten().collect(),
+        }
+    }
+
+    /// As [`Motions::files`], to change their paths.
+    pub fn files_mut(&mut self) -> Vec<&mut RecordFile> {
+        match self {
+            Motions::Synthetic { .. } => Vec::new(),
+            Motions::Files(files) => files.iter_mut().collect(),
+            Motions::Pairs { pairs, .. } => pairs.iter_mut().flatten().collect(),
+        }
+    }
+}
+
+/// The directions φ (degrees from H1 towards H2) the blocks of a study of
+/// record pairs face.
+///
+/// With a grid, ensemble member `record` is pair `record / n` at angle
+/// `angles[record % n]` (n angles): every pair at every angle, a stratified
+/// sample of the orientation. Drawn, member `record` is pair `record` at an
+/// angle drawn per record ([`crate::uncertainty::orientation_uniform`]).
+/// Either way the blocks under a member face the same way at every level
+/// and in every case, and a case's curve
+/// pools over the orientations as over the records: the azimuth of a
+/// record's H1 is arbitrary from record to record, so an angle to it means
+/// something only as a sample of the object's unknown orientation.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Orientation {
+    /// Every pair at each of these angles, degrees (`grid.orientation`, or a
+    /// fixed `uncertainty.orientation`).
+    Grid(Vec<f64>),
+    /// One angle per unit drawn from `dist` with `seed`
+    /// (`uncertainty.orientation`; by default uniform on [0°, 180°)).
+    Drawn {
+        /// The distribution of φ, degrees.
+        dist: Distribution,
+        /// Seed of the draws (`uncertainty.seed`).
+        seed: u64,
+    },
+}
+
+impl Orientation {
+    /// The default: φ uniform on [0°, 180°) (a(φ + 180°) = −a(φ), so the
+    /// half turn covers every direction of rocking).
+    pub fn unknown(seed: u64) -> Orientation {
+        Orientation::Drawn {
+            dist: Distribution::Uniform {
+                min: 0.0,
+                max: 180.0,
+            },
+            seed,
+        }
+    }
+
+    /// Ensemble members per pair: the grid's angles, or 1 when drawn.
+    pub fn per_pair(&self) -> usize {
+        match self {
+            Orientation::Grid(angles) => angles.len(),
+            Orientation::Drawn { .. } => 1,
+        }
+    }
+
+    /// The pair of ensemble member `record`.
+    pub fn pair_of(&self, record: usize) -> usize {
+        record / self.per_pair()
+    }
+
+    /// The pair and the angle φ (degrees) of ensemble member `record`.
+    pub fn member(&self, record: usize) -> (usize, f64) {
+        let angle = match self {
+            Orientation::Grid(angles) => angles[record % angles.len()],
+            Orientation::Drawn { dist, seed } => {
+                dist.quantile(orientation_uniform(*seed, record as u64))
+            }
+        };
+        (self.pair_of(record), angle)
+    }
 }
 
 /// A recorded-motion file of a study.
@@ -227,11 +343,14 @@ impl Study {
 
     /// The raw form of this study with every default written out.
     pub fn to_spec_file(&self) -> SpecFile {
+        let components =
+            matches!(self.motions, Motions::Synthetic { pairs: Some(_), .. }).then_some(2);
         let (seed, records, record_files, motion) = match &self.motions {
             Motions::Synthetic {
                 settings,
                 seed,
                 records,
+                ..
             } => (
                 Some(*seed),
                 Some(*records),
@@ -241,9 +360,29 @@ impl Study {
             Motions::Files(files) => (
                 None,
                 None,
-                files.iter().map(|f| f.given.clone()).collect(),
+                files
+                    .iter()
+                    .map(|f| RecordEntry::One(f.given.clone()))
+                    .collect(),
                 None,
             ),
+            Motions::Pairs { pairs, .. } => (
+                None,
+                None,
+                pairs
+                    .iter()
+                    .map(|[h1, h2]| RecordEntry::Pair([h1.given.clone(), h2.given.clone()]))
+                    .collect(),
+                None,
+            ),
+        };
+        let orientation = self.motions.orientation();
+        let (grid_orientation, drawn_orientation, orientation_seed) = match orientation {
+            Some(Orientation::Grid(angles)) => (Some(angles.clone()), None, None),
+            Some(Orientation::Drawn { dist, seed }) => {
+                (None, Some(Value::Drawn(*dist)), Some(*seed))
+            }
+            None => (None, None, None),
         };
         let drawn = |p: Property| {
             self.uncertainty
@@ -264,6 +403,7 @@ impl Study {
             g: Some(self.g),
             seed,
             records,
+            components,
             record_files,
             motion,
             // the ground writes no [support]: a study without one keeps its hash
@@ -283,15 +423,25 @@ impl Study {
                 pga,
                 pgv,
                 scale_factors,
+                orientation: grid_orientation,
             },
-            uncertainty: self.uncertainty.as_ref().map(|u| UncertaintyFile {
-                seed: Some(u.seed),
-                width: u.width,
-                aspect: u.aspect,
-                restitution: u.restitution,
-                mu_s: u.mu_s,
-                mu_k_over_mu_s: u.mu_k_over_mu_s,
-            }),
+            uncertainty: match (&self.uncertainty, drawn_orientation) {
+                (Some(u), orientation) => Some(UncertaintyFile {
+                    seed: Some(u.seed),
+                    width: u.width,
+                    aspect: u.aspect,
+                    restitution: u.restitution,
+                    mu_s: u.mu_s,
+                    mu_k_over_mu_s: u.mu_k_over_mu_s,
+                    orientation,
+                }),
+                (None, Some(orientation)) => Some(UncertaintyFile {
+                    seed: orientation_seed,
+                    orientation: Some(orientation),
+                    ..UncertaintyFile::default()
+                }),
+                (None, None) => None,
+            },
             solver: self.solver,
             output: self.output,
             fragility: self.fragility.clone(),
@@ -341,8 +491,28 @@ impl Study {
     /// Number of records per intensity level.
     pub fn records(&self) -> usize {
         match &self.motions {
+            Motions::Synthetic {
+                records,
+                pairs: Some(orientation),
+                ..
+            } => records * orientation.per_pair(),
             Motions::Synthetic { records, .. } => *records,
             Motions::Files(files) => files.len(),
+            Motions::Pairs { pairs, orientation } => pairs.len() * orientation.per_pair(),
+        }
+    }
+
+    /// What `record_file` says of ensemble member `record` (recorded motions
+    /// only): the file as the spec names it, or a pair's two files joined by
+    /// ` + `.
+    pub fn record_file(&self, record: usize) -> Option<String> {
+        match &self.motions {
+            Motions::Synthetic { .. } => None,
+            Motions::Files(files) => Some(files[record].given.clone()),
+            Motions::Pairs { pairs, orientation } => {
+                let [h1, h2] = &pairs[orientation.pair_of(record)];
+                Some(format!("{} + {}", h1.given, h2.given))
+            }
         }
     }
 }

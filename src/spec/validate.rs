@@ -5,12 +5,17 @@
 //! first. `[output]` holds only switches and needs no check.
 
 use super::locate::Origin;
-use super::raw::{FrictionEntry, GridFile, MotionFile, OutputFile, SpecFile, SupportFile};
-use super::study::{Intensity, Motions, RecordFile, Study, Uncertainty, friction_label};
+use super::raw::{
+    FrictionEntry, GridFile, MotionFile, OutputFile, RecordEntry, SpecFile, SupportFile,
+    UncertaintyFile,
+};
+use super::study::{
+    Intensity, Motions, Orientation, RecordFile, Study, Uncertainty, friction_label,
+};
 use super::uncertainty::uncertainty;
 use crate::case::Param;
 use crate::error::{Error, Result};
-use crate::fragility::FragilityOptions;
+use crate::fragility::{FragilityOptions, IntensityMeasure};
 use crate::motion::{Floor, G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{Block, Friction, SolverSettings};
@@ -33,26 +38,88 @@ impl SpecFile {
         let spec = Origin { text, origin };
         let name = name(&spec, self.name)?;
         let g = gravity(&spec, self.g)?;
+        // The direction the blocks face belongs to the motions, not to the
+        // block: taken out of [grid] and [uncertainty] here.
+        let mut grid_file = self.grid;
+        let grid_orientation = grid_file.orientation.take();
+        let mut uncertainty_file = self.uncertainty;
+        let drawn_orientation = uncertainty_file.as_mut().and_then(|u| u.orientation.take());
+        let orientation_seed = uncertainty_file.as_ref().and_then(|u| u.seed).unwrap_or(1);
+        if drawn_orientation.is_some() && uncertainty_file.as_ref().is_some_and(only_seed) {
+            uncertainty_file = None;
+        }
         let motions = if self.record_files.is_empty() {
-            synthetic(&spec, self.motion, self.seed, self.records, g)?
+            let mut motions = synthetic(&spec, self.motion, self.seed, self.records, g)?;
+            match self.components {
+                None | Some(1) => no_orientation(&spec, &grid_orientation, &drawn_orientation)?,
+                Some(2) => {
+                    if let Motions::Synthetic { pairs, .. } = &mut motions {
+                        *pairs = Some(orientation(
+                            &spec,
+                            grid_orientation,
+                            drawn_orientation,
+                            orientation_seed,
+                        )?);
+                    }
+                }
+                Some(n) => {
+                    return Err(spec.bad(
+                        "components",
+                        &n,
+                        "1 or 2 horizontal components per synthetic record",
+                    ));
+                }
+            }
+            motions
         } else {
             no_ensemble(&spec, self.seed, self.records, self.motion.is_some())?;
-            Motions::Files(record_files(&spec, &self.record_files, check_files)?)
+            if let Some(n) = self.components {
+                return Err(spec.bad(
+                    "components",
+                    &n,
+                    "to be left out when record_files is given (give the files as pairs \
+                     [\"a-H1.AT2\", \"a-H2.AT2\"] for two components)",
+                ));
+            }
+            match record_files(&spec, &self.record_files, check_files)? {
+                Recorded::Files(files) => {
+                    no_orientation(&spec, &grid_orientation, &drawn_orientation)?;
+                    Motions::Files(files)
+                }
+                Recorded::Pairs(pairs) => Motions::Pairs {
+                    pairs,
+                    orientation: orientation(
+                        &spec,
+                        grid_orientation,
+                        drawn_orientation,
+                        orientation_seed,
+                    )?,
+                },
+            }
         };
         let floor = support(&spec, self.support)?;
-        let recorded = matches!(motions, Motions::Files(_));
+        let recorded = !matches!(motions, Motions::Synthetic { .. });
         let seed = match &motions {
             Motions::Synthetic { seed, .. } => *seed,
-            Motions::Files(_) => 1,
+            Motions::Files(_) | Motions::Pairs { .. } => 1,
         };
-        let uncertainty = uncertainty(&spec, self.uncertainty, &self.grid, seed)?;
-        let grid = grid(&spec, self.grid, g, recorded, uncertainty.as_ref())?;
+        let uncertainty = uncertainty(&spec, uncertainty_file, &grid_file, seed)?;
+        let grid = grid(&spec, grid_file, g, recorded, uncertainty.as_ref())?;
         solver(&spec, &self.solver)?;
         fragility(&spec, self.fragility.as_ref(), &self.output)?;
+        let mut fragility_options = self.fragility;
+        // A study of record pairs is fitted against the pair's RotD50 PGA
+        // (what hazard models give) unless the spec names a measure.
+        if let Some(options) = &mut fragility_options
+            && motions.orientation().is_some()
+            && options.im == IntensityMeasure::Pga
+            && !names_fragility_im(text)
+        {
+            options.im = IntensityMeasure::PgaRotd50;
+        }
         if let Some(infer) = &self.infer {
             infer.validate().map_err(|e| spec.nested("", e))?;
         }
-        let mut fragility_options = self.fragility;
         if let (Some(options), Some(u)) = (&mut fragility_options, &uncertainty) {
             options.pool = u.drawn();
         }
@@ -229,6 +296,7 @@ fn synthetic(
         settings,
         seed: seed.unwrap_or(1),
         records,
+        pairs: None,
     })
 }
 
@@ -278,42 +346,185 @@ fn no_ensemble(
     Ok(())
 }
 
-/// `record_files`: `.AT2` or `.csv` paths relative to the spec file, each
-/// listed once and, when `check_files` is set, existing.
-fn record_files(spec: &Origin, given: &[String], check_files: bool) -> Result<Vec<RecordFile>> {
-    let base = spec.origin.parent().unwrap_or(Path::new(""));
-    let mut files = Vec::with_capacity(given.len());
-    for (i, given) in given.iter().enumerate() {
+/// Whether the spec's text names `[fragility] im` (the raw form cannot
+/// tell a default from a value written).
+fn names_fragility_im(text: &str) -> bool {
+    toml::from_str::<toml::Table>(text).is_ok_and(|t| {
+        t.get("fragility")
+            .and_then(toml::Value::as_table)
+            .is_some_and(|f| f.contains_key("im"))
+    })
+}
+
+/// Whether an `[uncertainty]` table gives nothing but its seed (once the
+/// orientation is taken out of it).
+fn only_seed(u: &UncertaintyFile) -> bool {
+    u.width.is_none()
+        && u.aspect.is_none()
+        && u.restitution.is_none()
+        && u.mu_s.is_none()
+        && u.mu_k_over_mu_s.is_none()
+}
+
+/// What `record_files` holds: single components, or pairs of them.
+enum Recorded {
+    Files(Vec<RecordFile>),
+    Pairs(Vec<[RecordFile; 2]>),
+}
+
+/// `record_files`: every entry a file, or every entry a pair of files
+/// ([`record_file`] for each file), no file listed twice.
+fn record_files(spec: &Origin, given: &[RecordEntry], check_files: bool) -> Result<Recorded> {
+    let pairs = matches!(given.first(), Some(RecordEntry::Pair(_)));
+    let mut files: Vec<RecordFile> = Vec::with_capacity(given.len() * 2);
+    for (i, entry) in given.iter().enumerate() {
         let field = format!("record_files[{i}]");
-        let path = base.join(given);
-        let ext = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        if !matches!(ext.as_deref(), Some("at2" | "csv")) {
-            return Err(spec.bad(&field, &format!("\"{given}\""), "a .AT2 or .csv file"));
+        match (entry, pairs) {
+            (RecordEntry::One(name), false) => {
+                files.push(record_file(spec, &field, name, &files, check_files)?);
+            }
+            (RecordEntry::Pair([h1, h2]), true) => {
+                if h1 == h2 {
+                    return Err(spec.bad(
+                        &format!("{field}[1]"),
+                        &format!("\"{h2}\""),
+                        "the second horizontal component, a file other than the first",
+                    ));
+                }
+                for (j, name) in [h1, h2].into_iter().enumerate() {
+                    let f = record_file(spec, &format!("{field}[{j}]"), name, &files, check_files)?;
+                    files.push(f);
+                }
+            }
+            (RecordEntry::One(name), true) => {
+                return Err(spec.bad(
+                    &field,
+                    &format!("\"{name}\""),
+                    "a pair of components [\"H1\", \"H2\"] like record_files[0] (a study's \
+                     records are all pairs or all single components)",
+                ));
+            }
+            (RecordEntry::Pair([h1, h2]), false) => {
+                return Err(spec.bad(
+                    &field,
+                    &format!("[\"{h1}\", \"{h2}\"]"),
+                    "a single file like record_files[0] (a study's records are all pairs or \
+                     all single components)",
+                ));
+            }
         }
-        if given.contains(['\n', '\r']) {
-            return Err(spec.bad(&field, &format!("{given:?}"), "a path without line breaks"));
-        }
-        if check_files && !path.is_file() {
-            return Err(spec.bad(
-                &field,
-                &format!("\"{given}\""),
-                &format!(
-                    "an existing record file, relative to the spec file (not found: {})",
-                    path.display()
-                ),
-            ));
-        }
-        if files.iter().any(|f: &RecordFile| f.given == *given) {
-            return Err(spec.bad(&field, &format!("\"{given}\""), "no file listed twice"));
-        }
-        files.push(RecordFile {
-            given: given.clone(),
-            path,
-        });
     }
-    Ok(files)
+    Ok(if pairs {
+        let mut it = files.into_iter();
+        let mut out = Vec::with_capacity(given.len());
+        while let (Some(h1), Some(h2)) = (it.next(), it.next()) {
+            out.push([h1, h2]);
+        }
+        Recorded::Pairs(out)
+    } else {
+        Recorded::Files(files)
+    })
+}
+
+/// Without record pairs there is no direction to face: `grid.orientation`
+/// and `uncertainty.orientation` are refused.
+fn no_orientation(spec: &Origin, grid: &Option<Vec<f64>>, drawn: &Option<Value>) -> Result<()> {
+    let expected = "to be left out: a block faces a direction only between two horizontal \
+                    components (give record_files as pairs [\"a-H1.AT2\", \"a-H2.AT2\"], \
+                    or components = 2 for synthetic pairs)";
+    if grid.is_some() {
+        return Err(spec.bad("grid.orientation", &"(given)", expected));
+    }
+    if drawn.is_some() {
+        return Err(spec.bad("uncertainty.orientation", &"(given)", expected));
+    }
+    Ok(())
+}
+
+/// The directions of a study of record pairs: `grid.orientation` (angles in
+/// [0°, 360°), none repeated) or `uncertainty.orientation` (a number, or a
+/// distribution within [−360°, 360°]), not both; neither: φ uniform on
+/// [0°, 180°). Draws use `seed`.
+fn orientation(
+    spec: &Origin,
+    grid: Option<Vec<f64>>,
+    drawn: Option<Value>,
+    seed: u64,
+) -> Result<Orientation> {
+    const ANGLE: &str = "an angle in degrees in [0, 360)";
+    let in_turn = |v: f64| (0.0..360.0).contains(&v);
+    match (grid, drawn) {
+        (Some(_), Some(_)) => Err(spec.bad(
+            "uncertainty.orientation",
+            &"(given)",
+            "to be left out when grid.orientation is given (the direction is on the grid or \
+             drawn, not both)",
+        )),
+        (Some(angles), None) => Ok(Orientation::Grid(grid_list(
+            spec,
+            "orientation",
+            &angles,
+            in_turn,
+            ANGLE,
+        )?)),
+        (None, Some(Value::Fixed(x))) => {
+            if !(x.is_finite() && in_turn(x)) {
+                return Err(spec.bad("uncertainty.orientation", &x, ANGLE));
+            }
+            Ok(Orientation::Grid(vec![x]))
+        }
+        (None, Some(Value::Drawn(dist))) => {
+            dist.validate(
+                "uncertainty.orientation",
+                -360.0,
+                360.0,
+                "an angle in degrees within [-360, 360]",
+            )
+            .map_err(|e| spec.nested("", e))?;
+            Ok(Orientation::Drawn { dist, seed })
+        }
+        (None, None) => Ok(Orientation::unknown(seed)),
+    }
+}
+
+/// One file of `record_files` at `field`: a `.AT2` or `.csv` path relative
+/// to the spec file, not among `files` already listed and, when
+/// `check_files` is set, existing.
+fn record_file(
+    spec: &Origin,
+    field: &str,
+    given: &str,
+    files: &[RecordFile],
+    check_files: bool,
+) -> Result<RecordFile> {
+    let base = spec.origin.parent().unwrap_or(Path::new(""));
+    let path = base.join(given);
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    if !matches!(ext.as_deref(), Some("at2" | "csv")) {
+        return Err(spec.bad(field, &format!("\"{given}\""), "a .AT2 or .csv file"));
+    }
+    if given.contains(['\n', '\r']) {
+        return Err(spec.bad(field, &format!("{given:?}"), "a path without line breaks"));
+    }
+    if check_files && !path.is_file() {
+        return Err(spec.bad(
+            field,
+            &format!("\"{given}\""),
+            &format!(
+                "an existing record file, relative to the spec file (not found: {})",
+                path.display()
+            ),
+        ));
+    }
+    if files.iter().any(|f: &RecordFile| f.given == *given) {
+        return Err(spec.bad(field, &format!("\"{given}\""), "no file listed twice"));
+    }
+    Ok(RecordFile {
+        given: given.to_string(),
+        path,
+    })
 }
 
 // ─────────────────────────────── [grid] ───────────────────────────────

@@ -146,9 +146,9 @@ struct Checkpoint {
 fn records_hash(study: &Study) -> Result<Option<u64>> {
     match &study.motions {
         Motions::Synthetic { .. } => Ok(None),
-        Motions::Files(files) => {
+        Motions::Files(_) | Motions::Pairs { .. } => {
             let mut all = Vec::new();
-            for f in files {
+            for f in study.motions.files() {
                 let bytes = std::fs::read(&f.path).map_err(Error::io(&f.path))?;
                 all.extend_from_slice(&fnv1a64(&bytes).to_le_bytes());
             }
@@ -508,12 +508,8 @@ fn solve_units(
             },
         )
         .unzip();
-    let file_names: Vec<Option<&str>> = (0..study.records())
-        .map(|i| match &study.motions {
-            Motions::Files(f) => Some(f[i].given.as_str()),
-            Motions::Synthetic { .. } => None,
-        })
-        .collect();
+    let file_names: Vec<Option<String>> =
+        (0..study.records()).map(|i| study.record_file(i)).collect();
     let rows: Vec<(String, f64)> = (0..chunk.len() * cases.len())
         .into_par_iter()
         .map(|k| {
@@ -527,9 +523,12 @@ fn solve_units(
                 level: levels[unit.level],
                 pga_g: record.as_ref().ok().map(|m| m.pga_g),
                 pgv: record.as_ref().ok().map(|m| m.pgv),
+                pga_rotd50_g: record.as_ref().ok().and_then(|m| m.pair).map(|p| p.0[0]),
+                pgv_rotd50: record.as_ref().ok().and_then(|m| m.pair).map(|p| p.0[1]),
+                phi: record.as_ref().ok().and_then(|m| m.pair).map(|p| p.1),
                 pfa_g: record.as_ref().ok().and_then(|m| m.pfa_g),
                 pfv: record.as_ref().ok().and_then(|m| m.pfv),
-                file: file_names[unit.record],
+                file: file_names[unit.record].as_deref(),
             };
             let (own, analysis) = plan::analysis(study, case, ci, &unit);
             let (result, sensitive) = match (analysis, record) {

@@ -55,7 +55,8 @@ pub fn columns(study: &Study) -> Columns {
     Columns {
         pgv: matches!(study.intensity, Intensity::Pgv(_)),
         scale: matches!(study.intensity, Intensity::Scale(_)),
-        files: matches!(study.motions, Motions::Files(_)),
+        files: !matches!(study.motions, Motions::Synthetic { .. }),
+        pairs: study.motions.orientation().is_some(),
         time_in_mode: study.output.time_in_mode,
         stats: study.output.stats,
         floor: !study.floor.is_ground(),

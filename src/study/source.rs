@@ -7,13 +7,20 @@
 //! target/PGV, acceleration, velocity and displacement alike. Scale factors:
 //! the recorded motion times the factor.
 //!
+//! Record pairs: the pair is scaled as a whole, by target/RotD50 (PGA or
+//! PGV levels, the RotD50 of the unscaled pair measured once) or by the
+//! factor, then turned to the direction φ the unit's blocks face
+//! ([`Orientation::member`]): cos φ·H1 + sin φ·H2.
+//!
 //! On a floor (`[support] floor`), the scaled ground record is then filtered
 //! through the building ([`crate::motion::floor_record`]): the level stays
 //! the ground's, and the blocks feel the floor ([`Source::motion`]).
 
 use crate::error::{Error, Result};
-use crate::motion::{Record, Synthesizer, floor_record, read_record};
-use crate::spec::{Intensity, Motions, Study};
+use crate::motion::{
+    MeasuredPair, Pair, Record, Synthesizer, floor_record, read_record, second_component_seed,
+};
+use crate::spec::{Intensity, Motions, Orientation, Study};
 use std::sync::Arc;
 
 /// A record maker; clone one per worker thread.
@@ -26,8 +33,21 @@ pub enum Source {
         /// Ensemble seed.
         seed: u64,
     },
+    /// A synthetic ensemble of pairs (`components = 2`): member k's H1 is
+    /// record k of the ensemble, its H2 record k of the ensemble
+    /// [`second_component_seed`]`(seed)`, both at the model's own amplitude.
+    SyntheticPairs {
+        /// The generator (its scratch buffers are per clone).
+        synth: Box<Synthesizer>,
+        /// Ensemble seed.
+        seed: u64,
+        /// The directions the blocks face.
+        orientation: Arc<Orientation>,
+    },
     /// Recorded motions, as read (unscaled).
     Files(Arc<Vec<Record>>),
+    /// Record pairs, as read (unscaled), and the directions the blocks face.
+    Pairs(Arc<(Vec<MeasuredPair>, Orientation)>),
 }
 
 impl Source {
@@ -35,9 +55,24 @@ impl Source {
     /// once (an unreadable file is an error here, before any analysis runs).
     pub fn new(study: &Study) -> Result<Source> {
         match &study.motions {
-            Motions::Synthetic { settings, seed, .. } => Ok(Source::Synthetic {
+            Motions::Synthetic {
+                settings,
+                seed,
+                pairs: None,
+                ..
+            } => Ok(Source::Synthetic {
                 synth: Box::new(Synthesizer::new(settings)?),
                 seed: *seed,
+            }),
+            Motions::Synthetic {
+                settings,
+                seed,
+                pairs: Some(orientation),
+                ..
+            } => Ok(Source::SyntheticPairs {
+                synth: Box::new(Synthesizer::new(settings)?),
+                seed: *seed,
+                orientation: Arc::new(orientation.clone()),
             }),
             Motions::Files(files) => {
                 let records = files
@@ -45,6 +80,23 @@ impl Source {
                     .map(|f| read_record(&f.path, study.g))
                     .collect::<Result<Vec<_>>>()?;
                 Ok(Source::Files(Arc::new(records)))
+            }
+            Motions::Pairs { pairs, orientation } => {
+                let pairs = pairs
+                    .iter()
+                    .map(|[h1, h2]| {
+                        let pair = Pair::new(
+                            read_record(&h1.path, study.g)?,
+                            read_record(&h2.path, study.g)?,
+                        )
+                        .map_err(|e| Error::InvalidRecord {
+                            name: format!("record pair {} + {}", h1.given, h2.given),
+                            message: e.to_string(),
+                        })?;
+                        MeasuredPair::new(pair)
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                Ok(Source::Pairs(Arc::new((pairs, orientation.clone()))))
             }
         }
     }
@@ -80,12 +132,66 @@ impl Source {
             (Source::Files(records), Intensity::Scale(_)) => {
                 Ok(records[record].clone().scaled(level))
             }
+            (source @ (Source::Pairs(_) | Source::SyntheticPairs { .. }), intensity) => {
+                Ok(source.turned(intensity, level, record, g)?.0)
+            }
             (Source::Synthetic { .. }, Intensity::Scale(_)) => Err(Error::invalid(
                 "grid.scale_factors",
                 level,
                 "record_files (the spec's validation refuses scale factors on synthetic records)",
             )),
         }
+    }
+}
+
+impl Source {
+    /// Member `record` of a study of pairs at intensity `level`: the pair
+    /// (read, or generated at the model's own amplitude) scaled to the
+    /// level's RotD50 (or by the factor) and turned to the member's
+    /// direction; with the scaled pair's RotD50 PGA (m/s²) and PGV (m/s),
+    /// and the direction φ (degrees). Single components: an error.
+    fn turned(
+        &mut self,
+        intensity: &Intensity,
+        level: f64,
+        record: usize,
+        g: f64,
+    ) -> Result<(Record, [f64; 2], f64)> {
+        let generated;
+        let (pair, phi) = match self {
+            Source::Pairs(pairs) => {
+                let (pairs, orientation) = &**pairs;
+                let (p, phi) = orientation.member(record);
+                (&pairs[p], phi)
+            }
+            Source::SyntheticPairs {
+                synth,
+                seed,
+                orientation,
+            } => {
+                let (p, phi) = orientation.member(record);
+                let h1 = synth.generate_natural(*seed, p as u64)?;
+                let h2 = synth.generate_natural(second_component_seed(*seed), p as u64)?;
+                generated = MeasuredPair::new(Pair::new(h1, h2)?)?;
+                (&generated, phi)
+            }
+            Source::Synthetic { .. } | Source::Files(_) => {
+                unreachable!("only a source of pairs turns a pair")
+            }
+        };
+        let (target, peak, what) = match intensity {
+            Intensity::Pga(_) => (level * g, pair.pga, "RotD50 PGA"),
+            Intensity::Pgv(_) => (level, pair.pgv, "RotD50 PGV"),
+            Intensity::Scale(_) => (level, 1.0, "scale"),
+        };
+        if !(peak.is_finite() && peak > 0.0) {
+            return Err(Error::InvalidRecord {
+                name: pair.pair.name(),
+                message: format!("the pair's {what} is {peak}; it cannot be scaled to {target}"),
+            });
+        }
+        let k = target / peak;
+        Ok((pair.felt(k, phi)?, [k * pair.pga, k * pair.pgv], phi))
     }
 }
 
@@ -99,6 +205,9 @@ pub struct UnitMotion {
     pub pga_g: f64,
     /// Measured PGV of the scaled ground record, m/s.
     pub pgv: f64,
+    /// RotD50 PGA (g) and PGV (m/s) of the scaled pair, and the direction
+    /// φ (degrees) the blocks face (`None` without pairs).
+    pub pair: Option<([f64; 2], f64)>,
     /// Peak floor acceleration, g (`None` on the ground).
     pub pfa_g: Option<f64>,
     /// Peak floor velocity, m/s (`None` on the ground).
@@ -111,13 +220,20 @@ impl Source {
     /// One floor filter per unit (a few flops per sample per mode), shared
     /// by every case of the unit.
     pub fn motion(&mut self, study: &Study, level: f64, record: usize) -> Result<UnitMotion> {
-        let ground = self.record(&study.intensity, level, record, study.g)?;
+        let (ground, pair) = match self {
+            Source::Pairs(_) | Source::SyntheticPairs { .. } => {
+                let (r, [pga, pgv], phi) = self.turned(&study.intensity, level, record, study.g)?;
+                (r, Some(([pga / study.g, pgv], phi)))
+            }
+            _ => (self.record(&study.intensity, level, record, study.g)?, None),
+        };
         let (pga_g, pgv) = (ground.pga() / study.g, ground.pgv());
         if study.floor.is_ground() {
             return Ok(UnitMotion {
                 felt: ground,
                 pga_g,
                 pgv,
+                pair,
                 pfa_g: None,
                 pfv: None,
             });
@@ -129,6 +245,7 @@ impl Source {
             felt,
             pga_g,
             pgv,
+            pair,
         })
     }
 }

@@ -27,7 +27,7 @@ use super::tally::{Cell, Tally};
 use crate::case::Case;
 use crate::fragility::{FragilityRow, unfit_advice, unfit_words};
 use crate::io_util::sig3;
-use crate::spec::{Intensity, Motions, Study, Uncertainty};
+use crate::spec::{Intensity, Motions, Orientation, Study, Uncertainty};
 use crate::uncertainty::{Distribution, Property, Value};
 use std::fmt::Write;
 
@@ -61,10 +61,42 @@ impl Tally {
             );
         }
         let motions = match &study.motions {
-            Motions::Synthetic { seed, records, .. } => {
+            Motions::Synthetic {
+                seed,
+                records,
+                pairs: None,
+                ..
+            } => {
                 format!("{records} synthetic records per level (seed {seed})")
             }
+            Motions::Synthetic {
+                seed,
+                records,
+                pairs: Some(orientation),
+                ..
+            } => match orientation {
+                Orientation::Grid(angles) => format!(
+                    "{records} synthetic pairs of independent components (seed {seed}) at {} \
+                     orientations per level",
+                    angles.len()
+                ),
+                Orientation::Drawn { .. } => format!(
+                    "{records} synthetic pairs of independent components per level (seed \
+                     {seed}), each at a drawn orientation"
+                ),
+            },
             Motions::Files(f) => format!("{} recorded motions per level", f.len()),
+            Motions::Pairs { pairs, orientation } => match orientation {
+                Orientation::Grid(angles) => format!(
+                    "{} record pairs at {} orientations per level",
+                    pairs.len(),
+                    angles.len()
+                ),
+                Orientation::Drawn { .. } => format!(
+                    "{} record pairs per level, each at a drawn orientation",
+                    pairs.len()
+                ),
+            },
         };
         let cases = plan::cases(study);
         let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
@@ -102,11 +134,7 @@ impl Tally {
     /// `## Counts per stripe`: per case and level, runs, failed, overturned,
     /// lifted off, moved, and the mean θmax/θc of the runs that stood.
     fn stripes_section(&self, study: &Study) -> String {
-        let (level_name, unit) = match study.intensity {
-            Intensity::Pga(_) => ("PGA", " (g)"),
-            Intensity::Pgv(_) => ("PGV", " (m/s)"),
-            Intensity::Scale(_) => ("scale", ""),
-        };
+        let (level_name, unit) = level_heading(study);
         let any_failed = self.counts.failed > 0;
         let mut s = format!(
             "{COUNTS_HEADING}\n\nPer case and intensity level: the runs, how many \
@@ -156,11 +184,7 @@ impl Tally {
     /// all (the counts the curve is fitted to, so the placement does not
     /// depend on the fit).
     fn sensitivity_section(&self, study: &Study) -> String {
-        let (level_name, unit) = match study.intensity {
-            Intensity::Pga(_) => ("PGA", " (g)"),
-            Intensity::Pgv(_) => ("PGV", " (m/s)"),
-            Intensity::Scale(_) => ("scale", ""),
-        };
+        let (level_name, unit) = level_heading(study);
         let share = |k: u64, n: u64| {
             if n == 0 {
                 "-".to_string()
@@ -291,6 +315,8 @@ pub fn fragility_section(fits: &[FragilityRow]) -> String {
         "pgv" => "the PGV in m/s",
         "pfa" => "the floor's peak acceleration PFA in g",
         "pfv" => "the floor's peak velocity PFV in m/s",
+        "pga-rotd50" => "the RotD50 PGA of the record pair in g",
+        "pgv-rotd50" => "the RotD50 PGV of the record pair in m/s",
         _ => "PGA/(g tan θc), dimensionless",
     };
     let mut s = format!(
@@ -531,4 +557,17 @@ fn floor_text(floor: &crate::motion::Floor) -> String {
         },
         modes.join("; ")
     )
+}
+
+/// The name and unit of a study's levels in a table heading: `PGA`, `PGV`
+/// (a record pair's RotD50 for studies of pairs) or `scale`.
+fn level_heading(study: &Study) -> (&'static str, &'static str) {
+    let pairs = study.motions.orientation().is_some();
+    match study.intensity {
+        Intensity::Pga(_) if pairs => ("RotD50 PGA", " (g)"),
+        Intensity::Pga(_) => ("PGA", " (g)"),
+        Intensity::Pgv(_) if pairs => ("RotD50 PGV", " (m/s)"),
+        Intensity::Pgv(_) => ("PGV", " (m/s)"),
+        Intensity::Scale(_) => ("scale", ""),
+    }
 }
