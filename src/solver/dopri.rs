@@ -88,6 +88,26 @@ impl<const N: usize> Step<N> {
         let d = &self.dense;
         d[0][i] + s * (d[1][i] + s1 * (d[2][i] + s * (d[3][i] + s1 * d[4][i])))
     }
+
+    /// The largest |y_i″(t)| of component i's dense output over the step,
+    /// exactly (the polynomial's second derivative is a quadratic in s), so
+    /// that an event search on it can rule out a dip between two points.
+    #[inline]
+    pub fn curvature_bound(&self, i: usize) -> f64 {
+        let [_, _, r3, r4, r5] = self.dense.map(|r| r[i]);
+        // CONTD5: y = r1 + s r2 + s(1−s) r3 + s²(1−s) r4 + s²(1−s)² r5, whose
+        // d²/ds² is −2 r3 + (2 − 6s) r4 + (2 − 12s + 12s²) r5 = q0 + q1 s + q2 s²
+        let (q0, q1, q2) = (2.0 * (r4 + r5 - r3), -6.0 * r4 - 12.0 * r5, 12.0 * r5);
+        let mut m = q0.abs().max((q0 + q1 + q2).abs());
+        if q2 != 0.0 {
+            let sv = -q1 / (2.0 * q2);
+            if sv > 0.0 && sv < 1.0 {
+                m = m.max((q0 + (q1 + q2 * sv) * sv).abs());
+            }
+        }
+        // d²/dt² = (d²/ds²)/h²; a hair over for the rounding of q and of s
+        m * (1.0 + 1e-12) / (self.h * self.h)
+    }
 }
 
 /// Error scales: component i is measured against `atol[i] + rtol·max(|y0_i|, |y1_i|)`.
@@ -295,5 +315,34 @@ mod tests {
             f0 = s.f1;
         }
         assert!((y[0] - dm::exp(1.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn curvature_bound_is_the_dense_outputs_largest_second_derivative() {
+        // ÿ = −y (y = cos t) over one long step: the dense output's y″, by
+        // central differences on a fine grid, reaches the bound and never
+        // exceeds it
+        let tol = Tolerance {
+            rtol: 1.0,
+            atol: [1.0, 1.0],
+        };
+        let mut f = |_t: f64, y: &[f64; 2]| [y[1], -y[0]];
+        let y0 = [1.0, 0.0];
+        let f0 = f(0.0, &y0);
+        let h = 0.7;
+        let st = attempt(&mut f, 0.0, &y0, &f0, h, &tol);
+        let m2 = st.curvature_bound(0);
+        let d = 1e-4 * h;
+        let mut largest: f64 = 0.0;
+        for k in 1..1000 {
+            let t = h * k as f64 / 1000.0;
+            let y = |t: f64| st.component_at(0, t);
+            let ydd = (y(t + d) - 2.0 * y(t) + y(t - d)) / (d * d);
+            largest = largest.max(ydd.abs());
+        }
+        assert!(largest <= m2 * (1.0 + 1e-5), "{largest} > {m2}");
+        assert!(largest >= m2 * (1.0 - 1e-2), "{largest} ≪ {m2}");
+        // and it is close to the true |ÿ| = |cos t| ≤ 1
+        assert!((m2 - 1.0).abs() < 1e-2, "{m2}");
     }
 }

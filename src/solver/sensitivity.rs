@@ -60,7 +60,12 @@
 //! θ̇ changes sign twice in that step, and the impact search, which looks
 //! for one interior minimum per piece of the step, finds none. Searching the
 //! same steps in 8 pieces gives every setting the reference's outcome on
-//! all six.
+//! all six. The rock searches now bound θ's curvature over the step
+//! (`scan::first_descent_bounded`, on all three rock paths), which cannot
+//! miss such a return: with them every setting matches the reference on
+//! all six, and the report's overturning mismatches fall from 140 to 75,
+//! 2 of them (record 24 above) on runs the reference does not flag (the
+//! numbers above and `figures/work_precision.md` predate that search).
 //!
 //! **Cost.** One more solve of the analysis (and a copy of its record), so
 //! it doubles the solver's time: on the bench ensemble at 0.6 and 1.2 g,

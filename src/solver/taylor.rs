@@ -189,6 +189,17 @@ impl RockSeries {
         (lo - r, hi + r)
     }
 
+    /// A bound of |ψ″| over τ ∈ [0, h]: Σ_{j≥2} j (j − 1) |ψ_j| h^(j−2)
+    /// (the triangle inequality on the series of ψ″).
+    #[inline]
+    pub fn curvature_bound(&self, h: f64) -> f64 {
+        let mut r = 0.0;
+        for j in (2..=ORDER).rev() {
+            r = r * h + (j * (j - 1)) as f64 * self.psi[j].abs();
+        }
+        r
+    }
+
     /// The largest step h ≤ `h_max` whose truncation error, estimated by the
     /// last two terms of ψ and of ψ̇, is within `tol_psi` and `tol_dpsi`.
     #[inline]

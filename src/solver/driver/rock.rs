@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::solver::block::Block;
 use crate::solver::physics as ph;
 use crate::solver::roots::brent;
-use crate::solver::scan::first_descent;
+use crate::solver::scan::{first_descent, first_descent_bounded};
 use crate::solver::taylor;
 use std::f64::consts::FRAC_PI_2;
 
@@ -45,7 +45,13 @@ impl Run<'_> {
                 let path = |tt: f64| (step.component_at(0, tt), step.component_at(1, tt));
                 let trig = |tt: f64| dm::sin_cos(bl.theta_c - s * step.component_at(0, tt));
                 let unknown = (f64::NEG_INFINITY, f64::INFINITY);
-                run.rock_events(rs, &path, &trig, unknown, &seg, ta, tb, 1)
+                // |θ″| of the dense output bounds the searched ψ″ and (π/2 − ψ)″;
+                // a dip shallower than the step's error scale for θ is below
+                // what the step resolves
+                let y0 = step.component_at(0, step.t0);
+                let floor = tol.atol[0] + tol.rtol * y0.abs().max(step.y1[0].abs());
+                let curv = Some((step.curvature_bound(0), floor));
+                run.rock_events(rs, &path, &trig, unknown, curv, &seg, ta, tb, 1)
             })?;
         if N == 3 {
             self.work += ye[N - 1];
@@ -123,7 +129,12 @@ impl Run<'_> {
                 (sn, cs)
             };
             let range = series.psi_bounds(t1 - t0, tol_psi);
-            let found = self.rock_events(rs, &path, &trig, range, seg, t0, t1, 1);
+            // the series' |ψ″| bound lets the event search rule out a double
+            // crossing inside the step; a dip shallower than the step's own
+            // truncation tolerance is below what the series resolves
+            let curv = (range.0 <= 0.0 || range.1 >= FRAC_PI_2)
+                .then(|| (series.curvature_bound(t1 - t0), tol_psi));
+            let found = self.rock_events(rs, &path, &trig, range, curv, seg, t0, t1, 1);
             let t_stop = found.map_or(t1, |(te, _)| te);
             if self.set.audit_energy {
                 let w = series.work(bl.r, s, &forcing, bl.g);
@@ -176,7 +187,18 @@ impl Run<'_> {
         let (s, theta_c) = (rs.s, self.bl.theta_c);
         let trig = |tt: f64| dm::sin_cos(theta_c - s * path(tt).0);
         let unknown = (f64::NEG_INFINITY, f64::INFINITY);
-        if let Some((te, ev)) = self.rock_events(rs, &path, &trig, unknown, seg, t0, t_end, n) {
+        // linearised eq. (1): θ″ = (λ²θ0 + c0) cosh λτ + (λω0 + c1/λ) sinh λτ
+        // (the closed form above differentiated twice), both growing in τ ≥ 0:
+        // their values at the end bound |θ″|. A dip shallower than the nonlinear solvers'
+        // tolerance for θ is not sought (as in `rock_taylor`).
+        let x_end = lam * (t_end - t0);
+        let m2 = ((l2 * th0 + c0).abs() * dm::cosh(x_end)
+            + (lam * om0 + c1 / lam).abs() * dm::sinh(x_end))
+            * (1.0 + 1e-12);
+        let floor = self.set.atol * theta_c + self.set.rtol * th0.abs();
+        let curv = Some((m2, floor));
+        if let Some((te, ev)) = self.rock_events(rs, &path, &trig, unknown, curv, seg, t0, t_end, n)
+        {
             let (th, om) = path(te);
             rs.theta = th;
             rs.omega = om;
@@ -191,7 +213,10 @@ impl Run<'_> {
     }
 
     /// Locates the earliest rock event on (ta, tb] along `path(t) = (θ, θ̇)`,
-    /// and updates the peak rotation and friction demand. Contact forces are
+    /// and updates the peak rotation and friction demand. With `curv` =
+    /// (m2, floor), |θ″| ≤ m2 on the step and the impact and overturning
+    /// searches cannot miss a dip deeper than `floor` ([`first_descent_bounded`]);
+    /// without it they look for one minimum in each of `n` pieces. Contact forces are
     /// those of eq. (1) at the path's state; the value at `ta` is reused from
     /// the previous step's end when available.
     #[allow(clippy::too_many_arguments)]
@@ -201,6 +226,7 @@ impl Run<'_> {
         path: &impl Fn(f64) -> (f64, f64),
         trig: &impl Fn(f64) -> (f64, f64),
         psi_range: (f64, f64),
+        curv: Option<(f64, f64)>,
         seg: &Segment,
         ta: f64,
         tb: f64,
@@ -222,11 +248,11 @@ impl Run<'_> {
         // `psi_range` bounds ψ over the step (infinite when unknown): the
         // searches are skipped when it proves there is nothing to find.
         if psi_range.0 <= 0.0 {
-            earliest(
-                &mut best,
-                first_descent(psi, ta, tb, n, xtol),
-                Event::RockImpact,
-            );
+            let te = match curv {
+                Some((m2, floor)) => first_descent_bounded(psi, ta, tb, m2, floor, xtol, false),
+                None => first_descent(psi, ta, tb, n, xtol),
+            };
+            earliest(&mut best, te, Event::RockImpact);
         }
         // Overturning: π/2 − ψ reaches 0.
         let over = |tt: f64| {
@@ -234,11 +260,11 @@ impl Run<'_> {
             (FRAC_PI_2 - s * th, -s * om)
         };
         if psi_range.1 >= FRAC_PI_2 {
-            earliest(
-                &mut best,
-                first_descent(over, ta, tb, n, xtol),
-                Event::Overturn,
-            );
+            let te = match curv {
+                Some((m2, floor)) => first_descent_bounded(over, ta, tb, m2, floor, xtol, false),
+                None => first_descent(over, ta, tb, n, xtol),
+            };
+            earliest(&mut best, te, Event::Overturn);
         }
         // Normal force and release condition, checked at the ends of each piece.
         // Release needs q < 0 (the freed pivot accelerates upwards). Within
