@@ -43,29 +43,25 @@
 //! models) flip between solver settings.
 //!
 //! What it does not see: a run decided by a hair in a direction the
-//! record's amplitude does not probe, and a solver's own mistake. Of the 140
+//! record's amplitude does not probe, and a solver's own mistake. Of the 75
 //! overturning mismatches between the bench's nonlinear settings and the
-//! reference, 72 are runs it flags on the reference; the other 68 fall on 8
-//! runs (`figures/work_precision.md`; friction changes none of them, so they
-//! are 4 blocks and records, each under both friction models). Two (H/B 4,
-//! e = 0 at 1.2 g, record 24, mismatched by Dormand–Prince at rtol 1e-9
-//! alone) flip under a scaling of the record by 1e-7: a hair, at a size
-//! that tolerance errs by. The other six (H/B 4, e = 0 at 1.0 g, records 22
-//! and 23; H/B 6, e = 0 at 0.8 g, record 10) are solver errors: no scaling
-//! from 1e-9 to 1e-6, either way, changes their outcome under any setting,
-//! and each setting is either robustly right or robustly wrong. The looser
-//! settings, the default among them (all four of its mismatches), miss a
-//! rock impact: while the block rocks at 1e-6 rad near the uplift threshold,
-//! θ returns to 0 and leaves it again within one step (one record sample),
-//! θ̇ changes sign twice in that step, and the impact search, which looks
-//! for one interior minimum per piece of the step, finds none. Searching the
-//! same steps in 8 pieces gives every setting the reference's outcome on
-//! all six. The rock searches now bound θ's curvature over the step
-//! (`scan::first_descent_bounded`, on all three rock paths), which cannot
-//! miss such a return: with them every setting matches the reference on
-//! all six, and the report's overturning mismatches fall from 140 to 75,
-//! 2 of them (record 24 above) on runs the reference does not flag (the
-//! numbers above and `figures/work_precision.md` predate that search).
+//! reference (`figures/work_precision.md`), 73 are runs it flags on the
+//! reference; the other 2 are one block and record under both friction
+//! models (H/B 4, e = 0 at 1.2 g, record 24, mismatched by Dormand–Prince at
+//! rtol 1e-9 alone), which a scaling of the record by 1e-7 flips: a hair, at
+//! a size that tolerance errs by. Before the rock searches bounded θ's
+//! curvature over a step (`scan::first_descent_bounded`, on all three rock
+//! paths) there were 140, 66 of them on six runs (H/B 4, e = 0 at 1.0 g,
+//! records 22 and 23; H/B 6, e = 0 at 0.8 g, record 10, each under both
+//! friction models) that were solver errors: no scaling from 1e-9 to 1e-6,
+//! either way, changed their outcome under any setting, and each setting
+//! was either robustly right or robustly wrong. The looser settings, the
+//! default among them, missed a rock impact: while the block rocks at
+//! 1e-6 rad near the uplift threshold, θ returns to 0 and leaves it again
+//! within one step (one record sample), θ̇ changes sign twice in that step,
+//! and a search for one interior minimum per piece finds none. The bounded
+//! search cannot miss such a return; with it every setting matches the
+//! reference on all six (`tests/impact_double_crossing.rs`).
 //!
 //! **Cost.** One more solve of the analysis (and a copy of its record), so
 //! it doubles the solver's time: on the bench ensemble at 0.6 and 1.2 g,
