@@ -446,11 +446,12 @@ mod tests {
         }
         let n = 2000;
         let phase = |i: usize| i as f64 * 0.0137;
+        let (sin, cos): (Vec<f64>, Vec<f64>) = (0..n).map(|i| detmath::sin_cos(phase(i))).unzip();
         cases.push((
-            (0..n).map(|i| 2.0 * phase(i).cos()).collect(),
-            (0..n).map(|i| 2.0 * phase(i).sin()).collect(),
+            cos.iter().map(|c| 2.0 * c).collect(),
+            sin.iter().map(|s| 2.0 * s).collect(),
         ));
-        cases.push(((0..n).map(|i| phase(i).sin()).collect(), vec![0.0; n]));
+        cases.push((sin, vec![0.0; n]));
         let mut spike = vec![0.0; n];
         spike[n / 3] = 1.5;
         cases.push((spike.clone(), spike.iter().map(|x| -0.5 * x).collect()));
