@@ -266,14 +266,11 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let mut ahead = HashMap::new();
     if opts.progress {
         let left = &units[ckpt.units_done..limit];
-        let pilot = progress::pilot_units(left, level_of, study.intensity.levels().len());
+        let (pilot, left_per_level) =
+            progress::pilot_units(left, level_of, study.intensity.levels().len());
         if !pilot.is_empty() {
             let t = Instant::now();
             let solved = pool.install(|| solve_units(study, &cases, &cols, &source, &pilot));
-            let mut left_per_level = vec![0u64; study.intensity.levels().len()];
-            for &u in left {
-                left_per_level[level_of(u)] += 1;
-            }
             let mut forecast = progress::Forecast::new(left_per_level);
             for (&u, (_, seconds)) in pilot.iter().zip(&solved) {
                 forecast.solved(level_of(u), *seconds);

@@ -24,17 +24,23 @@ pub const LINE_MIN_RUN: Duration = Duration::from_secs(10);
 
 /// The units of the pilot among `left` (the units still to run, in
 /// order): for each intensity level, the middle one of its units, so the
-/// pilot spreads over the records too. `level_of` gives a unit's level.
-pub fn pilot_units(left: &[usize], level_of: impl Fn(usize) -> usize, levels: usize) -> Vec<usize> {
+/// pilot spreads over the records too; and how many units each level has
+/// left (the [`Forecast`]'s start). `level_of` gives a unit's level.
+pub fn pilot_units(
+    left: &[usize],
+    level_of: impl Fn(usize) -> usize,
+    levels: usize,
+) -> (Vec<usize>, Vec<u64>) {
     let mut per_level: Vec<Vec<usize>> = vec![Vec::new(); levels];
     for &u in left {
         per_level[level_of(u)].push(u);
     }
-    per_level
+    let pilot = per_level
         .iter()
         .filter(|l| !l.is_empty())
         .map(|l| l[l.len() / 2])
-        .collect()
+        .collect();
+    (pilot, per_level.iter().map(|l| l.len() as u64).collect())
 }
 
 /// What the units of each intensity level cost, s of thread time (record
@@ -287,8 +293,14 @@ mod tests {
     fn pilot_spreads_over_levels_and_weighs_them() {
         let level_of = |u: usize| u / 50;
         let units: Vec<usize> = (0..100).collect();
-        assert_eq!(pilot_units(&units, level_of, 2), vec![25, 75]);
-        assert_eq!(pilot_units(&units[60..], level_of, 2), vec![80]);
+        assert_eq!(
+            pilot_units(&units, level_of, 2),
+            (vec![25, 75], vec![50, 50])
+        );
+        assert_eq!(
+            pilot_units(&units[60..], level_of, 2),
+            (vec![80], vec![0, 40])
+        );
         let mut f = Forecast::new(vec![50, 50]);
         f.solved(0, 0.1); // the pilot's cheap unit happened to be cheaper
         f.solved(1, 4.0);
