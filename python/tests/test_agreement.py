@@ -1,28 +1,16 @@
 """The Python functions give the CLI's results on the same input, bit for bit."""
 
 import csv
-import io
 
 import numpy as np
 import pytest
 
 import rockfrag
+from records import read_csv_text, same_bits
 
 # (seed, pga in g, index): five records; the first and fourth overturn the
 # default block, the others rock (44 to 171 impacts).
 RECORDS = [(5, 0.9, 1), (1, 0.5, 1), (2, 0.8, 0), (3, 1.2, 2), (7, 0.4, 3)]
-
-
-def read_csv_text(text):
-    rows = list(csv.reader(io.StringIO(text)))
-    header = rows[0]
-    cols = np.array([[float(x) for x in r] for r in rows[1:]]).T
-    return dict(zip(header, cols))
-
-
-def same_bits(a, b):
-    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
-    return a.shape == b.shape and np.array_equal(a.view(np.uint64), b.view(np.uint64))
 
 
 @pytest.mark.parametrize("seed,pga,index", RECORDS[:3])

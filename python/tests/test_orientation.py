@@ -3,24 +3,11 @@
 the RotD of a pair with a known answer, and a study dict of record pairs
 writes the direction and the RotD50 of each analysis."""
 
-import csv
-import io
-
 import numpy as np
 import pytest
 
 import rockfrag
-
-
-def read_csv_text(text):
-    rows = list(csv.reader(io.StringIO(text)))
-    cols = np.array([[float(x) for x in r] for r in rows[1:]]).T
-    return dict(zip(rows[0], cols))
-
-
-def same_bits(a, b):
-    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
-    return a.shape == b.shape and np.array_equal(a.view(np.uint64), b.view(np.uint64))
+from records import read_csv_text, same_bits
 
 
 def pair(cli, tmp_path):

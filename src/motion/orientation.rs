@@ -140,14 +140,7 @@ impl Pair {
     /// assert!((diagonal.acc[1] - 1.2 / 2f64.sqrt()).abs() < 1e-15);
     /// ```
     pub fn rotated(&self, angle_deg: f64) -> Result<Record> {
-        let mut out = Record {
-            name: String::new(),
-            dt: self.h1.dt,
-            acc: Vec::new(),
-            vel: Vec::new(),
-            disp: Vec::new(),
-            acc_v: None,
-        };
+        let mut out = Record::empty(self.h1.dt);
         self.rotate_into(angle_deg, &mut out)?;
         Ok(out)
     }

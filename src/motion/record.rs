@@ -28,6 +28,20 @@ pub struct Record {
 }
 
 impl Record {
+    /// A record of no samples at interval `dt`, to be filled (its buffers
+    /// grow once and are reused, as [`super::Synthesizer::generate_into`]
+    /// and [`super::Pair::rotate_into`] do).
+    pub fn empty(dt: f64) -> Record {
+        Record {
+            name: String::new(),
+            dt,
+            acc: Vec::new(),
+            vel: Vec::new(),
+            disp: Vec::new(),
+            acc_v: None,
+        }
+    }
+
     /// Builds a record from accelerations alone, integrating velocity and
     /// displacement from rest by the linear-acceleration rule.
     ///

@@ -458,14 +458,7 @@ impl Synthesizer {
 
     /// Generates record (`seed`, `index`) scaled to peak |acc| = `pga_m_s2`.
     pub fn generate(&mut self, seed: u64, index: u64, pga_m_s2: f64) -> Result<Record> {
-        let mut r = Record {
-            name: String::new(),
-            dt: self.settings.dt,
-            acc: Vec::new(),
-            vel: Vec::new(),
-            disp: Vec::new(),
-            acc_v: None,
-        };
+        let mut r = Record::empty(self.settings.dt);
         self.generate_into(seed, index, pga_m_s2, &mut r)?;
         Ok(r)
     }
@@ -501,14 +494,7 @@ impl Synthesizer {
     /// synthetic pair, whose amplitudes keep their natural ratio and which
     /// are then scaled together by their RotD50.
     pub fn generate_natural(&mut self, seed: u64, index: u64) -> Result<Record> {
-        let mut r = Record {
-            name: String::new(),
-            dt: self.settings.dt,
-            acc: Vec::new(),
-            vel: Vec::new(),
-            disp: Vec::new(),
-            acc_v: None,
-        };
+        let mut r = Record::empty(self.settings.dt);
         self.generate_scaled(seed, index, None, &mut r)?;
         Ok(r)
     }
