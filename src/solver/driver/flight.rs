@@ -3,7 +3,7 @@
 use super::{Event, FlightState, Run, Segment, earliest};
 use crate::solver::impact::{Velocity, point_velocity};
 use crate::solver::physics as ph;
-use crate::solver::scan::{first_descent, first_descent_after_release};
+use crate::solver::scan::first_descent_bounded;
 use std::f64::consts::FRAC_PI_2;
 
 impl Run<'_> {
@@ -152,16 +152,38 @@ impl Run<'_> {
             Some((side, found)) => earliest(&mut best, found, Event::Landing(side)),
             None => {
                 let n = 1 + (f.omega.abs() * span / 0.2) as usize;
+                // Here h″ may change sign inside a piece (ω²R ≥ g + ÿg), and a
+                // corner can touch down and lift again between two points of
+                // it: each piece is searched with a bound on |h″|. h = H + y +
+                // r_y with y″ = −(g + ÿg(τ)) and r_y″ = −ω² r_y, |r_y| ≤ R: the
+                // free-flight closed form above differentiated twice, with
+                // g + ÿg linear in τ (extreme at the piece's ends)
+                let gy_abs = gy0.abs().max((gy0 + b1 * span).abs());
+                let m2 = (gy_abs + f.omega * f.omega * bl.r) * (1.0 + 1e-12);
+                // a dip shallower than the height at which a corner counts as
+                // touching is not sought
+                let floor = self.h_touch;
+                let width = span / n as f64;
                 for side in [-1.0, 1.0] {
                     // a corner leaving the ground at the start of this piece of
                     // flight (just released by an impact or a lift-off) is departing
                     let (h0, u0) = height(side, 0.0);
                     let fd = |tau| height(side, tau);
-                    let found = if h0 <= self.h_touch && u0 >= -self.v_settle {
-                        first_descent_after_release(fd, 0.0, span, n, xtol)
-                    } else {
-                        first_descent(fd, 0.0, span, n, xtol)
-                    };
+                    let released = h0 <= self.h_touch && u0 >= -self.v_settle;
+                    let mut found = None;
+                    for i in 0..n {
+                        let a = width * i as f64;
+                        let b = if i + 1 == n {
+                            span
+                        } else {
+                            width * (i + 1) as f64
+                        };
+                        found =
+                            first_descent_bounded(fd, a, b, m2, floor, xtol, released && i == 0);
+                        if found.is_some() {
+                            break;
+                        }
+                    }
                     earliest(&mut best, found, Event::Landing(side));
                 }
             }

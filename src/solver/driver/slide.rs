@@ -31,6 +31,8 @@ impl Run<'_> {
         let span = t_end - t0;
         let xtol = 1e-15 * t_end.abs().max(1.0);
         let fd = |tau: f64| (sg * vel(tau), sg * (acc0 + acc1 * tau));
+        // (the velocity is quadratic in τ: one extremum at most, so the
+        // one-minimum search cannot miss a double crossing)
         let found = if st.v == 0.0 {
             first_descent_after_release(fd, 0.0, span, 1, xtol)
         } else {
@@ -92,6 +94,13 @@ impl Run<'_> {
                 let xtol = 1e-15 * t1.abs().max(1.0);
                 let comp = |i: usize, tt: f64| step.component_at(i, tt);
                 let mut best: Option<(f64, Event)> = None;
+                // One minimum per step suffices for ψ (and π/2 − ψ): ẍg does not
+                // enter slide-rock's ψ″ = sα = −s r c q / den (`physics::slide_rock_accel`;
+                // den > 0 before a jam, and N = q I / den > 0 before lift-off,
+                // so q > 0), whose sign changes only where s c = sin φ + sσ μk cos φ
+                // = 0, at an angle that repels ψ (s c falls as ψ rises there): ψ
+                // crosses it at most once, with ψ′ of one sign, so ψ has one
+                // extremum at most in a step.
                 let psi = |tt: f64| (s * comp(0, tt), s * comp(1, tt));
                 earliest(
                     &mut best,
