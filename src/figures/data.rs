@@ -115,7 +115,7 @@ pub struct StudyData {
     /// empty when the folder has none.
     pub lognormal: Vec<LognormalCurve>,
     /// The PGA of the stripes and curves: the record's, or a record pair's
-    /// RotD50 ([`stripe_measure`]).
+    /// RotD50 (`stripe_measure`).
     pub im: IntensityMeasure,
 }
 
@@ -247,7 +247,7 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<PlotRow>> {
 /// Reads `fragility_curves.csv` ([`read_curves_csv`]): the fitted
 /// probability and its 90 % band on an IM grid. Only curves fitted against
 /// `im` are kept, the PGA the figure draws the stripes at
-/// ([`stripe_measure`]); an empty
+/// (`stripe_measure`); an empty
 /// band (no bootstrap) reads as the curve itself. Returns the points sorted
 /// by case, limit state (in the file's order: a case's limit states in
 /// order of severity) and IM.

@@ -19,7 +19,7 @@
 //! samples each fit from 0 to the case's last stripe only, where a curve of
 //! a stocky block may still be at P ≈ 0.6. The axis runs on to where every
 //! fitted curve reaches P = 0.95 (θ·e^(1.645β)), but no further than
-//! [`CAP_STRIPES`] × the last stripe; the title says how many curves are
+//! `CAP_STRIPES` × the last stripe; the title says how many curves are
 //! still below 0.95 there ([`ShortCurves`]). Beyond the last stripe the
 //! figure evaluates the fitted lognormal itself, from the θ and β of
 //! `fragility.csv` (read with [`crate::fragility::read_fragility_csv`]), so
@@ -118,9 +118,9 @@ pub struct FragilityFigure {
     /// curves' file (g).
     pub im_max: f64,
     /// End of the IM axis (g): where every fitted curve reaches
-    /// [`P_REACHED`], at most [`CAP_STRIPES`] × `im_max`.
+    /// `P_REACHED`, at most `CAP_STRIPES` × `im_max`.
     pub x_max: f64,
-    /// Fitted curves still below [`P_REACHED`] at their end.
+    /// Fitted curves still below `P_REACHED` at their end.
     pub short_of_reach: ShortCurves,
     /// For each friction model: whether every one of its series is drawn
     /// as μ = ∞ (its legend entry says so).
@@ -341,11 +341,11 @@ impl FragilityFigure {
 }
 
 /// Sets the axis end and continues the fitted curves to it: the axis ends
-/// where every fitted curve reaches [`P_REACHED`] (by its θ and β, or else
+/// where every fitted curve reaches `P_REACHED` (by its θ and β, or else
 /// by its sampled points), at least at `im_max` and at most
-/// [`CAP_STRIPES`] × `im_max`; each curve with a θ and β is continued from
+/// `CAP_STRIPES` × `im_max`; each curve with a θ and β is continued from
 /// its last point to that end. Returns the end and the number of fitted
-/// curves below [`P_REACHED`] at its end: those that would need more than
+/// curves below `P_REACHED` at its end: those that would need more than
 /// the cap, and those without a θ and β whose points stop short.
 fn extend(panels: &mut [FragilityPanel], im_max: f64) -> (f64, ShortCurves) {
     let mut short = ShortCurves::default();
@@ -408,10 +408,10 @@ fn extend(panels: &mut [FragilityPanel], im_max: f64) -> (f64, ShortCurves) {
     (x_max, short)
 }
 
-/// Fitted curves that end below [`P_REACHED`].
+/// Fitted curves that end below `P_REACHED`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ShortCurves {
-    /// Would reach it beyond [`CAP_STRIPES`] × the last stripe, where the
+    /// Would reach it beyond `CAP_STRIPES` × the last stripe, where the
     /// axis stops.
     pub capped: usize,
     /// Have no θ and β in `fragility.csv` to be continued with, and stop

@@ -24,7 +24,7 @@
 //!   stated in the panel's heading. Alternate groups of rows of one H/B are
 //!   shaded. A limit state without a fit (or with a zero rate) is not left
 //!   out silently: its row says so in words at the right (`overturning: no
-//!   fit (separated)`). At most [`MAX_ROWS`] cases are drawn; a note below
+//!   fit (separated)`). At most `MAX_ROWS` cases are drawn; a note below
 //!   the panel names how many more `risk.csv` holds.
 //!
 //! Logarithmic axes are labelled by [`LogAxis`] (powers of ten with
@@ -115,7 +115,7 @@ pub struct RiskFigure {
     pub hazard: Vec<(f64, f64)>,
     /// The extrapolated parts shown: below the lowest level, above the highest.
     pub hazard_extended: [Vec<(f64, f64)>; 2],
-    /// Cases, in the order of `risk.csv`; the first [`MAX_ROWS`] are drawn.
+    /// Cases, in the order of `risk.csv`; the first `MAX_ROWS` are drawn.
     pub cases: Vec<RiskCase>,
     /// The parameters every case shares (`2B = 0.5 m`), left out of the
     /// row labels and added to the title; empty when none is shared.
@@ -235,7 +235,7 @@ impl RiskFigure {
         }
     }
 
-    /// The cases drawn as rows: the first [`MAX_ROWS`].
+    /// The cases drawn as rows: the first `MAX_ROWS`.
     pub fn shown(&self) -> &[RiskCase] {
         &self.cases[..self.cases.len().min(MAX_ROWS)]
     }

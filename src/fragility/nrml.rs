@@ -155,7 +155,7 @@ pub enum NrmlEntry {
 
 /// The fragility model as NRML 0.5 text: every limit state of `fits`, in
 /// the order they first appear (the spec's order of increasing severity),
-/// and one function per case (see the [module docs](self) for a case with
+/// and one function per case (see the docs of `src/fragility/nrml.rs` for a case with
 /// a limit state that could not be fitted).
 pub fn nrml_string(fits: &[CaseFit]) -> String {
     let mut limit_states: Vec<&str> = Vec::new();
@@ -363,7 +363,7 @@ fn observed(obs: &[super::fit::Observation], levels: &[f64], factor: f64) -> Vec
 /// whose first child is `imls` and then one `params` (continuous) or `poes`
 /// (discrete) per limit state in the order of `limit_states`. A continuous
 /// function's `imls` carry the model's range `range` as `minIML`, `maxIML`
-/// and `noDamageLimit` = minIML (see the [module docs](self)); a discrete
+/// and `noDamageLimit` = minIML (see the docs of `src/fragility/nrml.rs`); a discrete
 /// one's its levels, with `noDamageLimit` its first. An
 /// [`NrmlEntry::Omitted`] becomes an XML comment.
 ///

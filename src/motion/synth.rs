@@ -61,7 +61,7 @@ use super::record::{G_STANDARD, Record};
 use crate::error::{Error, Result};
 
 /// Settings of the stochastic ground-motion generator (defaults: see the
-/// [module docs](self)).
+/// docs of `src/motion/synth.rs`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SynthesisSettings {

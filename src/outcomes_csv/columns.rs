@@ -101,7 +101,7 @@ pub enum Column {
     /// Events handled.
     Events,
     /// The analysis solved again under its record scaled by 1 + 1e-9 changed
-    /// its outcome (see [`crate::solver::sensitivity`]); empty when either
+    /// its outcome (see [`crate::solver::sensitivity()`]); empty when either
     /// solve failed.
     Sensitive,
     /// Why the analysis failed (empty if it did not).

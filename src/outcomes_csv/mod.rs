@@ -33,7 +33,7 @@
 //! - `sensitive` (`[output] sensitivity`): the analysis solved again under
 //!   its record scaled by 1 + 1e-9 changed its outcome — overturning
 //!   flipped, θmax/θc moved by more than 1e-3 or the overturning time by
-//!   more than 0.01 s ([`crate::solver::sensitivity`]); empty when the
+//!   more than 0.01 s ([`crate::solver::sensitivity()`]); empty when the
 //!   analysis or its second solve failed;
 //! - absent times (no overturn, no impact) are empty;
 //! - floats use Rust's shortest round-trip form, so the file holds the exact

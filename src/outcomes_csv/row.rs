@@ -51,7 +51,7 @@ pub struct OutcomeRow {
     pub result: std::result::Result<Outcome, String>,
     /// Whether the analysis is sensitive: solved again under its record
     /// scaled by 1 + 1e-9, its outcome changed
-    /// ([`crate::solver::sensitivity`]). `None` when the study did not ask
+    /// ([`crate::solver::sensitivity()`]). `None` when the study did not ask
     /// (`[output] sensitivity`) or either solve failed.
     pub sensitive: Option<bool>,
 }

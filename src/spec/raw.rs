@@ -53,7 +53,7 @@ pub struct SpecFile {
     /// model, see [`crate::motion::SynthesisSettings`]; or a named preset).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub motion: Option<MotionFile>,
-    /// What the blocks stand on (default: the ground; see [`SupportFile`]).
+    /// What the blocks stand on (default: the ground; see `SupportFile`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub support: Option<SupportFile>,
     /// The grids of the study.
@@ -211,7 +211,7 @@ pub struct OutputFile {
     /// Solve every analysis a second time under its record scaled by
     /// 1 + 1e-9 and add `sensitive` to `outcomes.csv`: whether the outcome
     /// changed (overturning flipped, θmax/θc moved by more than 1e-3 or the
-    /// overturning time by more than 0.01 s; [`crate::solver::sensitivity`]),
+    /// overturning time by more than 0.01 s; [`crate::solver::sensitivity()`]),
     /// with the share of sensitive analyses per case and stripe in
     /// `summary.md`. Doubles the run time (default: false). Left out of the
     /// canonical spec when false, so that a study without it keeps its hash.

@@ -39,7 +39,7 @@ pub struct Manifest {
     /// change the post-processing (empty in manifests of older versions).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub analyses_hash: String,
-    /// [`SOURCE_HASH`] of the build that wrote it (empty in older manifests).
+    /// `SOURCE_HASH` of the build that wrote it (empty in older manifests).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub source_hash: String,
     /// FNV-1a 64-bit hash of the record files' bytes, in order (recorded motions only).
@@ -51,7 +51,7 @@ pub struct Manifest {
     pub spec: serde_json::Value,
     /// rockfrag's version.
     pub rockfrag_version: String,
-    /// What a rerun reproduces ([`REPRODUCIBILITY`]); empty in manifests
+    /// What a rerun reproduces (`REPRODUCIBILITY`); empty in manifests
     /// written before it was recorded.
     #[serde(default)]
     pub reproducibility: String,
@@ -146,7 +146,7 @@ impl Manifest {
     }
 }
 
-/// What a run into a folder finds there ([`check_finished`]).
+/// What a run into a folder finds there (`check_finished`).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Finished {
     /// No finished run, one to be replaced (`--force`), or one of the same

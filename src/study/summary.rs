@@ -37,7 +37,7 @@ impl Tally {
         &self.cells[case * self.levels + level]
     }
 
-    /// The generic `summary.md` (see the [module docs](self)): the fitted
+    /// The generic `summary.md` (see the docs of `src/study/summary.rs`): the fitted
     /// curves `fits` (`fragility.csv`'s rows) when there are any, then the
     /// counts per stripe and the provenance from `manifest`.
     pub fn markdown(
