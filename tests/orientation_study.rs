@@ -287,6 +287,14 @@ fn pairs_are_fitted_against_rotd50_by_default() {
     assert!(fit.contains(",pga-rotd50,"), "{fit}");
     let xml = std::fs::read_to_string(out.join("fragility.xml")).unwrap();
     assert!(xml.contains("imt=\"PGA\""), "{xml}");
+    // the summary says what the levels and the `pga` column are
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(
+        summary.contains("Record pairs: under each record the blocks face")
+            && summary.contains("the levels are the pair's RotD50 PGA")
+            && summary.contains("| RotD50 PGA (g) |"),
+        "{summary}"
+    );
     // the trials of the fit are at the levels
     let path = out.join("outcomes.csv");
     let data = read_outcomes_for(

@@ -117,6 +117,9 @@ impl Tally {
         if !study.floor.is_ground() {
             let _ = writeln!(s, "{}\n", floor_text(&study.floor));
         }
+        if let Some(orientation) = study.motions.orientation() {
+            let _ = writeln!(s, "{}\n", orientation_text(orientation, &study.intensity));
+        }
         if let Some(fits) = fits.filter(|f| !f.is_empty()) {
             s.push_str(&fragility_section(fits));
             s.push('\n');
@@ -533,6 +536,42 @@ fn uncertainty_text(u: &Uncertainty) -> String {
 
 /// The floor sentence of a study on a floor: its modes, and that the
 /// levels stay the ground's.
+/// The sentence on the directions of a study of record pairs, and what
+/// its intensities are.
+fn orientation_text(orientation: &Orientation, intensity: &Intensity) -> String {
+    let faces = match orientation {
+        Orientation::Grid(angles) => format!(
+            "each pair is run with the blocks facing φ = {}° from its first component",
+            angles
+                .iter()
+                .map(|a| a.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        Orientation::Drawn {
+            dist: Distribution::Uniform { min, max },
+            ..
+        } => format!(
+            "under each record the blocks face a direction φ drawn uniformly on \
+             [{min}°, {max}°) from its first component"
+        ),
+        Orientation::Drawn { .. } => {
+            "under each record the blocks face a direction φ drawn from its first component"
+                .to_string()
+        }
+    };
+    let levels = match intensity {
+        Intensity::Pga(_) => "the levels are the pair's RotD50 PGA",
+        Intensity::Pgv(_) => "the levels are the pair's RotD50 PGV",
+        Intensity::Scale(_) => "the levels multiply both components",
+    };
+    format!(
+        "Record pairs: {faces} and feel cos φ·H1 + sin φ·H2; {levels}, and `pga`, `pgv` in \
+         `outcomes.csv` are the peaks of the component the block feels (`pga_rotd50`, \
+         `pgv_rotd50` and `phi` beside them)."
+    )
+}
+
 fn floor_text(floor: &crate::motion::Floor) -> String {
     let modes: Vec<String> = floor
         .modes
