@@ -309,7 +309,11 @@ pub fn preset(name: &str) -> Option<SynthesisSettings> {
 /// assert_ne!(record_seed(1, 0), record_seed(2, 0));
 /// ```
 pub fn record_seed(seed: u64, index: u64) -> u64 {
-    record_seed_raw(seed, index)
+    const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut z = (seed ^ index.wrapping_mul(GOLDEN)).wrapping_add(GOLDEN);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
 }
 
 /// The ensemble seed whose record i is the second horizontal component of
@@ -325,16 +329,7 @@ pub fn record_seed(seed: u64, index: u64) -> u64 {
 /// ```
 pub fn second_component_seed(seed: u64) -> u64 {
     // "rockfrag:H2" domain tag (an arbitrary odd constant), mixed
-    record_seed_raw(seed ^ 0x4832_C0B1_7E5E_ED2B, u64::MAX)
-}
-
-/// splitmix64 of `seed` and `index` (see [`record_seed`]).
-fn record_seed_raw(seed: u64, index: u64) -> u64 {
-    const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut z = (seed ^ index.wrapping_mul(GOLDEN)).wrapping_add(GOLDEN);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
+    record_seed(seed ^ 0x4832_C0B1_7E5E_ED2B, u64::MAX)
 }
 
 /// A ground-motion generator built once from [`SynthesisSettings`]: holds the
