@@ -199,15 +199,10 @@ fn read_outcomes_with(
         };
         let pga = positive(row.pga, Column::Pga)?;
         let value = match im {
-            IntensityMeasure::Pga => pga,
             IntensityMeasure::PgaOverTan => {
                 pga * own.aspect.fixed().expect("an analysis's aspect is fixed")
             }
-            IntensityMeasure::Pgv => positive(row.pgv, Column::Pgv)?,
-            IntensityMeasure::Pfa => positive(row.pfa, Column::Pfa)?,
-            IntensityMeasure::Pfv => positive(row.pfv, Column::Pfv)?,
-            IntensityMeasure::PgaRotd50 => positive(row.pga_rotd50, Column::PgaRotd50)?,
-            IntensityMeasure::PgvRotd50 => positive(row.pgv_rotd50, Column::PgvRotd50)?,
+            _ => positive(row.intensity(im.column()), im.column())?,
         };
         let mut exceeded = 0u64;
         for (k, &(column, kind, threshold)) in measures.iter().enumerate() {

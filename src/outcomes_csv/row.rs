@@ -66,12 +66,22 @@ impl OutcomeRow {
     /// for PGV studies, else `pga` (the RotD50 of a pair; see
     /// [`Columns::level`]).
     pub fn level(&self, columns: &Columns) -> Option<f64> {
-        match columns.level() {
-            Column::Scale => self.scale,
+        self.intensity(columns.level())
+    }
+
+    /// The row's value of an intensity column: `pga`, `pgv`, `pga_rotd50`,
+    /// `pgv_rotd50`, `pfa`, `pfv` or `scale` (`None` when absent, or for
+    /// any other column).
+    pub fn intensity(&self, column: Column) -> Option<f64> {
+        match column {
+            Column::Pga => self.pga,
             Column::Pgv => self.pgv,
-            Column::PgvRotd50 => self.pgv_rotd50,
             Column::PgaRotd50 => self.pga_rotd50,
-            _ => self.pga,
+            Column::PgvRotd50 => self.pgv_rotd50,
+            Column::Pfa => self.pfa,
+            Column::Pfv => self.pfv,
+            Column::Scale => self.scale,
+            _ => None,
         }
     }
 }
