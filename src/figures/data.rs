@@ -115,7 +115,7 @@ pub struct StudyData {
     /// empty when the folder has none.
     pub lognormal: Vec<LognormalCurve>,
     /// The PGA of the stripes and curves: the record's, or a record pair's
-    /// RotD50 (`stripe_measure`).
+    /// RotD50 ([`read_outcomes`]).
     pub im: IntensityMeasure,
 }
 
@@ -140,8 +140,7 @@ impl StudyData {
     /// the fields `pooled` (those the study draws per analysis).
     pub fn load_pooled(dir: &Path, pooled: &[Field]) -> Result<StudyData> {
         let path = dir.join("outcomes.csv");
-        let mut outcomes = read_outcomes(&path)?;
-        let im = stripe_measure(&path)?;
+        let (mut outcomes, im) = read_outcomes(&path)?;
         if !pooled.is_empty() {
             for row in &mut outcomes {
                 row.case = row.case.pooled(pooled);
@@ -178,25 +177,15 @@ fn sort(rows: &mut [PlotRow]) {
     });
 }
 
-/// The PGA the figures plot the stripes of `outcomes.csv` at: a record
-/// pair's RotD50 when the file has `pga_rotd50`, else the record's PGA.
-pub fn stripe_measure(path: &Path) -> Result<IntensityMeasure> {
-    let table = OutcomesFile::open(path, &[], "the figures")?;
-    Ok(if table.has(Column::PgaRotd50) {
-        IntensityMeasure::PgaRotd50
-    } else {
-        IntensityMeasure::Pga
-    })
-}
-
 /// Reads `outcomes.csv` through [`OutcomesFile`]; skips failed rows;
-/// returns the rows sorted by case, PGA (a pair's RotD50, see
-/// [`stripe_measure`]) and record.
+/// returns the rows sorted by case, PGA and record, and the PGA the
+/// stripes are at: a record pair's RotD50 when the file has `pga_rotd50`
+/// (a study of pairs), else the record's PGA.
 ///
 /// Errors: [`Error::Io`] if the file cannot be read,
 /// [`Error::Parse`] naming the line for a missing
 /// column, or the line, column and value for an unreadable value.
-pub fn read_outcomes(path: &Path) -> Result<Vec<PlotRow>> {
+pub fn read_outcomes(path: &Path) -> Result<(Vec<PlotRow>, IntensityMeasure)> {
     let mut table = OutcomesFile::open(
         path,
         &[
@@ -213,16 +202,16 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<PlotRow>> {
     )?;
     // optional: files written before the column existed lack it
     let has_eq5 = table.has(Column::MuImpactEq5);
-    let rotd50 = table.has(Column::PgaRotd50);
+    let im = if table.has(Column::PgaRotd50) {
+        IntensityMeasure::PgaRotd50
+    } else {
+        IntensityMeasure::Pga
+    };
+    let column = im.column();
     let mut rows = Vec::new();
     while let Some((line, row)) = table.next_row()? {
         let Ok(o) = &row.result else { continue };
-        let (pga, column) = if rotd50 {
-            (row.pga_rotd50, Column::PgaRotd50)
-        } else {
-            (row.pga, Column::Pga)
-        };
-        let pga = pga.ok_or_else(|| Error::Parse {
+        let pga = row.intensity(column).ok_or_else(|| Error::Parse {
             path: path.to_path_buf(),
             line,
             message: format!("column `{column}` = \"\": expected a number"),
@@ -241,13 +230,13 @@ pub fn read_outcomes(path: &Path) -> Result<Vec<PlotRow>> {
         });
     }
     sort(&mut rows);
-    Ok(rows)
+    Ok((rows, im))
 }
 
 /// Reads `fragility_curves.csv` ([`read_curves_csv`]): the fitted
 /// probability and its 90 % band on an IM grid. Only curves fitted against
 /// `im` are kept, the PGA the figure draws the stripes at
-/// (`stripe_measure`); an empty
+/// ([`read_outcomes`]); an empty
 /// band (no bootstrap) reads as the curve itself. Returns the points sorted
 /// by case, limit state (in the file's order: a case's limit states in
 /// order of severity) and IM.
@@ -353,7 +342,8 @@ mod tests {
              x,0,0.6,4,0.5,0,inf,,,ok,false,true,0.5,0.3,0.185,12,\n",
         )
         .unwrap();
-        let rows = read_outcomes(&path).unwrap();
+        let (rows, im) = read_outcomes(&path).unwrap();
+        assert_eq!(im, IntensityMeasure::Pga, "no pga_rotd50 column");
         assert_eq!(rows.len(), 2);
         assert_eq!(rows[0].case.friction, Param::Fixed(Friction::Infinite));
         assert!(rows[0].uplifted && !rows[0].overturned);

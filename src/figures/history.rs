@@ -619,9 +619,8 @@ fn choose_run(
     let rotd50 = data.im == IntensityMeasure::PgaRotd50;
     while let Some((_, row)) = table.next_row()? {
         // the stripe's PGA as `read_outcomes` took it
-        let stripe = if rotd50 { row.pga_rotd50 } else { row.pga };
         if row.record as u64 == run.record
-            && stripe == Some(run.pga)
+            && row.intensity(data.im.column()) == Some(run.pga)
             && row.case.pooled(pooled) == case
             && row.result.is_ok()
         {
