@@ -66,37 +66,21 @@ impl Tally {
                 records,
                 pairs: None,
                 ..
-            } => {
-                format!("{records} synthetic records per level (seed {seed})")
+            } => format!("{records} synthetic records per level (seed {seed})"),
+            Motions::Synthetic { seed, records, .. } => {
+                format!("{records} synthetic pairs of independent components (seed {seed})")
             }
-            Motions::Synthetic {
-                seed,
-                records,
-                pairs: Some(orientation),
-                ..
-            } => match orientation {
-                Orientation::Grid(angles) => format!(
-                    "{records} synthetic pairs of independent components (seed {seed}) at {} \
-                     orientations per level",
-                    angles.len()
-                ),
-                Orientation::Drawn { .. } => format!(
-                    "{records} synthetic pairs of independent components per level (seed \
-                     {seed}), each at a drawn orientation"
-                ),
-            },
             Motions::Files(f) => format!("{} recorded motions per level", f.len()),
-            Motions::Pairs { pairs, orientation } => match orientation {
-                Orientation::Grid(angles) => format!(
-                    "{} record pairs at {} orientations per level",
-                    pairs.len(),
-                    angles.len()
-                ),
-                Orientation::Drawn { .. } => format!(
-                    "{} record pairs per level, each at a drawn orientation",
-                    pairs.len()
-                ),
-            },
+            Motions::Pairs { pairs, .. } => format!("{} record pairs", pairs.len()),
+        };
+        let motions = match study.motions.orientation() {
+            None => motions,
+            Some(Orientation::Grid(angles)) => {
+                format!("{motions} at {} orientations per level", angles.len())
+            }
+            Some(Orientation::Drawn { .. }) => {
+                format!("{motions} per level, each at a drawn orientation")
+            }
         };
         let cases = plan::cases(study);
         let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
