@@ -505,8 +505,11 @@ fn solve_units(
             },
         )
         .unzip();
-    let file_names: Vec<Option<String>> =
-        (0..study.records()).map(|i| study.record_file(i)).collect();
+    // each unit's record file, once per unit (not per analysis)
+    let file_names: Vec<Option<String>> = chunk
+        .iter()
+        .map(|&u| study.record_file(plan::unit(study, u).record))
+        .collect();
     let rows: Vec<(String, f64)> = (0..chunk.len() * cases.len())
         .into_par_iter()
         .map(|k| {
@@ -515,17 +518,19 @@ fn solve_units(
             let unit = plan::unit(study, chunk[ui]);
             let case = &cases[ci];
             let record = &records[ui];
+            let made = record.as_ref().ok();
+            let pair = made.and_then(|m| m.pair);
             let info = RecordInfo {
                 index: unit.record,
                 level: levels[unit.level],
-                pga_g: record.as_ref().ok().map(|m| m.pga_g),
-                pgv: record.as_ref().ok().map(|m| m.pgv),
-                pga_rotd50_g: record.as_ref().ok().and_then(|m| m.pair).map(|p| p.0[0]),
-                pgv_rotd50: record.as_ref().ok().and_then(|m| m.pair).map(|p| p.0[1]),
-                phi: record.as_ref().ok().and_then(|m| m.pair).map(|p| p.1),
-                pfa_g: record.as_ref().ok().and_then(|m| m.pfa_g),
-                pfv: record.as_ref().ok().and_then(|m| m.pfv),
-                file: file_names[unit.record].as_deref(),
+                pga_g: made.map(|m| m.pga_g),
+                pgv: made.map(|m| m.pgv),
+                pga_rotd50_g: pair.map(|p| p.0[0]),
+                pgv_rotd50: pair.map(|p| p.0[1]),
+                phi: pair.map(|p| p.1),
+                pfa_g: made.and_then(|m| m.pfa_g),
+                pfv: made.and_then(|m| m.pfv),
+                file: file_names[ui].as_deref(),
             };
             let (own, analysis) = plan::analysis(study, case, ci, &unit);
             let (result, sensitive) = match (analysis, record) {
