@@ -263,6 +263,24 @@ def _setup(width, aspect, restitution, mu_s, mu_k, solver, named):
     )
 
 
+def _spec(spec):
+    """A study as the extension takes it: (path, None) for a spec file,
+    (None, JSON) for a dict of the spec's fields, (None, None) for the
+    built-in paper study."""
+    if isinstance(spec, dict):
+        return None, _json.dumps(spec)
+    return (None if spec is None else _os.fspath(spec)), None
+
+
+def _threads(threads):
+    """Worker threads as the extension takes them: 0 for one per core."""
+    if threads is None:
+        return 0
+    if int(threads) < 1:
+        raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
+    return int(threads)
+
+
 def _f64(x, what):
     if x is None:
         return None
@@ -417,10 +435,8 @@ def simulate_many(
             if dt is None:
                 raise ValueError("records given as arrays need dt=")
             items.append((_f64(r, "acc"), float(dt), None, None, str(i)))
-    if threads is not None and int(threads) < 1:
-        raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
     return _rockfrag.simulate_many(
-        setup, items, 0 if threads is None else int(threads), bool(sensitivity)
+        setup, items, _threads(threads), bool(sensitivity)
     )
 
 
@@ -452,15 +468,9 @@ def run(spec=None, out=None, threads=None):
         ``manifest.json`` and, when the spec asks, the fragility files and
         figures. Read the outcomes with :func:`read_outcomes`.
     """
-    path = js = None
-    if isinstance(spec, dict):
-        js = _json.dumps(spec)
-    elif spec is not None:
-        path = _os.fspath(spec)
-    if threads is not None and int(threads) < 1:
-        raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
+    path, js = _spec(spec)
     folder, unfitted = _rockfrag.run(
-        path, js, None if out is None else _os.fspath(out), 0 if threads is None else int(threads)
+        path, js, None if out is None else _os.fspath(out), _threads(threads)
     )
     for message in unfitted:
         _warnings.warn(message, FitWarning, stacklevel=2)
@@ -766,13 +776,7 @@ def infer(
         obs_path = _os.fspath(observations)
     else:
         obs_csv = _survey_csv(observations)
-    path = js = None
-    if isinstance(study, dict):
-        js = _json.dumps(study)
-    elif study is not None:
-        path = _os.fspath(study)
-    if threads is not None and int(threads) < 1:
-        raise ValueError("invalid threads = %s: expected a whole number of threads ≥ 1" % threads)
+    path, js = _spec(study)
     got = _rockfrag.infer(
         obs_path,
         obs_csv,
@@ -781,7 +785,7 @@ def infer(
         None if out is None else _os.fspath(out),
         str(prior),
         None if im is None else str(im),
-        0 if threads is None else int(threads),
+        _threads(threads),
         bool(figure),
     )
     result = _json.loads(got.pop("inference_json"))
