@@ -147,9 +147,13 @@ def main():
     excl = entries(excl_text)
     grand = total(excl_text)
 
-    # a member's synthesis and filter (the spectrum figure makes records
-    # again, through Synthesizer::generate)
-    synthesis = inclusive(incl, r"Synthesizer::natural$")
+    # the members' synthesis and filter, once each before the analyses
+    # (Source::prepare; the spectrum figure makes records again, counted
+    # with the figures)
+    # (its parallel loop runs on rayon's pool, outside Source::prepare's own
+    # count): every synthesis but those of Synthesizer::generate
+    synthesis = inclusive(incl, r"Synthesizer::natural_into$") - called_from(
+        path, r"Synthesizer::natural_into$", r"Synthesizer::generate$")
     motion = inclusive(incl, r"study::source::Source::motion$")
     solver = inclusive(incl, r"solver::driver::simulate$")
     rows_csv = inclusive(incl, r"Columns>::write_row$") + inclusive(incl, r"Columns>::row$")
@@ -183,10 +187,11 @@ def main():
                   solver - own))
 
     table = [
-        ("**records** (Source::motion)", motion),
-        ("  synthesis: phases, inverse FFT, envelope, high-pass filter (once a member)",
-         synthesis),
-        ("  scaling to the level and integration (every unit)", motion - synthesis),
+        ("**records**", synthesis + motion),
+        ("  synthesis: phases, inverse FFT, envelope, high-pass filter, once a member "
+         "(Source::prepare)", synthesis),
+        ("  every unit: scaling to the level and integration; without kept members, "
+         "synthesis too (Source::motion)", motion),
         ("**the solver**", solver),
     ] + [("  " + label, c) for label, c in parts] + [
         ("CSV rows: formatting the outcomes", rows_csv),
@@ -196,7 +201,7 @@ def main():
         ("figures (less their reading)", figures),
         ("summary.md", summary),
     ]
-    counted = motion + solver + rows_csv + reading + fit + fit_files + figures + summary
+    counted = synthesis + motion + solver + rows_csv + reading + fit + fit_files + figures + summary
     table.append(("other (start, spec, threads, checkpoints)", grand - counted))
     print(f"{analyses} analyses, {grand:,} instructions, "
           f"{grand / analyses:,.0f} per analysis\n")
