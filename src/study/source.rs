@@ -251,9 +251,9 @@ impl Source {
     /// Makes, in parallel on the current rayon pool, the natural part of
     /// every synthetic member that `units` (of `study`) use at two levels
     /// or more, so that each is filtered once and only scaled at each
-    /// level ([`Members`]). Does nothing for other sources, for scale
+    /// level. Does nothing for other sources, for scale
     /// factors, when the units are all at one level, or past
-    /// [`MEMBERS_BYTES`].
+    /// 16 MB of kept samples (8 bytes each).
     pub fn prepare(&mut self, study: &Study, units: &[usize]) {
         let Source::Synthetic {
             synth,
@@ -393,4 +393,57 @@ fn scaled(r: Record, target: f64, peak: f64, what: &str) -> Result<Record> {
         });
     }
     Ok(r.scaled(target / peak))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// The records of a prepared source (members filtered once, scaled at
+    /// each level) are those of a source that makes every record afresh,
+    /// bit for bit, at PGA and PGV levels alike; a source prepared for
+    /// units of one level keeps nothing.
+    #[test]
+    fn prepared_members_give_the_records_made_afresh() {
+        for grid in ["pga = [0.2, 0.7, 1.3]", "pgv = [0.1, 0.45]"] {
+            let text =
+                format!("name = \"t\"\nseed = 11\nrecords = 4\n[grid]\naspect = [4]\n{grid}\n");
+            let study = Study::from_toml(&text, Path::new("t.toml")).unwrap();
+            let units: Vec<usize> = (0..super::super::plan::unit_count(&study)).collect();
+            let mut fresh = Source::new(&study).unwrap();
+            let mut kept = Source::new(&study).unwrap();
+            kept.prepare(&study, &units);
+            assert!(matches!(
+                &kept,
+                Source::Synthetic {
+                    members: Some(_),
+                    ..
+                }
+            ));
+            let levels = study.intensity.levels();
+            for &u in &units {
+                let unit = super::super::plan::unit(&study, u);
+                let level = levels[unit.level];
+                let a = fresh.motion(&study, level, unit.record).unwrap();
+                let b = kept.motion(&study, level, unit.record).unwrap();
+                let bits = |r: &Record| {
+                    [&r.acc, &r.vel, &r.disp]
+                        .map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+                };
+                assert_eq!(bits(&a.felt), bits(&b.felt), "{grid}, unit {u}");
+                assert_eq!(a.felt.name, b.felt.name);
+                assert_eq!(
+                    (a.pga_g.to_bits(), a.pgv.to_bits()),
+                    (b.pga_g.to_bits(), b.pgv.to_bits())
+                );
+            }
+            let mut one_level = Source::new(&study).unwrap();
+            one_level.prepare(&study, &units[..4]);
+            assert!(matches!(
+                &one_level,
+                Source::Synthetic { members: None, .. }
+            ));
+        }
+    }
 }
