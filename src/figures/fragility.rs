@@ -43,7 +43,7 @@ use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
 use plotters::style::{BLACK, Color};
 
 use super::data::{
-    StudyData, distinct, distinct_friction, distinct_numbers, friction_label, param_label,
+    StudyData, distinct, distinct_friction, distinct_numbers, friction_label, param_label, runs,
 };
 use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
@@ -141,7 +141,9 @@ impl FragilityFigure {
             .iter()
             .map(|r| r.case)
             .chain(curves.iter().map(|c| c.case));
-        let cases: Vec<Case> = cases.collect();
+        // the rows' cases in runs (they come sorted by case): the same
+        // distinct values below as every row's, without a copy per row
+        let cases: Vec<Case> = runs(cases, |a, b| a.total_cmp(b).is_eq());
         let restitutions = distinct(cases.iter().map(|c| c.restitution));
         let frictions = distinct_friction(cases.iter().map(|c| c.friction));
         let blocks = distinct_blocks(&cases);
@@ -517,8 +519,13 @@ pub fn restitution_colour(i: usize) -> plotters::style::RGBColor {
 
 /// The distinct (aspect, width) pairs, sorted (drawn last).
 pub(crate) fn distinct_blocks(cases: &[Case]) -> Vec<(Param<f64>, Param<f64>)> {
-    let mut v: Vec<(Param<f64>, Param<f64>)> = cases.iter().map(|c| (c.aspect, c.width)).collect();
-    v.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let cmp = |a: &(Param<f64>, Param<f64>), b: &(Param<f64>, Param<f64>)| {
+        a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1))
+    };
+    let mut v = runs(cases.iter().map(|c| (c.aspect, c.width)), |a, b| {
+        cmp(a, b).is_eq()
+    });
+    v.sort_by(cmp);
     v.dedup();
     v
 }

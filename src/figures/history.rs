@@ -503,8 +503,8 @@ fn choose_run(
     level: Option<f64>,
 ) -> Result<ChosenRun> {
     let rows = &data.outcomes;
-    let mut cases: Vec<Case> = rows.iter().map(|r| r.case).collect();
-    cases.dedup();
+    // `dedup` as it goes: one copy a run of rows, not one a row
+    let cases: Vec<Case> = super::data::runs(rows.iter().map(|r| r.case), |_, _| true);
     let case = match case_id {
         Some(id) => *cases.iter().find(|c| c.id() == id).ok_or_else(|| {
             Error::invalid(

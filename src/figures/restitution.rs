@@ -22,7 +22,7 @@ use plotters::style::{BLACK, Color};
 
 use super::data::{
     StudyData, distinct, distinct_fixed, distinct_friction, distinct_numbers, friction_label,
-    param_label,
+    param_label, runs,
 };
 use super::figure::{DrawResult, Figure};
 use super::fragility::distinct_blocks;
@@ -109,7 +109,7 @@ impl RestitutionFigure {
         let levels = shown_levels(&all_levels);
         let frictions = distinct_friction(rows.iter().map(|r| r.case.friction));
         let es = distinct_fixed(rows.iter().map(|r| r.case.restitution));
-        let cases: Vec<Case> = rows.iter().map(|r| r.case).collect();
+        let cases: Vec<Case> = runs(rows.iter().map(|r| r.case), |a, b| a.total_cmp(b).is_eq());
         let blocks = distinct_blocks(&cases);
         let several_widths = distinct(blocks.iter().map(|b| b.1)).len() > 1;
         let mut panels = Vec::new();

@@ -36,5 +36,6 @@ pub use orientation::{MeasuredPair, Pair, ROTD_ANGLES, rotated_peaks, rotd, rotd
 pub use psd::CloughPenzien;
 pub use record::{G_STANDARD, Record, integrate_linear};
 pub use synth::{
-    PRESETS, SynthesisSettings, Synthesizer, preset, record_seed, second_component_seed, synthesize,
+    Natural, PRESETS, SynthesisSettings, Synthesizer, preset, record_seed, second_component_seed,
+    synthesize,
 };

@@ -158,6 +158,14 @@ impl Pair {
     /// every rotation: they are carried into the record); `out` is left
     /// unchanged then.
     pub fn rotate_into(&self, angle_deg: f64, out: &mut Record) -> Result<()> {
+        self.rotate_scaled_into(None, angle_deg, out)
+    }
+
+    /// [`Pair::rotate_into`] of the pair with both components scaled by `k`
+    /// first (`None`: not scaled), in one pass: each sample is scaled, k·x,
+    /// then turned, the arithmetic of [`Record::scaled`] then
+    /// [`Pair::rotate_into`], without copying the pair.
+    fn rotate_scaled_into(&self, k: Option<f64>, angle_deg: f64, out: &mut Record) -> Result<()> {
         let turn = Turn::new(angle_deg)?;
         self.check_together()?;
         out.name.clear();
@@ -173,13 +181,19 @@ impl Pair {
         } else {
             &self.h2.acc_v
         });
+        if let (Some(k), Some(v)) = (k, out.acc_v.as_mut()) {
+            v.iter_mut().for_each(|x| *x *= k);
+        }
         let (h1, h2) = (&self.h1, &self.h2);
         for (o, x1, x2) in [
             (&mut out.acc, &h1.acc, &h2.acc),
             (&mut out.vel, &h1.vel, &h2.vel),
             (&mut out.disp, &h1.disp, &h2.disp),
         ] {
-            turn.apply(x1, x2, o);
+            match k {
+                None => turn.apply(x1, x2, |x| x, o),
+                Some(k) => turn.apply(x1, x2, |x| x * k, o),
+            }
         }
         Ok(())
     }
@@ -215,19 +229,26 @@ impl Turn {
         })
     }
 
-    fn apply(self, x1: &[f64], x2: &[f64], out: &mut Vec<f64>) {
+    /// The turned series of `x1`, `x2`, each sample taken through `scale`
+    /// first.
+    #[inline]
+    fn apply(self, x1: &[f64], x2: &[f64], scale: impl Fn(f64) -> f64, out: &mut Vec<f64>) {
         out.clear();
         match self {
             Turn::Axis { second, negate } => {
                 let x = if second { x2 } else { x1 };
                 if negate {
-                    out.extend(x.iter().map(|v| -v));
+                    out.extend(x.iter().map(|&v| -scale(v)));
                 } else {
-                    out.extend_from_slice(x);
+                    out.extend(x.iter().map(|&v| scale(v)));
                 }
             }
             Turn::General { cos, sin } => {
-                out.extend(x1.iter().zip(x2).map(|(a, b)| cos * a + sin * b));
+                out.extend(
+                    x1.iter()
+                        .zip(x2)
+                        .map(|(&a, &b)| cos * scale(a) + sin * scale(b)),
+                );
             }
         }
     }
@@ -394,11 +415,11 @@ impl MeasuredPair {
     /// assert_eq!(m.felt(2.0, 0.0).unwrap().acc, h1.scaled(2.0).acc);
     /// ```
     pub fn felt(&self, k: f64, angle_deg: f64) -> Result<Record> {
-        let scaled = Pair {
-            h1: self.pair.h1.clone().scaled(k),
-            h2: self.pair.h2.clone().scaled(k),
-        };
-        scaled.rotated(angle_deg)
+        // one pass, no copy of the pair: the same bits as
+        // `Pair { h1: h1.scaled(k), h2: h2.scaled(k) }.rotated(angle_deg)`
+        let mut out = Record::empty(self.pair.h1.dt);
+        self.pair.rotate_scaled_into(Some(k), angle_deg, &mut out)?;
+        Ok(out)
     }
 }
 
@@ -470,6 +491,52 @@ mod tests {
 
     /// The octant reduction is exact at the axes and symmetric: sin φ =
     /// cos(90° − φ) to the bit, and a half turn negates both exactly.
+    /// `felt` (scaled and turned in one pass) gives the bits of the pair's
+    /// components scaled first and then turned, on and off the axes, with a
+    /// vertical acceleration too.
+    #[test]
+    fn felt_is_scaled_then_turned_bit_for_bit() {
+        use crate::motion::{SynthesisSettings, synthesize};
+        let settings = SynthesisSettings::default();
+        let mut h1 = synthesize(&settings, 9, 0, 3.0).unwrap();
+        let h2 = synthesize(&settings, 9, 1, 2.0).unwrap();
+        for vertical in [false, true] {
+            if vertical {
+                h1.acc_v = Some(h1.acc.iter().map(|a| 0.3 * a).collect());
+            }
+            let m = MeasuredPair {
+                pair: Pair {
+                    h1: h1.clone(),
+                    h2: h2.clone(),
+                },
+                pga: 1.0,
+                pgv: 1.0,
+            };
+            for k in [0.37, 1.0, 2.9] {
+                for angle in [0.0, 33.0, 90.0, 180.0, 271.5, -90.0] {
+                    let old = Pair {
+                        h1: h1.clone().scaled(k),
+                        h2: h2.clone().scaled(k),
+                    }
+                    .rotated(angle)
+                    .unwrap();
+                    let new = m.felt(k, angle).unwrap();
+                    let bits = |r: &Record| {
+                        [
+                            &r.acc,
+                            &r.vel,
+                            &r.disp,
+                            r.acc_v.as_ref().unwrap_or(&Vec::new()),
+                        ]
+                        .map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+                    };
+                    assert_eq!(bits(&new), bits(&old), "k {k}, angle {angle}");
+                    assert_eq!((new.name, new.dt), (old.name, old.dt));
+                }
+            }
+        }
+    }
+
     #[test]
     fn degrees_reduce_exactly() {
         assert_eq!(sin_cos_deg(0.0), (0.0, 1.0));

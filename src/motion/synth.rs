@@ -503,18 +503,76 @@ impl Synthesizer {
         pga_m_s2: Option<f64>,
         out: &mut Record,
     ) -> Result<()> {
-        let len = self.samples();
+        let (v0, i_peak, peak) = self.natural_into(seed, index, &mut out.acc)?;
+        self.finish(seed, index, v0, i_peak, peak, pga_m_s2, out);
+        Ok(())
+    }
+
+    /// The part of record (`seed`, `index`) that no scaling changes: its
+    /// filtered acceleration at the model's own amplitude (into `acc`),
+    /// with its initial velocity and peak ([`Natural`]). Kept once per
+    /// ensemble member, it serves every intensity level
+    /// ([`Synthesizer::scaled_into`]) without a second FFT or filter.
+    pub fn natural(&mut self, seed: u64, index: u64, acc: &mut Vec<f64>) -> Result<Natural> {
+        let (v0, i_peak, peak) = self.natural_into(seed, index, acc)?;
+        Ok(Natural {
+            seed,
+            index,
+            v0,
+            i_peak,
+            peak,
+        })
+    }
+
+    /// [`Synthesizer::generate_into`] from the member's natural
+    /// acceleration `acc` and its [`Natural`] values: the same bits as
+    /// generating it afresh (the scaling, clamp and integration are the same
+    /// arithmetic on the same samples).
+    pub fn scaled_into(
+        &self,
+        acc: &[f64],
+        natural: &Natural,
+        pga_m_s2: f64,
+        out: &mut Record,
+    ) -> Result<()> {
+        if !(pga_m_s2.is_finite() && pga_m_s2 > 0.0) {
+            return Err(Error::invalid(
+                "pga",
+                pga_m_s2,
+                "a positive finite peak ground acceleration",
+            ));
+        }
+        out.acc.clear();
+        out.acc.extend_from_slice(acc);
+        let Natural {
+            seed,
+            index,
+            v0,
+            i_peak,
+            peak,
+        } = *natural;
+        self.finish(seed, index, v0, i_peak, peak, Some(pga_m_s2), out);
+        Ok(())
+    }
+
+    /// Fills `acc` with the filtered, unscaled acceleration of record
+    /// (`seed`, `index`); returns its initial velocity and the index and
+    /// value of its peak |acc|.
+    fn natural_into(
+        &mut self,
+        seed: u64,
+        index: u64,
+        acc: &mut Vec<f64>,
+    ) -> Result<(f64, usize, f64)> {
         self.stationary(seed, index);
         let n = self.period.len();
-        out.acc.clear();
+        acc.clear();
         // The process repeats every N samples: sample i uses period[i mod N].
         for env in self.envelope.chunks(n) {
-            out.acc
-                .extend(env.iter().zip(&self.period).map(|(c, a)| c * a));
+            acc.extend(env.iter().zip(&self.period).map(|(c, a)| c * a));
         }
-        let v0 = self.processor.process(&mut out.acc);
-        let (i_peak, peak) = out
-            .acc
+        let v0 = self.processor.process(acc);
+        let (i_peak, peak) = acc
             .iter()
             .enumerate()
             .fold((0, 0.0_f64), |(im, m), (i, a)| {
@@ -526,6 +584,22 @@ impl Synthesizer {
                 message: format!("peak acceleration before scaling is {peak}"),
             });
         }
+        Ok((v0, i_peak, peak))
+    }
+
+    /// Scales `out.acc` (the natural acceleration, peak `peak` at `i_peak`)
+    /// to the peak `pga_m_s2` (or leaves it, `None`) and integrates it.
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &self,
+        seed: u64,
+        index: u64,
+        v0: f64,
+        i_peak: usize,
+        peak: f64,
+        pga_m_s2: Option<f64>,
+        out: &mut Record,
+    ) {
         let scale = match pga_m_s2 {
             Some(pga) => {
                 let scale = pga / peak;
@@ -550,9 +624,19 @@ impl Synthesizer {
         write!(out.name, "synthetic seed={seed} index={index}").expect("writing to a String");
         out.dt = self.settings.dt;
         out.acc_v = None;
-        debug_assert_eq!(out.acc.len(), len);
-        Ok(())
+        debug_assert_eq!(out.acc.len(), self.samples());
     }
+}
+
+/// What every scaling of one synthetic record shares besides its natural
+/// acceleration ([`Synthesizer::natural`]): its initial velocity and peak.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Natural {
+    seed: u64,
+    index: u64,
+    v0: f64,
+    i_peak: usize,
+    peak: f64,
 }
 
 /// (sin 2πu, cos 2πu) for u in [0, 1], to about one ulp.
@@ -734,6 +818,36 @@ mod tests {
         assert_eq!(written.period_len().unwrap(), 1000);
         // 0.05 … 24.95 Hz: the 25 Hz component sits on Nyquist and is dropped.
         assert_eq!(written.components().unwrap(), (1, 499));
+    }
+
+    /// A record scaled from its member's kept natural part is the record
+    /// made afresh, bit for bit (acc, vel, disp, name), at every level: the
+    /// promise that lets a run filter each member once.
+    #[test]
+    fn scaling_the_natural_part_is_generating_afresh() {
+        let settings = SynthesisSettings::default();
+        let mut s = Synthesizer::new(&settings).unwrap();
+        let mut acc = Vec::new();
+        for index in [0, 7, 31] {
+            let natural = s.natural(5, index, &mut acc).unwrap();
+            for pga_g in [0.1, 0.37, 1.2, 2.0] {
+                let pga = pga_g * 9.81;
+                let fresh = s.generate(5, index, pga).unwrap();
+                let mut kept = Record::empty(0.5);
+                s.scaled_into(&acc, &natural, pga, &mut kept).unwrap();
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&kept.acc), bits(&fresh.acc), "acc {index} {pga_g}");
+                assert_eq!(bits(&kept.vel), bits(&fresh.vel), "vel {index} {pga_g}");
+                assert_eq!(bits(&kept.disp), bits(&fresh.disp), "disp {index} {pga_g}");
+                assert_eq!((kept.name, kept.dt), (fresh.name, fresh.dt));
+            }
+        }
+        // a peak of 0 is refused, as `generate` refuses it
+        let natural = s.natural(5, 0, &mut acc).unwrap();
+        assert!(
+            s.scaled_into(&acc, &natural, 0.0, &mut Record::empty(0.02))
+                .is_err()
+        );
     }
 
     #[test]

@@ -197,8 +197,10 @@ fn paper_study(settings: &SynthesisSettings, seed: u64) -> Study {
 
 fn run_ensemble(study: &Study) -> Result<[Cell; CELLS]> {
     let cases = plan::cases(study);
-    let source = Source::new(study)?;
+    let mut source = Source::new(study)?;
     let units: Vec<usize> = (0..plan::unit_count(study)).collect();
+    // each member filtered once, then scaled to every level
+    source.prepare(study, &units);
     let rows = units
         .par_iter()
         .map_init(

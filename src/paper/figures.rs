@@ -337,8 +337,10 @@ fn rock_rule_counts(study: &Study, es: &[f64]) -> Result<Vec<(f64, u64, u64)>> {
     rule.uncertainty = None;
     rule.solver.rock_impact = RockImpact::Rock;
     let cases: Vec<Case> = plan::cases(&rule);
-    let source = Source::new(&rule)?;
+    let mut source = Source::new(&rule)?;
     let units: Vec<usize> = (0..plan::unit_count(&rule)).collect();
+    // each member filtered once, then scaled to every level
+    source.prepare(&rule, &units);
     let levels = rule.intensity.levels();
     let per_unit = units
         .par_iter()

@@ -242,7 +242,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         .num_threads(threads)
         .build()
         .map_err(|e| Error::invalid("threads", threads, &format!("a usable thread count ({e})")))?;
-    let source = Source::new(study)?;
+    let mut source = Source::new(study)?;
     let mut bar = progress::Progress::start(
         opts.progress,
         (units.len() * cases.len()) as u64,
@@ -258,6 +258,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let limit = opts
         .stop_after_units
         .map_or(units.len(), |n| (ckpt.units_done + n).min(units.len()));
+    // the synthetic members used at several levels: filtered once, scaled at each
+    pool.install(|| source.prepare(study, &units[ckpt.units_done..limit]));
     let mut analyses_run = 0u64;
     // The pilot: one unit per intensity level, solved first and kept for
     // its chunk, so the estimate and the ETA weigh each level by its own

@@ -18,10 +18,46 @@
 
 use crate::error::{Error, Result};
 use crate::motion::{
-    MeasuredPair, Pair, Record, Synthesizer, floor_record, read_record, second_component_seed,
+    MeasuredPair, Natural, Pair, Record, Synthesizer, floor_record, read_record,
+    second_component_seed,
 };
 use crate::spec::{Intensity, Motions, Orientation, Study};
+use rayon::prelude::*;
 use std::sync::Arc;
+
+/// The most memory the natural parts of a run's synthetic members may take
+/// ([`Members`]): 8 bytes a sample, 12 kB a 30-s record at Δt = 0.02 s.
+/// Past it, every unit makes its record afresh.
+const MEMBERS_BYTES: usize = 16 << 20;
+
+/// The natural part of each member of a synthetic ensemble that a run uses
+/// at several levels ([`Source::prepare`]): filtered once, then only scaled
+/// at each level, bit for bit the record made afresh
+/// ([`Synthesizer::scaled_into`]). One block of memory, handed back whole
+/// when the run ends.
+#[derive(Debug)]
+pub struct Members {
+    samples: usize,
+    /// The slot of each record index in `acc` (`u32::MAX`: none).
+    slot: Vec<u32>,
+    /// The natural accelerations, `samples` a slot.
+    acc: Vec<f64>,
+    /// Their initial velocities and peaks (`None`: a member that could not
+    /// be made, made again by its units, which report why).
+    natural: Vec<Option<Natural>>,
+}
+
+impl Members {
+    /// Member `record`'s natural acceleration and values, if kept.
+    fn get(&self, record: usize) -> Option<(&[f64], &Natural)> {
+        let slot = *self.slot.get(record)? as usize;
+        let natural = self.natural.get(slot)?.as_ref()?;
+        Some((
+            &self.acc[slot * self.samples..(slot + 1) * self.samples],
+            natural,
+        ))
+    }
+}
 
 /// A record maker; clone one per worker thread.
 #[derive(Clone, Debug)]
@@ -32,6 +68,9 @@ pub enum Source {
         synth: Box<Synthesizer>,
         /// Ensemble seed.
         seed: u64,
+        /// The natural parts of the members a run uses at several levels
+        /// ([`Source::prepare`]).
+        members: Option<Arc<Members>>,
     },
     /// A synthetic ensemble of pairs (`components = 2`): member k's H1 is
     /// record k of the ensemble, its H2 record k of the ensemble
@@ -63,6 +102,7 @@ impl Source {
             } => Ok(Source::Synthetic {
                 synth: Box::new(Synthesizer::new(settings)?),
                 seed: *seed,
+                members: None,
             }),
             Motions::Synthetic {
                 settings,
@@ -111,11 +151,23 @@ impl Source {
         g: f64,
     ) -> Result<Record> {
         match (self, intensity) {
-            (Source::Synthetic { synth, seed }, Intensity::Pga(_)) => {
-                synth.generate(*seed, record as u64, level * g)
-            }
-            (Source::Synthetic { synth, seed }, Intensity::Pgv(_)) => {
-                let r = synth.generate(*seed, record as u64, g)?;
+            (
+                Source::Synthetic {
+                    synth,
+                    seed,
+                    members,
+                },
+                Intensity::Pga(_),
+            ) => synthetic(synth, *seed, members.as_deref(), record, level * g),
+            (
+                Source::Synthetic {
+                    synth,
+                    seed,
+                    members,
+                },
+                Intensity::Pgv(_),
+            ) => {
+                let r = synthetic(synth, *seed, members.as_deref(), record, g)?;
                 let pgv = r.pgv();
                 scaled(r, level, pgv, "PGV")
             }
@@ -195,6 +247,69 @@ impl Source {
     }
 }
 
+impl Source {
+    /// Makes, in parallel on the current rayon pool, the natural part of
+    /// every synthetic member that `units` (of `study`) use at two levels
+    /// or more, so that each is filtered once and only scaled at each
+    /// level. Does nothing for other sources, for scale
+    /// factors, when the units are all at one level, or past
+    /// 16 MB of kept samples (8 bytes each).
+    pub fn prepare(&mut self, study: &Study, units: &[usize]) {
+        let Source::Synthetic {
+            synth,
+            seed,
+            members,
+        } = self
+        else {
+            return;
+        };
+        if matches!(study.intensity, Intensity::Scale(_)) || units.is_empty() {
+            return;
+        }
+        let unit = |u: usize| super::plan::unit(study, u);
+        let first = unit(units[0]).level;
+        if units.iter().all(|&u| unit(u).level == first) {
+            return;
+        }
+        let mut slot = vec![u32::MAX; study.records()];
+        let mut records = Vec::new();
+        for &u in units {
+            let r = unit(u).record;
+            if slot[r] == u32::MAX {
+                slot[r] = records.len() as u32;
+                records.push(r);
+            }
+        }
+        let samples = synth.samples();
+        if records.len().saturating_mul(samples) > MEMBERS_BYTES / 8 {
+            return;
+        }
+        let mut acc = vec![0.0; records.len() * samples];
+        let mut natural = vec![None; records.len()];
+        let (seed, synth): (u64, &Synthesizer) = (*seed, synth);
+        acc.par_chunks_mut(samples)
+            .zip(natural.par_iter_mut())
+            .zip(records.par_iter())
+            .for_each_init(
+                || (synth.clone(), Vec::with_capacity(samples)),
+                |(s, buf), ((out, made), &r)| {
+                    // a member that fails is left out: its units make it
+                    // again and report why
+                    if let Ok(n) = s.natural(seed, r as u64, buf) {
+                        out.copy_from_slice(buf);
+                        *made = Some(n);
+                    }
+                },
+            );
+        *members = Some(Arc::new(Members {
+            samples,
+            slot,
+            acc,
+            natural,
+        }));
+    }
+}
+
 /// What the blocks of one unit feel, and the peaks measured on the way.
 #[derive(Clone, Debug)]
 pub struct UnitMotion {
@@ -250,6 +365,25 @@ impl Source {
     }
 }
 
+/// Member `record` of the ensemble `seed` at the peak `pga` (m/s²): scaled
+/// from its natural part in `members` when kept there, else generated.
+fn synthetic(
+    synth: &mut Synthesizer,
+    seed: u64,
+    members: Option<&Members>,
+    record: usize,
+    pga: f64,
+) -> Result<Record> {
+    match members.and_then(|m| m.get(record)) {
+        Some((acc, natural)) => {
+            let mut r = Record::empty(synth.settings().dt);
+            synth.scaled_into(acc, natural, pga, &mut r)?;
+            Ok(r)
+        }
+        None => synth.generate(seed, record as u64, pga),
+    }
+}
+
 /// Scales every series of `r` by `target / peak`.
 fn scaled(r: Record, target: f64, peak: f64, what: &str) -> Result<Record> {
     if !(peak.is_finite() && peak > 0.0) {
@@ -259,4 +393,57 @@ fn scaled(r: Record, target: f64, peak: f64, what: &str) -> Result<Record> {
         });
     }
     Ok(r.scaled(target / peak))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// The records of a prepared source (members filtered once, scaled at
+    /// each level) are those of a source that makes every record afresh,
+    /// bit for bit, at PGA and PGV levels alike; a source prepared for
+    /// units of one level keeps nothing.
+    #[test]
+    fn prepared_members_give_the_records_made_afresh() {
+        for grid in ["pga = [0.2, 0.7, 1.3]", "pgv = [0.1, 0.45]"] {
+            let text =
+                format!("name = \"t\"\nseed = 11\nrecords = 4\n[grid]\naspect = [4]\n{grid}\n");
+            let study = Study::from_toml(&text, Path::new("t.toml")).unwrap();
+            let units: Vec<usize> = (0..super::super::plan::unit_count(&study)).collect();
+            let mut fresh = Source::new(&study).unwrap();
+            let mut kept = Source::new(&study).unwrap();
+            kept.prepare(&study, &units);
+            assert!(matches!(
+                &kept,
+                Source::Synthetic {
+                    members: Some(_),
+                    ..
+                }
+            ));
+            let levels = study.intensity.levels();
+            for &u in &units {
+                let unit = super::super::plan::unit(&study, u);
+                let level = levels[unit.level];
+                let a = fresh.motion(&study, level, unit.record).unwrap();
+                let b = kept.motion(&study, level, unit.record).unwrap();
+                let bits = |r: &Record| {
+                    [&r.acc, &r.vel, &r.disp]
+                        .map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+                };
+                assert_eq!(bits(&a.felt), bits(&b.felt), "{grid}, unit {u}");
+                assert_eq!(a.felt.name, b.felt.name);
+                assert_eq!(
+                    (a.pga_g.to_bits(), a.pgv.to_bits()),
+                    (b.pga_g.to_bits(), b.pgv.to_bits())
+                );
+            }
+            let mut one_level = Source::new(&study).unwrap();
+            one_level.prepare(&study, &units[..4]);
+            assert!(matches!(
+                &one_level,
+                Source::Synthetic { members: None, .. }
+            ));
+        }
+    }
 }
