@@ -70,10 +70,10 @@ pub struct FinishReport {
 /// whole, complete study ([`finish`]).
 pub fn run(study: &Study, opts: &RunOptions) -> Result<StudyReport> {
     let dir = &opts.out_dir;
-    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
     let run = study::run(study, opts)?;
-    let finish = if run.complete && opts.shard == Shard::WHOLE {
+    let finish = if run.complete && opts.shard == Shard::WHOLE && !study::interrupted() {
         Some(finish(study, dir, run.tally.as_ref())?)
     } else {
         None
@@ -242,7 +242,7 @@ pub fn risk(
     if out.extension().is_some_and(|e| e == "csv") {
         return Err(Error::invalid(
             "out",
-            out.display(),
+            out.display().to_string(),
             "a folder (risk.csv and figures/risk.svg go into it), not a file",
         ));
     }

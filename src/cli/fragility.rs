@@ -103,19 +103,7 @@ impl FragilityArgs {
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     rockfrag::study::require_finished(&args.dir)?;
-    let manifest = args.dir.join(rockfrag::study::files::MANIFEST);
-    if manifest.exists() && !args.partial {
-        let m = rockfrag::study::Manifest::read(&manifest)?;
-        if m.shard != rockfrag::study::Shard::WHOLE {
-            anyhow::bail!(
-                "{}: holds shard {} of study '{}', a part of its analyses: merge the shards \
-                 (rockfrag merge) and fit the merged folder, or pass --partial to fit this part",
-                args.dir.display(),
-                m.shard,
-                m.study
-            );
-        }
-    }
+    super::refuse_shard(&args.dir, args.partial, "fit")?;
     let options = args.options()?;
     let out = args.out.as_ref().unwrap_or(&args.dir);
     let report = rockfrag::pipeline::refit(&args.dir, out, &options)?;

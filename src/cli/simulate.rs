@@ -6,6 +6,7 @@ use super::args::{
 };
 use anyhow::Context;
 use clap::ValueEnum;
+use rockfrag::error::{fixed, number};
 use rockfrag::motion::{self, G_STANDARD, MeasuredPair, Pair, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
@@ -155,7 +156,34 @@ pub struct SimulateArgs {
 impl SimulateArgs {
     /// μk ≤ μs, checked with the arguments rather than when the record is
     /// solved (which named the record, not the flags).
+    /// The pair's checks are the spec's: two different files, and an
+    /// orientation in [0°, 360°) (each direction once).
     pub fn check(&self) -> Result<(), clap::Error> {
+        let usage = |message: String| {
+            Err(clap::Error::raw(
+                clap::error::ErrorKind::ValueValidation,
+                message + "\n",
+            ))
+        };
+        if let (Some(h1), Some(h2)) = (&self.motion, &self.motion2)
+            && rockfrag::io_util::same_file(h1, h2)
+        {
+            return usage(format!(
+                "--motion2 {} is the --motion file {}: give the second horizontal component, a \
+                 file other than the first",
+                h2.display(),
+                h1.display()
+            ));
+        }
+        if let Some(phi) = self.orientation
+            && !rockfrag::motion::is_orientation(phi)
+        {
+            return usage(format!(
+                "invalid value '{}' for --orientation <DEG>: expected {}",
+                rockfrag::error::number(phi),
+                rockfrag::motion::ORIENTATION_EXPECTED
+            ));
+        }
         match (self.mu_s, self.mu_k) {
             (Some(s), Some(k)) if k > s => Err(clap::Error::raw(
                 clap::error::ErrorKind::ArgumentConflict,
@@ -230,15 +258,16 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         print_summary(&args, &block, &ground, &outcome);
         if let (Some(pga), Some(phi)) = (rotd50, args.orientation) {
             println!(
-                "pair              RotD50 PGA {:.3} g, the block faces φ = {phi}° from H1",
-                pga / args.g
+                "pair              RotD50 PGA {} g, the block faces φ = {}° from H1",
+                fixed(pga / args.g, 3),
+                number(phi)
             );
         }
         if !floor.is_ground() {
             println!(
-                "floor             PFA {:.3} g, PFV {:.3} m/s ({} mode{})",
-                record.pga() / args.g,
-                record.pgv(),
+                "floor             PFA {} g, PFV {} m/s ({} mode{})",
+                fixed(record.pga() / args.g, 3),
+                fixed(record.pgv(), 3),
                 floor.modes.len(),
                 if floor.modes.len() == 1 { "" } else { "s" }
             );
@@ -317,8 +346,10 @@ fn load_record(args: &SimulateArgs) -> anyhow::Result<(Record, Option<f64>)> {
             };
             if !(k.is_finite() && k > 0.0) {
                 anyhow::bail!(
-                    "cannot scale {} by {what}: its PGA is {pga} m/s² and its PGV {pgv} m/s{}",
+                    "cannot scale {} by {what}: its PGA is {} m/s² and its PGV {} m/s{}",
                     path.display(),
+                    number(pga),
+                    number(pgv),
                     if pair.is_some() {
                         " (RotD50 of the pair)"
                     } else {
@@ -353,33 +384,37 @@ fn load_record(args: &SimulateArgs) -> anyhow::Result<(Record, Option<f64>)> {
 }
 
 fn print_summary(args: &SimulateArgs, block: &Block, record: &Record, o: &Outcome) {
-    let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{t:.4} s"));
+    let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{} s", fixed(t, 4)));
     println!(
-        "record            {} ({} samples, dt {} s, PGA {:.3} g)",
+        "record            {} ({} samples, dt {} s, PGA {} g)",
         record.name,
         record.len(),
-        record.dt,
-        record.pga() / args.g
+        number(record.dt),
+        fixed(record.pga() / args.g, 3)
     );
     println!(
-        "block             2B = {} m, H/B = {}, θc = {:.4} rad, e = {}",
-        args.width, args.aspect, block.theta_c, args.restitution
+        "block             2B = {} m, H/B = {}, θc = {} rad, e = {}",
+        number(args.width),
+        number(args.aspect),
+        fixed(block.theta_c, 4),
+        number(args.restitution)
     );
     println!(
         "overturned        {}{}",
         o.overturned,
         o.overturn_time
-            .map_or(String::new(), |t| format!(" at {t:.4} s"))
+            .map_or(String::new(), |t| format!(" at {} s", fixed(t, 4)))
     );
     println!(
         "uplifted          {} ({} uplifts, {} held lift-offs)",
         o.uplifted, o.uplifts, o.liftoff_holds
     );
-    println!("θmax/θc           {:.6}", o.theta_max_over_theta_c);
-    println!("μ motion          {:.6}", o.mu_motion);
+    println!("θmax/θc           {}", fixed(o.theta_max_over_theta_c, 6));
+    println!("μ motion          {}", fixed(o.mu_motion, 6));
     println!(
-        "μ impact          {:.6} (paper's eq. (5): {:.6})",
-        o.mu_impact, o.mu_impact_eq5
+        "μ impact          {} (paper's eq. (5): {})",
+        fixed(o.mu_impact, 6),
+        fixed(o.mu_impact_eq5, 6)
     );
     println!(
         "impacts           {} (first {}), flights {}, settles {}",
@@ -391,17 +426,19 @@ fn print_summary(args: &SimulateArgs, block: &Block, record: &Record, o: &Outcom
     println!("energy gains      {}", o.energy_gains);
     if args.mu_s.is_some() {
         println!(
-            "slip              max {:.6} m, final {:.6} m, {} Painlevé holds",
-            o.slip_max, o.slip_final, o.stick_holds
+            "slip              max {} m, final {} m, {} Painlevé holds",
+            fixed(o.slip_max, 6),
+            fixed(o.slip_final, 6),
+            o.stick_holds
         );
     }
     let modes: Vec<String> = Mode::ALL
         .iter()
         .filter(|m| o.time_in_mode[m.index()] > 0.0)
-        .map(|m| format!("{} {:.3} s", m.name(), o.time_in_mode[m.index()]))
+        .map(|m| format!("{} {} s", m.name(), fixed(o.time_in_mode[m.index()], 3)))
         .collect();
     println!("time in modes     {}", modes.join(", "));
-    println!("end time          {:.4} s", o.end_time);
+    println!("end time          {} s", fixed(o.end_time, 4));
     println!(
         "work              {} RHS calls, {} steps ({} rejected), {} events",
         o.stats.rhs_calls, o.stats.steps_accepted, o.stats.steps_rejected, o.stats.events

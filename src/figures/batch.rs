@@ -308,7 +308,7 @@ impl StudyFigures {
     /// Draws every figure into `out` (created if missing) in `format`, in
     /// the order of the table above.
     pub fn write(&self, out: &Path, format: Format) -> Result<FiguresReport> {
-        std::fs::create_dir_all(out).map_err(Error::io(out))?;
+        crate::io_util::create_folder(out)?;
         let file = |name: &str| out.join(format!("{name}.{}", format.extension()));
         let mut report = FiguresReport {
             written: Vec::new(),

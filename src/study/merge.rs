@@ -35,7 +35,20 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
                     .into(),
             ));
         }
-        let m = Manifest::read(&dir.join(files::MANIFEST))?;
+        // a folder that is not a finished shard's is named with what it lacks
+        super::require_finished(dir)?;
+        let manifest = dir.join(files::MANIFEST);
+        if !manifest.is_file() {
+            return Err(conflict(
+                dir,
+                format!(
+                    "holds no {}: not the folder of a `rockfrag run --shard K/N` (each shard's \
+                     folder has its manifest.json and outcomes.csv)",
+                    files::MANIFEST
+                ),
+            ));
+        }
+        let m = Manifest::read(&manifest)?;
         if std::fs::canonicalize(dir).ok() == std::fs::canonicalize(out).ok() {
             return Err(conflict(
                 out,
@@ -142,7 +155,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
         }
         readers.push((r, path));
     }
-    std::fs::create_dir_all(out).map_err(Error::io(out))?;
+    crate::io_util::create_folder(out)?;
     let out_csv = out.join(files::OUTCOMES);
     let mut row = Vec::new();
     let mut short: Option<PathBuf> = None;

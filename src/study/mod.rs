@@ -40,7 +40,7 @@ mod tally;
 pub use lock::RunLock;
 pub use manifest::{Finished, Manifest};
 pub use merge::merge;
-pub use plan::{Shard, Unit};
+pub use plan::{Shard, Unit, unit_count};
 pub use source::{Source, UnitMotion};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
 pub use tally::{Counts, Tally};
@@ -59,6 +59,19 @@ use std::collections::HashMap;
 use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// A request to stop: set by the command line's Ctrl-C handler (any caller
+/// may set it), read by [`run`] between chunks. A run that sees it stops
+/// as if killed after the chunk under way, its analyses saved and
+/// checkpointed (so running it again resumes there), and returns as not
+/// complete; [`crate::pipeline::run`] then skips what follows the
+/// analyses.
+pub static INTERRUPT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether [`INTERRUPT`] is set.
+pub fn interrupted() -> bool {
+    INTERRUPT.load(std::sync::atomic::Ordering::SeqCst)
+}
 
 /// Options of one invocation of a run (they do not change the results).
 #[derive(Clone, Debug)]
@@ -163,7 +176,7 @@ fn records_hash(study: &Study) -> Result<Option<u64>> {
 pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let t0 = Instant::now();
     let dir = &opts.out_dir;
-    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
     let threads = if opts.threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
@@ -283,7 +296,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
             );
         }
     }
-    while ckpt.units_done < limit {
+    while ckpt.units_done < limit && !interrupted() {
         let chunk = &units[ckpt.units_done..(ckpt.units_done + chunk_units).min(limit)];
         let (text, solved_here) =
             pool.install(|| run_chunk(study, &cases, &cols, &source, chunk, &mut ahead));
@@ -333,7 +346,13 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     manifest.write(&dir.join(files::MANIFEST))?;
     let out = dir.join(files::OUTCOMES);
     std::fs::rename(&partial_path, &out).map_err(Error::io(&out))?;
-    std::fs::remove_file(&ckpt_path).map_err(Error::io(&ckpt_path))?;
+    // (a shard with no units never wrote a checkpoint)
+    match std::fs::remove_file(&ckpt_path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            return Err(Error::io(&ckpt_path)(e));
+        }
+        _ => {}
+    }
     report.complete = true;
     report.counts = tally.counts();
     report.tally = Some(tally);
