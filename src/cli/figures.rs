@@ -90,6 +90,9 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     for path in &report.written {
         println!("{}", path.display());
     }
+    if let Some(command) = &report.history_command {
+        eprintln!("history: its analysis is solved again by `{command}`");
+    }
     if args.partial {
         eprintln!(
             "note: {} holds one shard of its study: these figures show only that part of its \

@@ -170,5 +170,8 @@ pub fn say(finish: &FinishReport, dir: &Path, verbose: bool) {
             figures.written.len(),
             dir.join("figures").display()
         );
+        if let Some(command) = &figures.history_command {
+            eprintln!("history: its analysis is solved again by `{command}`");
+        }
     }
 }

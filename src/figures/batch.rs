@@ -174,6 +174,9 @@ pub struct FiguresReport {
     pub written: Vec<PathBuf>,
     /// Figures drawn in reduced form or skipped, and why.
     pub notes: Vec<String>,
+    /// The command that solves the history figure's analysis again
+    /// (`rockfrag simulate --study …`), when there is one.
+    pub history_command: Option<String>,
 }
 
 /// The figures of a study folder, computed and not yet drawn.
@@ -313,6 +316,7 @@ impl StudyFigures {
         let mut report = FiguresReport {
             written: Vec::new(),
             notes: self.notes.clone(),
+            history_command: self.history.as_ref().and_then(|h| h.command.clone()),
         };
         if let Some(record) = &self.motion {
             let path = file("motion");

@@ -33,6 +33,7 @@ mod manifest;
 mod merge;
 pub(crate) mod plan;
 mod progress;
+mod single;
 mod source;
 mod summary;
 mod tally;
@@ -41,6 +42,7 @@ pub use lock::RunLock;
 pub use manifest::{Finished, Manifest};
 pub use merge::merge;
 pub use plan::{Shard, Unit, unit_count};
+pub use single::{CommandBlock, Reanalysis, case_of, locate, reanalyse, simulate_command};
 pub use source::{Source, UnitMotion};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
 pub use tally::{Counts, Tally};
@@ -535,44 +537,14 @@ fn solve_units(
             let t0 = Instant::now();
             let (ui, ci) = (k / cases.len(), k % cases.len());
             let unit = plan::unit(study, chunk[ui]);
-            let case = &cases[ci];
-            let record = &records[ui];
-            let made = record.as_ref().ok();
-            let pair = made.and_then(|m| m.pair);
-            let info = RecordInfo {
-                index: unit.record,
-                level: levels[unit.level],
-                pga_g: made.map(|m| m.pga_g),
-                pgv: made.map(|m| m.pgv),
-                pga_rotd50_g: pair.map(|p| p.0[0]),
-                pgv_rotd50: pair.map(|p| p.0[1]),
-                phi: pair.map(|p| p.1),
-                pfa_g: made.and_then(|m| m.pfa_g),
-                pfv: made.and_then(|m| m.pfv),
-                file: file_names[ui].as_deref(),
-            };
-            let (own, analysis) = plan::analysis(study, case, ci, &unit);
-            let (result, sensitive) = match (analysis, record) {
-                (Ok(analysis), Ok(m)) => {
-                    let result = solve(&analysis, &m.felt, study);
-                    // the same analysis under the motion it feels scaled by 1 + 1e-9
-                    let sensitive = match &result {
-                        Ok(base) if cols.sensitivity => {
-                            solve(&analysis, &sensitivity::perturbed(&m.felt), study)
-                                .ok()
-                                .map(|o| Sensitivity::compare(base, &o).sensitive)
-                        }
-                        _ => None,
-                    };
-                    (result, sensitive)
-                }
-                (Ok(_), Err(e)) => (Err(format!("record: {e}")), None),
-                (Err(e), _) => (Err(format!("block: {e}")), None),
-            };
-            let mut row = cols.row(own, &info, result);
-            row.sensitive = sensitive;
-            let mut text = String::with_capacity(256);
-            cols.write_row(&mut text, &row);
+            let (_, text) = analyse(
+                study,
+                cols,
+                (&cases[ci], ci),
+                &unit,
+                &records[ui],
+                file_names[ui].as_deref(),
+            );
             (text, t0.elapsed().as_secs_f64())
         })
         .collect();
@@ -585,14 +557,86 @@ fn solve_units(
         .collect()
 }
 
+/// One analysis of `study`: `case` (number `case.1` in canonical order) on
+/// `unit`, under the unit's motion (or the error that kept it from being
+/// made), from record file `file`: its own block (drawn values drawn) and
+/// its `outcomes.csv` row, with its newline. The run and [`reanalyse`]
+/// make every row here, so a row solved again is the run's.
+pub(crate) fn analyse(
+    study: &Study,
+    cols: &Columns,
+    case: (&Case, usize),
+    unit: &Unit,
+    motion: &std::result::Result<UnitMotion, String>,
+    file: Option<&str>,
+) -> (Analysed, String) {
+    let made = motion.as_ref().ok();
+    let pair = made.and_then(|m| m.pair);
+    let info = RecordInfo {
+        index: unit.record,
+        level: study.intensity.levels()[unit.level],
+        pga_g: made.map(|m| m.pga_g),
+        pgv: made.map(|m| m.pgv),
+        pga_rotd50_g: pair.map(|p| p.0[0]),
+        pgv_rotd50: pair.map(|p| p.0[1]),
+        phi: pair.map(|p| p.1),
+        pfa_g: made.and_then(|m| m.pfa_g),
+        pfv: made.and_then(|m| m.pfv),
+        file,
+    };
+    let (own, analysis) = plan::analysis(study, case.0, case.1, unit);
+    let (result, sensitive) = match (&analysis, motion) {
+        (Ok(analysis), Ok(m)) => {
+            let result = solve(analysis, &m.felt, study, None);
+            // the same analysis under the motion it feels scaled by 1 + 1e-9
+            let sensitive = match &result {
+                Ok(base) if cols.sensitivity => {
+                    solve(analysis, &sensitivity::perturbed(&m.felt), study, None)
+                        .ok()
+                        .map(|o| Sensitivity::compare(base, &o).sensitive)
+                }
+                _ => None,
+            };
+            (result, sensitive)
+        }
+        (Ok(_), Err(e)) => (Err(format!("record: {e}")), None),
+        (Err(e), _) => (Err(format!("block: {e}")), None),
+    };
+    let mut row = cols.row(own, &info, result.clone());
+    row.sensitive = sensitive;
+    let mut text = String::with_capacity(256);
+    cols.write_row(&mut text, &row);
+    let analysed = Analysed {
+        own,
+        analysis: analysis.ok(),
+        result,
+        sensitive,
+    };
+    (analysed, text)
+}
+
+/// What [`analyse`] solved.
+#[derive(Clone, Debug)]
+pub struct Analysed {
+    /// The block's own parameters (drawn values as drawn).
+    pub own: Case,
+    /// Its analysis (`None` when the drawn values make no valid block).
+    pub analysis: Option<Analysis>,
+    /// Its outcome, or why there is none (`outcomes.csv`'s `error`).
+    pub result: std::result::Result<Outcome, String>,
+    /// Whether it is sensitive (with `output.sensitivity`).
+    pub sensitive: Option<bool>,
+}
+
 /// One analysis; a solver error or panic becomes a message.
 fn solve(
     analysis: &Analysis,
     record: &Record,
     study: &Study,
+    history: Option<&mut crate::solver::History>,
 ) -> std::result::Result<Outcome, String> {
     let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        simulate(analysis, record, &study.solver, None)
+        simulate(analysis, record, &study.solver, history)
     }));
     match attempt {
         Ok(Ok(o)) => Ok(o),
