@@ -444,3 +444,41 @@ fn ctrl_c_says_how_to_resume_and_resumes() {
         std::fs::read(alone.join("outcomes.csv")).unwrap()
     );
 }
+
+/// Every column `outcomes.csv` can have is described in docs/outputs.md's
+/// `outcomes.csv` section (`uplifted`, `flights`, `liftoff_holds`,
+/// `settles`, `stick_holds` were described nowhere), and the block's 2B, 2H
+/// and H/B are defined there.
+#[test]
+fn every_outcomes_column_is_documented() {
+    use rockfrag::outcomes_csv::Columns;
+    let docs =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/outputs.md")).unwrap();
+    let start = docs
+        .find("## `outcomes.csv`")
+        .expect("an outcomes.csv section");
+    let section = &docs[start..start + docs[start + 3..].find("\n## ").unwrap() + 3];
+    let all = Columns {
+        pgv: true,
+        files: true,
+        pairs: true,
+        scale: true,
+        time_in_mode: true,
+        stats: true,
+        floor: true,
+        sensitivity: true,
+    };
+    for column in all.list() {
+        let name = format!("`{}`", column.name());
+        assert!(
+            section.contains(&name),
+            "{name} is not described in docs/outputs.md"
+        );
+    }
+    for term in ["**2B**", "**2H**", "**H/B**", "**θc**"] {
+        assert!(
+            docs.contains(term),
+            "docs/outputs.md does not define {term}"
+        );
+    }
+}
