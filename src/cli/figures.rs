@@ -64,7 +64,7 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     }
     refuse_inference(&args.dir)?;
     rockfrag::study::require_finished(&args.dir)?;
-    super::refuse_shard(&args.dir, args.partial, "draw")?;
+    super::folders::refuse_shard(&args.dir, args.partial, "draw")?;
     let study = study_of_folder(&args.dir)?;
     let mut options = study
         .as_ref()

@@ -107,7 +107,7 @@ impl FragilityArgs {
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     rockfrag::study::require_finished(&args.dir)?;
-    super::refuse_shard(&args.dir, args.partial, "fit")?;
+    super::folders::refuse_shard(&args.dir, args.partial, "fit")?;
     let options = args.options()?;
     let out = args.out.as_ref().unwrap_or(&args.dir);
     if let Some(warning) = rockfrag::pipeline::fewer_replicates(out, options.bootstrap) {

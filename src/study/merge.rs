@@ -36,16 +36,22 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
             ));
         }
         // a folder that is not a finished shard's is named with what it lacks
-        super::require_finished(dir)?;
         let manifest = dir.join(files::MANIFEST);
-        if !manifest.is_file() {
+        let lacking = [files::OUTCOMES, files::MANIFEST]
+            .into_iter()
+            .find(|f| !dir.join(f).is_file());
+        if let Some(file) = lacking {
             return Err(conflict(
                 dir,
-                format!(
-                    "holds no {}: not the folder of a `rockfrag run --shard K/N` (each shard's \
-                     folder has its manifest.json and outcomes.csv)",
-                    files::MANIFEST
-                ),
+                if dir.is_dir() {
+                    format!(
+                        "holds no {file}: not the folder of a finished `rockfrag run --shard K/N` \
+                         (each shard's folder has its outcomes.csv and manifest.json)"
+                    )
+                } else {
+                    "no such folder: expected the folder of a finished `rockfrag run --shard K/N`"
+                        .to_string()
+                },
             ));
         }
         let m = Manifest::read(&manifest)?;

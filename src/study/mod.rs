@@ -42,17 +42,17 @@ pub use lock::RunLock;
 pub use manifest::{Finished, Manifest};
 pub use merge::merge;
 pub use plan::{Shard, Unit, unit_count};
-pub use single::{CommandBlock, Reanalysis, case_of, locate, reanalyse, simulate_command};
+use single::analyse;
+pub use single::{
+    Analysed, CommandBlock, Reanalysis, case_of, locate, reanalyse, simulate_command,
+};
 pub use source::{Source, UnitMotion};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
 pub use tally::{Counts, Tally};
 
 use crate::case::Case;
 use crate::error::{Error, Result};
-use crate::motion::Record;
-use crate::outcome::Outcome;
-use crate::outcomes_csv::{Columns, RecordInfo};
-use crate::solver::{Analysis, Sensitivity, sensitivity, simulate};
+use crate::outcomes_csv::Columns;
 use crate::spec::{Motions, Study, fnv1a64};
 use plan::columns;
 use rayon::prelude::*;
@@ -555,101 +555,6 @@ fn solve_units(
             (text, record + unit.iter().map(|(_, t)| t).sum::<f64>())
         })
         .collect()
-}
-
-/// One analysis of `study`: `case` (number `case.1` in canonical order) on
-/// `unit`, under the unit's motion (or the error that kept it from being
-/// made), from record file `file`: its own block (drawn values drawn) and
-/// its `outcomes.csv` row, with its newline. The run and [`reanalyse`]
-/// make every row here, so a row solved again is the run's.
-pub(crate) fn analyse(
-    study: &Study,
-    cols: &Columns,
-    case: (&Case, usize),
-    unit: &Unit,
-    motion: &std::result::Result<UnitMotion, String>,
-    file: Option<&str>,
-) -> (Analysed, String) {
-    let made = motion.as_ref().ok();
-    let pair = made.and_then(|m| m.pair);
-    let info = RecordInfo {
-        index: unit.record,
-        level: study.intensity.levels()[unit.level],
-        pga_g: made.map(|m| m.pga_g),
-        pgv: made.map(|m| m.pgv),
-        pga_rotd50_g: pair.map(|p| p.0[0]),
-        pgv_rotd50: pair.map(|p| p.0[1]),
-        phi: pair.map(|p| p.1),
-        pfa_g: made.and_then(|m| m.pfa_g),
-        pfv: made.and_then(|m| m.pfv),
-        file,
-    };
-    let (own, analysis) = plan::analysis(study, case.0, case.1, unit);
-    let (result, sensitive) = match (&analysis, motion) {
-        (Ok(analysis), Ok(m)) => {
-            let result = solve(analysis, &m.felt, study, None);
-            // the same analysis under the motion it feels scaled by 1 + 1e-9
-            let sensitive = match &result {
-                Ok(base) if cols.sensitivity => {
-                    solve(analysis, &sensitivity::perturbed(&m.felt), study, None)
-                        .ok()
-                        .map(|o| Sensitivity::compare(base, &o).sensitive)
-                }
-                _ => None,
-            };
-            (result, sensitive)
-        }
-        (Ok(_), Err(e)) => (Err(format!("record: {e}")), None),
-        (Err(e), _) => (Err(format!("block: {e}")), None),
-    };
-    let mut row = cols.row(own, &info, result.clone());
-    row.sensitive = sensitive;
-    let mut text = String::with_capacity(256);
-    cols.write_row(&mut text, &row);
-    let analysed = Analysed {
-        own,
-        analysis: analysis.ok(),
-        result,
-        sensitive,
-    };
-    (analysed, text)
-}
-
-/// What [`analyse`] solved.
-#[derive(Clone, Debug)]
-pub struct Analysed {
-    /// The block's own parameters (drawn values as drawn).
-    pub own: Case,
-    /// Its analysis (`None` when the drawn values make no valid block).
-    pub analysis: Option<Analysis>,
-    /// Its outcome, or why there is none (`outcomes.csv`'s `error`).
-    pub result: std::result::Result<Outcome, String>,
-    /// Whether it is sensitive (with `output.sensitivity`).
-    pub sensitive: Option<bool>,
-}
-
-/// One analysis; a solver error or panic becomes a message.
-fn solve(
-    analysis: &Analysis,
-    record: &Record,
-    study: &Study,
-    history: Option<&mut crate::solver::History>,
-) -> std::result::Result<Outcome, String> {
-    let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        simulate(analysis, record, &study.solver, history)
-    }));
-    match attempt {
-        Ok(Ok(o)) => Ok(o),
-        Ok(Err(e)) => Err(e.to_string()),
-        Err(panic) => Err(format!(
-            "solver panicked: {}",
-            panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_default()
-        )),
-    }
 }
 
 fn read_checkpoint(path: &Path) -> Result<Option<Checkpoint>> {
