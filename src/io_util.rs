@@ -61,6 +61,74 @@ fn temp_path(dir: &Path, path: &Path) -> PathBuf {
     dir.join(format!(".{name}.tmp-{}-{n}{ext}", std::process::id()))
 }
 
+/// `text` without a leading byte-order mark (U+FEFF), which Excel and
+/// Notepad write at the start of a UTF-8 CSV file: every reader of a text
+/// file a user gives (records, surveys, hazard curves, specs) takes it off,
+/// so the first column's name or value reads as written.
+pub fn strip_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
+}
+
+/// The text of the file `path` a user gave, without a byte-order mark
+/// ([`strip_bom`]). A folder is refused as one (`PATH: is a folder, not a
+/// file`), not with the system's bare "Is a directory".
+pub fn read_text(path: &Path) -> crate::Result<String> {
+    if path.is_dir() {
+        return Err(crate::Error::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::IsADirectory,
+                "is a folder, not a file",
+            ),
+        });
+    }
+    let text = std::fs::read_to_string(path).map_err(crate::Error::io(path))?;
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => text,
+    })
+}
+
+/// Whether `a` and `b` name the same file: the same canonical path (so
+/// `a.AT2`, `./a.AT2` and a link to it are one file), or, where either
+/// cannot be resolved (a file not yet there), the same path once `.`
+/// components are dropped.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => {
+            let plain = |p: &Path| -> PathBuf {
+                p.components()
+                    .filter(|c| !matches!(c, std::path::Component::CurDir))
+                    .collect()
+            };
+            plain(a) == plain(b)
+        }
+    }
+}
+
+/// Creates the output folder `dir` (and its parents) if missing. A file
+/// where the folder or one of its parents should be is refused naming it
+/// (`results/vase: is a file, not a folder`), not with the system's bare
+/// "File exists".
+pub fn create_folder(dir: &Path) -> crate::Result<()> {
+    if let Some(file) = dir.ancestors().find(|a| a.exists() && !a.is_dir()) {
+        return Err(crate::Error::Io {
+            path: file.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::NotADirectory,
+                if file == dir {
+                    "is a file, not a folder: give the folder to write into (it is created if \
+                     missing)"
+                } else {
+                    "is a file, not a folder, so no folder can be made inside it"
+                },
+            ),
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(crate::Error::io(dir))
+}
+
 /// Replaces the section of the markdown file at `path` that starts with
 /// the line `heading` (e.g. `## Risk`) and runs to the next `## ` heading
 /// with `section`; a file without it gets `section` before the first of
@@ -112,17 +180,10 @@ pub fn replace_section(
     })
 }
 
-/// The shortest text that reads back as exactly `x`: plain for ordinary
-/// magnitudes, with an exponent below 1e-4 or from 1e15 (so that a tail
-/// probability of 1e-300 is not 300 zeros).
-pub fn number(x: f64) -> String {
-    let a = x.abs();
-    if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
-        x.to_string()
-    } else {
-        format!("{x:e}")
-    }
-}
+/// The shortest text that reads back as exactly `x`, with an exponent for
+/// tiny and huge values: the one rule of files and messages, defined with
+/// the messages in [`crate::error::number`].
+pub use crate::error::number;
 
 /// Three significant figures, for tables people read: plain from 10⁻³ to
 /// 10⁶ (`0.148`, `12.3`, `5480`), in scientific notation outside

@@ -2,8 +2,6 @@
 
 mod cli;
 
-use clap::Parser;
-
 /// A write to a closed pipe (`rockfrag simulate … | head -1`) ends the
 /// program quietly with status 141, as a Unix tool killed by SIGPIPE does,
 /// instead of a panic message and status 101 (Rust ignores SIGPIPE, so
@@ -26,13 +24,14 @@ fn quiet_on_broken_pipe() {
 
 fn main() {
     quiet_on_broken_pipe();
-    let args = match cli::Cli::try_parse() {
+    let args = match cli::parse() {
         Ok(args) => args,
         Err(err) => cli::exit_on_parse_error(err),
     };
     if let Err(err) = cli::check(&args) {
         cli::exit_on_parse_error(err);
     }
+    interrupt::install(&args.command);
     if let Err(err) = cli::run(args) {
         // One line: the context chain, skipping causes already quoted by their parent.
         let mut line = String::new();
@@ -48,4 +47,80 @@ fn main() {
         eprintln!("error: {line}");
         std::process::exit(1);
     }
+}
+
+/// Ctrl-C (SIGINT). `run` stops at the end of the chunk of analyses under
+/// way, saves and checkpoints it, says so and how to resume, and exits with
+/// status 130 (its own message, `cli::run`); a second Ctrl-C stops at once
+/// (a run killed so resumes too: the checkpoint is written after each
+/// chunk). Every other command stops at once with a line saying what was
+/// kept: files are written whole or not at all, and `infer` keeps its
+/// simulations level by level.
+#[cfg(unix)]
+mod interrupt {
+    use std::sync::OnceLock;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    /// What an interrupted command prints as it stops at once.
+    static MESSAGE: OnceLock<String> = OnceLock::new();
+    /// Whether the first Ctrl-C asks the run to stop after its chunk.
+    static GRACEFUL: AtomicBool = AtomicBool::new(false);
+
+    pub fn install(command: &crate::cli::Command) {
+        use crate::cli::Command;
+        let (graceful, kept) = match command {
+            Command::Run(_) => (
+                true,
+                "the analyses saved at the last checkpoint are kept; run the same command again \
+                 to resume where it stopped",
+            ),
+            Command::Infer(_) => (
+                false,
+                "the simulations of the intensity levels finished so far are kept; run the same \
+                 command again to resume where it stopped",
+            ),
+            _ => (
+                false,
+                "no file was left half-written (each is written whole or not at all); run the \
+                 command again",
+            ),
+        };
+        let _ = MESSAGE.set(format!("\ninterrupted: {kept}\n"));
+        GRACEFUL.store(graceful, Ordering::SeqCst);
+        let handler = on_interrupt as extern "C" fn(libc::c_int);
+        // SAFETY: the handler does only what a signal handler may: atomic
+        // loads and stores, write(2) and _exit(2).
+        unsafe {
+            libc::signal(libc::SIGINT, handler as libc::sighandler_t);
+        }
+    }
+
+    extern "C" fn on_interrupt(_: libc::c_int) {
+        let first = !rockfrag::study::INTERRUPT.swap(true, Ordering::SeqCst);
+        if first && GRACEFUL.load(Ordering::SeqCst) {
+            say(
+                "\ninterrupted: finishing the chunk of analyses under way and saving it \
+                 (Ctrl-C again to stop at once)\n",
+            );
+            return;
+        }
+        if let Some(message) = MESSAGE.get() {
+            say(message);
+        }
+        // SAFETY: _exit is async-signal-safe.
+        unsafe { libc::_exit(130) }
+    }
+
+    fn say(text: &str) {
+        // SAFETY: write(2) on standard error, from a live buffer.
+        unsafe {
+            libc::write(2, text.as_ptr().cast(), text.len());
+        }
+    }
+}
+
+/// Elsewhere Ctrl-C keeps the platform's default.
+#[cfg(not(unix))]
+mod interrupt {
+    pub fn install(_: &crate::cli::Command) {}
 }

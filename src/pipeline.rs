@@ -70,10 +70,10 @@ pub struct FinishReport {
 /// whole, complete study ([`finish`]).
 pub fn run(study: &Study, opts: &RunOptions) -> Result<StudyReport> {
     let dir = &opts.out_dir;
-    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
     let run = study::run(study, opts)?;
-    let finish = if run.complete && opts.shard == Shard::WHOLE {
+    let finish = if run.complete && opts.shard == Shard::WHOLE && !study::interrupted() {
         Some(finish(study, dir, run.tally.as_ref())?)
     } else {
         None
@@ -174,6 +174,38 @@ pub fn folder_fit_options(dir: &Path, options: &FragilityOptions) -> Result<Frag
     })
 }
 
+/// The bootstrap replicates of a refit of the study folder `dir` when the
+/// caller gives none: the study's own `[fragility] bootstrap` (from
+/// `dir/manifest.json`), so that a refit does not silently swap a study's
+/// 1000-replicate bands for fewer; the default without a study.
+pub fn study_bootstrap(dir: &Path) -> Result<usize> {
+    let manifest = dir.join(files::MANIFEST);
+    if !manifest.exists() {
+        return Ok(FragilityOptions::default().bootstrap);
+    }
+    let m = study::Manifest::read(&manifest)?;
+    let study = Study::from_toml_unchecked(&m.spec_toml, &manifest)?;
+    Ok(study
+        .fragility
+        .map_or(FragilityOptions::default().bootstrap, |f| f.bootstrap))
+}
+
+/// A warning when a refit with `bootstrap` replicates would replace, in
+/// `out`, a fit drawn with more (its `fragility.csv`): the bands of the new
+/// fit are noisier, which the caller asked for but may not have meant.
+pub fn fewer_replicates(out: &Path, bootstrap: usize) -> Option<String> {
+    let path = out.join("fragility.csv");
+    let rows = crate::fragility::read_fragility_csv(&path).ok()?;
+    let before = rows.iter().filter_map(|r| r.boot_replicates).max()?;
+    (bootstrap < before).then(|| {
+        format!(
+            "{} held a fit with {before} bootstrap replicates; this one has {bootstrap}, so its \
+             90 % bands are noisier (give the study's {before}, or write the refit elsewhere)",
+            path.display()
+        )
+    })
+}
+
 /// Whether `a` and `b` name the same folder (by their canonical paths when
 /// both exist).
 pub fn same_folder(a: &Path, b: &Path) -> bool {
@@ -242,7 +274,7 @@ pub fn risk(
     if out.extension().is_some_and(|e| e == "csv") {
         return Err(Error::invalid(
             "out",
-            out.display(),
+            out.display().to_string(),
             "a folder (risk.csv and figures/risk.svg go into it), not a file",
         ));
     }

@@ -231,7 +231,7 @@ fn truncation(field: &str, min: Option<f64>, max: Option<f64>) -> Result<()> {
         return Err(Error::invalid(
             &format!("{field}.max"),
             hi,
-            &format!("a bound above min = {lo}"),
+            &format!("a bound above min = {}", crate::error::number(lo)),
         ));
     }
     Ok(())

@@ -16,8 +16,10 @@
 //!   20 s on two cores, over this test's budget) is checked for flags and
 //!   files without being run (`tests/infer.rs` runs inference itself);
 //! - `cargo test --release` is the README's second command and exactly the
-//!   test command of `.ci/run`; `cargo install --path .` installs this
-//!   package's `rockfrag` binary;
+//!   test command of `.ci/run`; `cargo install --locked --path .` installs
+//!   this package's `rockfrag` binary with Cargo.lock's versions (every
+//!   `cargo install` in README.md and docs/ says `--locked`: without it
+//!   cargo takes the newest versions the manifest allows, issue 37);
 //! - any other command (a program the test does not know) fails the test,
 //!   so a new command in the README needs a check here.
 //!
@@ -145,6 +147,33 @@ fn readme_starts_with_run_and_test_and_ci_runs_the_same_tests() {
     );
 }
 
+/// Every `cargo install` the README and the docs show (in code blocks and
+/// inline) builds with Cargo.lock's versions: `--locked`.
+#[test]
+fn every_install_line_is_locked() {
+    let mut files = vec!["README.md".to_string(), "studies/README.md".to_string()];
+    for e in std::fs::read_dir(Path::new(ROOT).join("docs")).unwrap() {
+        let name = e.unwrap().file_name().into_string().unwrap();
+        if name.ends_with(".md") {
+            files.push(format!("docs/{name}"));
+        }
+    }
+    let mut installs = 0;
+    for f in &files {
+        // lines joined, so an install split over two lines is one
+        let text = read(f).replace('\n', " ");
+        for (i, _) in text.match_indices("cargo install") {
+            let rest = &text[i..text.len().min(i + 40)];
+            assert!(
+                rest.starts_with("cargo install --locked"),
+                "{f}: `{rest}…` without --locked"
+            );
+            installs += 1;
+        }
+    }
+    assert!(installs >= 2, "the README installs rockfrag");
+}
+
 /// Every command line of the README is one the test knows how to check, its
 /// subcommands and flags exist (so renaming a flag fails here), and the
 /// files it names exist.
@@ -160,7 +189,7 @@ fn every_readme_command_names_existing_subcommands_flags_and_files() {
         if line == "cargo test --release" {
             continue;
         }
-        if line == "cargo install --path ." {
+        if line == "cargo install --locked --path ." {
             assert!(
                 read("Cargo.toml").contains("name = \"rockfrag\""),
                 "the package is rockfrag"

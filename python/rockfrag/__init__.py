@@ -18,6 +18,8 @@ raise ``OSError``; a solver failure raises ``RuntimeError``.
 
 import difflib as _difflib
 import json as _json
+import math as _math
+import operator as _operator
 import os as _os
 import warnings as _warnings
 
@@ -71,7 +73,21 @@ def motion(seed, pga, index=0, *, dt=None, duration=None, highpass=None):
         ``t`` (s), ``acc`` (m/s²), ``vel`` (m/s), ``disp`` (m): numpy arrays,
         sample k at t = k·dt; ``dt`` (s) and ``name`` (``seed/index``).
     """
-    return _rockfrag.motion(int(seed), float(pga), int(index), dt, duration, highpass)
+    return _rockfrag.motion(_whole(seed, "seed"), float(pga), _whole(index, "index"), dt, duration, highpass)
+
+
+def _whole(x, what):
+    """A seed or index as the extension takes it: a whole number ≥ 0 (an
+    int or a numpy integer); 1.5 or 1.0 is refused, not truncated."""
+    try:
+        n = _operator.index(x)
+    except TypeError:
+        raise ValueError(
+            "invalid %s = %r: expected a whole number ≥ 0 (an int)" % (what, x)
+        ) from None
+    if n < 0:
+        raise ValueError("invalid %s = %d: expected a whole number ≥ 0" % (what, n))
+    return n
 
 
 def _component(record, what):
@@ -266,10 +282,31 @@ def _setup(width, aspect, restitution, mu_s, mu_k, solver, named):
 def _spec(spec):
     """A study as the extension takes it: (path, None) for a spec file,
     (None, JSON) for a dict of the spec's fields, (None, None) for the
-    built-in paper study."""
+    built-in paper study. numpy arrays and scalars in the dict are taken as
+    lists and numbers; a NaN or infinite number is refused naming its key."""
     if isinstance(spec, dict):
-        return None, _json.dumps(spec)
+        return None, _json.dumps(_plain(spec, "spec"), allow_nan=False)
     return (None if spec is None else _os.fspath(spec)), None
+
+
+def _plain(value, where):
+    """`value` (a spec dict or part of it) with numpy arrays and scalars
+    made lists and Python numbers; `where` names it in errors
+    (``spec['grid']['pga'][2]``)."""
+    if isinstance(value, dict):
+        return {k: _plain(v, "%s[%r]" % (where, k)) for k, v in value.items()}
+    if isinstance(value, _np.ndarray):
+        value = value.tolist()
+    elif isinstance(value, _np.generic):
+        value = value.item()
+    if isinstance(value, (list, tuple)):
+        return [_plain(v, "%s[%d]" % (where, i)) for i, v in enumerate(value)]
+    if isinstance(value, float) and not _math.isfinite(value):
+        raise ValueError(
+            "invalid %s = %r: expected a finite number (a spec has no NaN or infinite values; "
+            "leave the field out for its default)" % (where, value)
+        )
+    return value
 
 
 def _threads(threads):
@@ -497,13 +534,21 @@ def fragility(folder, *, out=None, **options):
         study's own, else overturning). Parameters drawn per analysis are
         pooled as by the CLI.
 
+        ``bootstrap`` defaults to the study's own ``[fragility] bootstrap``
+        (1000 without one); a fit that replaces one of more replicates in
+        the folder it writes to warns (``UserWarning``) that its bands are
+        noisier.
+
     Returns
     -------
-    str
-        The path of ``fragility.csv`` (with ``fragility_curves.csv``,
-        ``fragility_bootstrap.csv`` and ``fragility.xml`` beside it). Each
-        curve that could not be fitted raises a :class:`FitWarning` saying
-        why and what to try.
+    dict of numpy.ndarray or list
+        The columns of ``fragility.csv`` by name, as :func:`risk` returns
+        ``risk.csv``'s (numbers as float arrays, NaN where empty; text as
+        lists: ``case_id``, ``limit_state``, ``median``, ``beta``,
+        ``median_lo``, ``median_hi``, ``status``, …), and ``path``, the
+        file's path (``fragility_curves.csv``, ``fragility_bootstrap.csv``
+        and ``fragility.xml`` are beside it). Each curve that could not be
+        fitted raises a :class:`FitWarning` saying why and what to try.
     """
     known = {"im", "bootstrap", "unit", "seed", "confidence", "grid_points", "limit_state"}
     unknown = sorted(set(options) - known)
@@ -515,12 +560,32 @@ def fragility(folder, *, out=None, **options):
         raise TypeError(
             "unknown keyword(s) %s: expected one of out, %s" % (", ".join(hints), ", ".join(sorted(known)))
         )
-    csv, _table, unfitted = _rockfrag.fragility(
-        _os.fspath(folder), _json.dumps(options), None if out is None else _os.fspath(out)
+    csv, _text, unfitted, fewer = _rockfrag.fragility(
+        _os.fspath(folder), _json.dumps(_plain(options, "options")), None if out is None else _os.fspath(out)
     )
+    if fewer:
+        _warnings.warn(fewer, UserWarning, stacklevel=2)
     for message in unfitted:
         _warnings.warn(message, FitWarning, stacklevel=2)
-    return csv
+    return _table(csv)
+
+
+def _table(path):
+    """A CSV file rockfrag wrote, as a dict of its columns by name: numbers
+    as float arrays (NaN where empty), text as lists; and ``path``."""
+    import csv as _csv
+
+    with open(path, newline="") as f:
+        rows = list(_csv.reader(f))
+    header, body = rows[0], rows[1:]
+    table = {"path": str(path)}
+    for i, name in enumerate(header):
+        values = [r[i] for r in body]
+        try:
+            table[name] = _np.array([float(v) if v != "" else _np.nan for v in values])
+        except ValueError:
+            table[name] = values
+    return table
 
 
 def risk(folder, hazard, *, site=None, years=50.0, out=None):
@@ -553,23 +618,11 @@ def risk(folder, hazard, *, site=None, years=50.0, out=None):
     path = _rockfrag.risk(
         _os.fspath(folder),
         _os.fspath(hazard),
-        None if site is None else int(site),
+        None if site is None else _whole(site, "site"),
         float(years),
         None if out is None else _os.fspath(out),
     )
-    import csv as _csv
-
-    with open(path, newline="") as f:
-        rows = list(_csv.reader(f))
-    header, body = rows[0], rows[1:]
-    table = {"path": path}
-    for i, name in enumerate(header):
-        values = [r[i] for r in body]
-        try:
-            table[name] = _np.array([float(v) if v != "" else _np.nan for v in values])
-        except ValueError:
-            table[name] = values
-    return table
+    return _table(path)
 
 
 def _column(kind, values):
@@ -586,7 +639,7 @@ def _column(kind, values):
     return _np.array(values, dtype=object)
 
 
-def read_outcomes(folder, *, as_frame=None):
+def read_outcomes(folder, *, as_frame=True):
     """The outcomes of a study folder (its ``outcomes.csv``), one row per analysis.
 
     Parameters
@@ -594,17 +647,17 @@ def read_outcomes(folder, *, as_frame=None):
     folder : str or os.PathLike
         A study's output folder (what :func:`run` returns), or the path of an
         ``outcomes.csv``.
-    as_frame : bool, optional
-        Return a pandas DataFrame (default: when pandas is installed).
+    as_frame : bool
+        Return a pandas DataFrame (default; pandas is a dependency of the
+        package), or with False a dict of numpy arrays.
 
     Returns
     -------
     pandas.DataFrame or dict
         The columns of ``outcomes.csv`` (``aspect``, ``width``, ``pga`` in g,
-        ``overturned``, ``theta_max_over_theta_c``, …): booleans as bool,
-        counts as int64, numbers as float64 (empty cells NaN), text as
-        objects. A dict of numpy arrays when pandas is not installed or
-        ``as_frame`` is False.
+        ``overturned``, ``theta_max_over_theta_c``, …; docs/outputs.md
+        describes each): booleans as bool, counts as int64, numbers as
+        float64 (empty cells NaN), text as objects.
     """
     path = _os.fspath(folder)
     if _os.path.isdir(path):
@@ -612,15 +665,17 @@ def read_outcomes(folder, *, as_frame=None):
     # The library's reader: the file is checked as every rockfrag stage
     # reads it (columns by name, typed values, errors naming the line).
     cols = {name: _column(kind, values) for name, kind, values in _rockfrag.read_outcomes(path)}
-    if as_frame is None or as_frame:
-        try:
-            import pandas as pd
-        except ImportError:
-            if as_frame:
-                raise
-            return cols
-        return pd.DataFrame(cols)
-    return cols
+    if not as_frame:
+        return cols
+    try:
+        import pandas as pd
+    except ImportError:
+        raise ImportError(
+            "read_outcomes returns a pandas DataFrame and pandas is not installed (it is a "
+            "dependency of rockfrag: `pip install pandas`), or pass as_frame=False for a dict "
+            "of numpy arrays"
+        ) from None
+    return pd.DataFrame(cols)
 
 
 def fit(im, overturned, trials=None):
@@ -647,7 +702,9 @@ def fit(im, overturned, trials=None):
         "none-overturned", …, with ``message``), ``median`` θ (IM unit),
         ``beta`` β, their standard errors ``se_median``, ``se_beta``,
         ``se_ln_median``, the probit coefficients ``a``, ``b`` with ``cov``,
-        ``loglik`` and ``iterations``. Numbers are NaN when not fitted.
+        ``loglik`` and ``iterations``. Numbers are NaN when not fitted,
+        and a :class:`FitWarning` gives the message (which data, what to
+        try), as for the curves of :func:`run` and :func:`fragility`.
     """
     im = _np.asarray(im, dtype=_np.float64).ravel()
     z = _np.asarray(overturned).ravel()
@@ -668,9 +725,14 @@ def fit(im, overturned, trials=None):
             )
         if (n < 0).any() or (z < 0).any():
             raise ValueError("trials and overturned must be counts ≥ 0")
-    return _rockfrag.fit(
+    result = _rockfrag.fit(
         [float(x) for x in im], [int(x) for x in n], [int(x) for x in z]
     )
+    if result["status"] != "ok":
+        _warnings.warn(
+            "not fitted (%s): %s" % (result["status"], result["message"]), FitWarning, stacklevel=2
+        )
+    return result
 
 
 #: The survey's columns in the order :func:`infer` writes rows given in memory.

@@ -554,7 +554,9 @@ fn run(
 /// `rockfrag fragility DIR`: fits the curves of a finished study folder
 /// with `options` (the spec's `[fragility]` table as JSON) into `out`
 /// (default DIR, whose summary.md then gets the new curves); returns the
-/// fragility.csv path, the table, and the curves not fitted with advice.
+/// fragility.csv path, the table, the curves not fitted with advice, and a
+/// warning when the fit replaces one of more bootstrap replicates. Without
+/// `bootstrap` in `options`, the study's own `[fragility] bootstrap`.
 #[pyfunction]
 #[pyo3(signature = (dir, options, out))]
 fn fragility(
@@ -562,23 +564,31 @@ fn fragility(
     dir: String,
     options: String,
     out: Option<String>,
-) -> PyResult<(String, String, Vec<String>)> {
+) -> PyResult<(String, String, Vec<String>, Option<String>)> {
     let dir = PathBuf::from(dir);
     let given: rockfrag::fragility::FragilityOptions = serde_json::from_str(&options)
         .map_err(|e| PyValueError::new_err(format!("invalid fragility options: {e}")))?;
+    // bootstrap not given: the study's own, as `rockfrag fragility`
+    let bootstrap_given = serde_json::from_str::<serde_json::Value>(&options)
+        .is_ok_and(|v| v.get("bootstrap").is_some());
     let out = out.map_or_else(|| dir.clone(), PathBuf::from);
-    let report = py
+    let (report, fewer) = py
         .detach(|| -> rockfrag::Result<_> {
             rockfrag::study::require_finished(&dir)?;
-            let options = rockfrag::pipeline::folder_fit_options(&dir, &given)?;
+            let mut options = rockfrag::pipeline::folder_fit_options(&dir, &given)?;
+            if !bootstrap_given {
+                options.bootstrap = rockfrag::pipeline::study_bootstrap(&dir)?;
+            }
             options.validate()?;
-            rockfrag::pipeline::refit(&dir, &out, &options)
+            let fewer = rockfrag::pipeline::fewer_replicates(&out, options.bootstrap);
+            Ok((rockfrag::pipeline::refit(&dir, &out, &options)?, fewer))
         })
         .map_err(py_err)?;
     Ok((
         report.fragility_csv.display().to_string(),
         report.table.clone(),
         report.unfitted.clone(),
+        fewer,
     ))
 }
 

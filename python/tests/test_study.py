@@ -145,8 +145,9 @@ def test_fragility_and_risk_from_python_equal_the_cli(cli, tmp_path):
         {"name": "overturning", "measure": "overturned"},
     ]
     py = tmp_path / "py"
-    csv_path = rockfrag.fragility(folder, out=py, bootstrap=30, seed=4, limit_state=states)
-    assert csv_path == str(py / "fragility.csv")
+    table = rockfrag.fragility(folder, out=py, bootstrap=30, seed=4, limit_state=states)
+    assert table["path"] == str(py / "fragility.csv")
+    assert table["limit_state"][:2] == ["rocking", "overturning"] and table["median"].dtype == float
     cli_dir = tmp_path / "cli"
     cli(
         "fragility", folder, "--out", cli_dir, "--bootstrap", 30, "--seed", 4,

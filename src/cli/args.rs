@@ -1,5 +1,6 @@
 //! Value parsers shared by the subcommands: each says what it accepts.
 
+use rockfrag::error::{fixed, number as shown};
 use rockfrag::spec::{MAX_PGA_G, MAX_PGV};
 
 /// A finite number > 0.
@@ -21,8 +22,9 @@ pub fn pga_g(s: &str) -> Result<f64, String> {
     } else {
         Err(format!(
             "expected a peak ground acceleration in g, in (0, {MAX_PGA_G}]: {x} g is beyond any \
-             recorded motion (in cm/s², {x} is {:.3} g)",
-            x / 981.0
+             recorded motion (in cm/s², {x} is {} g)",
+            fixed(x / 981.0, 3),
+            x = shown(x)
         ))
     }
 }
@@ -36,8 +38,9 @@ pub fn pgv_m_s(s: &str) -> Result<f64, String> {
     } else {
         Err(format!(
             "expected a peak ground velocity in m/s, in (0, {MAX_PGV}]: {x} m/s is beyond any \
-             recorded motion (in cm/s, {x} is {:.3} m/s)",
-            x / 100.0
+             recorded motion (in cm/s, {x} is {} m/s)",
+            fixed(x / 100.0, 3),
+            x = shown(x)
         ))
     }
 }

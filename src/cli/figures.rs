@@ -51,6 +51,10 @@ pub struct FiguresArgs {
     /// unit (g for PGA) [default: the stripe nearest the case's fitted median].
     #[arg(long, value_name = "X", value_parser = positive)]
     pub level: Option<f64>,
+    /// Draw a folder holding one shard of a study (only its part of the
+    /// records and levels, said on the console); without it that is refused.
+    #[arg(long)]
+    pub partial: bool,
 }
 
 /// Runs `rockfrag figures`.
@@ -58,7 +62,9 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     if !args.compare.is_empty() {
         return compare(&args);
     }
+    refuse_inference(&args.dir)?;
     rockfrag::study::require_finished(&args.dir)?;
+    super::folders::refuse_shard(&args.dir, args.partial, "draw")?;
     let study = study_of_folder(&args.dir)?;
     let mut options = study
         .as_ref()
@@ -84,6 +90,16 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     for path in &report.written {
         println!("{}", path.display());
     }
+    if let Some(command) = &report.history_command {
+        eprintln!("history: its analysis is solved again by `{command}`");
+    }
+    if args.partial {
+        eprintln!(
+            "note: {} holds one shard of its study: these figures show only that part of its \
+             records and levels, not the study",
+            args.dir.display()
+        );
+    }
     // A history asked for by --case/--level that cannot be drawn is an
     // error, not a note: the user named it.
     let asked = args.case.is_some() || args.level.is_some();
@@ -98,6 +114,36 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
         anyhow::bail!("figures --case/--level: {why}");
     }
     Ok(())
+}
+
+/// Refuses the folder of a `rockfrag infer` (which has no outcomes.csv),
+/// naming the command that draws its figure in PNG: the same `infer`
+/// with `--format png`, which reuses the simulations kept in the folder.
+fn refuse_inference(dir: &std::path::Path) -> anyhow::Result<()> {
+    use rockfrag::infer::output::INFERENCE;
+    let json = dir.join(INFERENCE);
+    if dir.join(rockfrag::study::files::OUTCOMES).exists() || !json.is_file() {
+        return Ok(());
+    }
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json)?)?;
+    let text = |k: &str| v.get(k).and_then(|x| x.as_str()).unwrap_or("?").to_string();
+    let prior = text("prior");
+    anyhow::bail!(
+        "{}: holds an inference (`rockfrag infer`), not a study run: its figure is \
+         figures/inference.svg there; for a PNG, run the inference again with --format png \
+         (it reuses the simulations kept in the folder): rockfrag infer {} --study {} --out {}{} \
+         --im {} --format png",
+        dir.display(),
+        text("observations"),
+        text("spec"),
+        dir.display(),
+        if prior == "log-uniform" {
+            String::new()
+        } else {
+            format!(" --prior {prior}")
+        },
+        text("im")
+    )
 }
 
 /// `rockfrag figures DIR --compare DIR2 …`: one figure of the folders'
@@ -126,7 +172,7 @@ fn compare(args: &FiguresArgs) -> anyhow::Result<()> {
         FormatArg::Png => "png",
     };
     let out = args.out.clone().unwrap_or_else(|| args.dir.join("figures"));
-    std::fs::create_dir_all(&out)?;
+    rockfrag::io_util::create_folder(&out)?;
     let path = out.join(format!("compare.{ext}"));
     figure.save(&path)?;
     println!("{}", path.display());

@@ -22,9 +22,10 @@ pub struct FragilityArgs {
     /// study with `[support] floor`; docs/floor.md).
     #[arg(long, value_parser = choice::<IntensityMeasure>(IntensityMeasure::names()), default_value_t = IntensityMeasure::default())]
     pub im: IntensityMeasure,
-    /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap.
-    #[arg(long, value_name = "N", default_value_t = FragilityOptions::default().bootstrap)]
-    pub bootstrap: usize,
+    /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap
+    /// [default: the study's own `[fragility] bootstrap`, else 1000].
+    #[arg(long, value_name = "N")]
+    pub bootstrap: Option<usize>,
     /// Bootstrap seed: the same seed gives the same bands on any machine.
     #[arg(long, value_name = "S", default_value_t = FragilityOptions::default().seed)]
     pub seed: u64,
@@ -89,7 +90,10 @@ impl FragilityArgs {
     fn options(&self) -> anyhow::Result<FragilityOptions> {
         let given = FragilityOptions {
             im: self.im,
-            bootstrap: self.bootstrap,
+            bootstrap: match self.bootstrap {
+                Some(n) => n,
+                None => rockfrag::pipeline::study_bootstrap(&self.dir)?,
+            },
             unit: self.resample,
             seed: self.seed,
             limit_state: self.limit_states.clone(),
@@ -103,21 +107,12 @@ impl FragilityArgs {
 /// Runs `rockfrag fragility`.
 pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     rockfrag::study::require_finished(&args.dir)?;
-    let manifest = args.dir.join(rockfrag::study::files::MANIFEST);
-    if manifest.exists() && !args.partial {
-        let m = rockfrag::study::Manifest::read(&manifest)?;
-        if m.shard != rockfrag::study::Shard::WHOLE {
-            anyhow::bail!(
-                "{}: holds shard {} of study '{}', a part of its analyses: merge the shards \
-                 (rockfrag merge) and fit the merged folder, or pass --partial to fit this part",
-                args.dir.display(),
-                m.shard,
-                m.study
-            );
-        }
-    }
+    super::folders::refuse_shard(&args.dir, args.partial, "fit")?;
     let options = args.options()?;
     let out = args.out.as_ref().unwrap_or(&args.dir);
+    if let Some(warning) = rockfrag::pipeline::fewer_replicates(out, options.bootstrap) {
+        eprintln!("note: {warning}");
+    }
     let report = rockfrag::pipeline::refit(&args.dir, out, &options)?;
     // The table is the data (stdout); the notes and the files written are
     // status (stderr), as for every subcommand.

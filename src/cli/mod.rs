@@ -8,6 +8,7 @@ mod fragility;
 mod merge;
 mod figures;
 mod floor;
+mod folders;
 mod infer;
 mod motion;
 mod paper;
@@ -60,6 +61,27 @@ pub enum Command {
     /// Check the paper's Tables 1–3 over K ensembles under each reading of
     /// its section 4 (paper-check.md).
     Paper(paper::PaperArgs),
+}
+
+/// Parses the command line. Every flag and argument that takes a value
+/// accepts a negative number as its value (`--theta0 -0.1`, `--level -1`),
+/// so that a value out of range is refused by its parser, which says what
+/// it expects, instead of being taken for an unknown flag `-1`.
+pub fn parse() -> Result<Cli, clap::Error> {
+    use clap::{CommandFactory, FromArgMatches};
+    let matches = negatives_are_values(Cli::command()).try_get_matches()?;
+    Cli::from_arg_matches(&matches)
+}
+
+fn negatives_are_values(cmd: clap::Command) -> clap::Command {
+    cmd.mut_args(|arg| {
+        if arg.get_action().takes_values() {
+            arg.allow_negative_numbers(true)
+        } else {
+            arg
+        }
+    })
+    .mut_subcommands(negatives_are_values)
 }
 
 /// Runs a parsed command line.
@@ -139,6 +161,16 @@ fn one_line(err: &clap::Error) -> String {
         line.push_str(&format!(" (accepted: {v})"));
     }
     if let Some(reason) = std::error::Error::source(err).filter(|_| value.is_some()) {
+        // the standard library's words for a count or seed that is not one
+        let reason = match reason.to_string().as_str() {
+            "invalid digit found in string" | "cannot parse integer from empty string" => {
+                "expected a whole number ≥ 0".to_string()
+            }
+            "number too large to fit in target type" => {
+                "expected a smaller whole number".to_string()
+            }
+            other => other.to_string(),
+        };
         line.push_str(&format!(": {reason}"));
     }
     let suggested =

@@ -64,6 +64,31 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     if run.resumed_at_unit > 0 {
         eprintln!("resumed after {} work units", run.resumed_at_unit);
     }
+    if rockfrag::study::interrupted() {
+        let total = rockfrag::study::unit_count(&study);
+        let units = opts.shard.unit_count(total);
+        let what = if run.complete {
+            "its analyses are all done and saved in outcomes.csv, but the fit, summary and \
+             figures were not made"
+                .to_string()
+        } else {
+            format!(
+                "{} analyses were saved in {} this time (checkpointed: the run stopped at the end \
+                 of a chunk of its {units} work units)",
+                run.analyses_run,
+                out.display()
+            )
+        };
+        eprintln!(
+            "interrupted: {what}; run the same command again to resume where it stopped{}",
+            if run.complete {
+                " (it keeps the analyses)"
+            } else {
+                ""
+            }
+        );
+        std::process::exit(130);
+    }
     if !run.complete {
         eprintln!(
             "stopped: {} analyses in {:.1} s; run the same command again to resume",
@@ -105,6 +130,15 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             out.display()
         );
     }
+    if opts.shard != Shard::WHOLE && c.analyses == 0 {
+        eprintln!(
+            "note: shard {} has no work: the study has {} work units (levels × records), fewer \
+             than its {} shards; its folder is complete and `rockfrag merge` takes it",
+            opts.shard,
+            rockfrag::study::unit_count(&study),
+            opts.shard.count
+        );
+    }
     if let Some(finish) = &report.finish {
         say(finish, &out, args.verbose);
     }
@@ -136,5 +170,8 @@ pub fn say(finish: &FinishReport, dir: &Path, verbose: bool) {
             figures.written.len(),
             dir.join("figures").display()
         );
+        if let Some(command) = &figures.history_command {
+            eprintln!("history: its analysis is solved again by `{command}`");
+        }
     }
 }

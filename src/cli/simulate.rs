@@ -6,6 +6,7 @@ use super::args::{
 };
 use anyhow::Context;
 use clap::ValueEnum;
+use rockfrag::error::{fixed, number};
 use rockfrag::motion::{self, G_STANDARD, MeasuredPair, Pair, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
@@ -23,8 +24,40 @@ pub enum FrictionArg {
 
 /// Flags of `rockfrag simulate`.
 #[derive(Debug, clap::Args)]
-#[command(group = clap::ArgGroup::new("source").args(["motion", "seed"]).required(true))]
+#[command(group = clap::ArgGroup::new("source").args(["motion", "seed", "study"]).required(true))]
 pub struct SimulateArgs {
+    /// One analysis of a study, solved again: the study's spec file or
+    /// finished folder (its manifest.json). With --case, --level and
+    /// --record it is the analysis of outcomes.csv at that case, level and
+    /// record, drawn parameters, record pair and floor included, and
+    /// --csv prints its row as the run wrote it, bit for bit; without
+    /// --case, the block of --width, --aspect, --restitution, --mu-s and
+    /// --mu-k under the motion that record and level give in the study. The
+    /// study's solver settings apply.
+    #[arg(long, value_name = "SPEC.toml|DIR", conflicts_with_all = [
+        "motion", "seed", "pga", "pgv", "scale", "motion2", "orientation", "index",
+        "floor_period", "floor_damping", "floor_participation", "model", "integrator",
+        "impact", "rock_impact", "rtol", "settle_tol", "follow_cascades", "g",
+    ])]
+    pub study: Option<PathBuf>,
+    /// With --study: the case, by its id (the `case_id` of fragility.csv,
+    /// e.g. `a4_w0p2_edrawn_mudrawn`); its block, drawn values drawn as the
+    /// run drew them.
+    #[arg(long, value_name = "CASE_ID", requires = "study", conflicts_with_all = [
+        "width", "aspect", "restitution", "mu_s", "mu_k", "friction",
+    ])]
+    pub case: Option<String>,
+    /// With --study: the intensity level, one of the study's, in its unit
+    /// (g for PGA, m/s for PGV, the factor for scale factors).
+    #[arg(long, value_name = "X", requires = "study", value_parser = positive)]
+    pub level: Option<f64>,
+    /// With --study: the record, 0-based (outcomes.csv's `record` column).
+    #[arg(long, value_name = "N", requires = "study")]
+    pub record: Option<usize>,
+    /// With --study and --case: print outcomes.csv's header and the
+    /// analysis's row as the run wrote it.
+    #[arg(long, requires = "case", conflicts_with_all = ["json", "history"])]
+    pub csv: bool,
     /// Base width 2B of the block (m).
     #[arg(long, value_name = "M", default_value_t = 0.5, value_parser = positive, allow_negative_numbers = true)]
     pub width: f64,
@@ -155,7 +188,41 @@ pub struct SimulateArgs {
 impl SimulateArgs {
     /// μk ≤ μs, checked with the arguments rather than when the record is
     /// solved (which named the record, not the flags).
+    /// The pair's checks are the spec's: two different files, and an
+    /// orientation in [0°, 360°) (each direction once).
     pub fn check(&self) -> Result<(), clap::Error> {
+        let usage = |message: String| {
+            Err(clap::Error::raw(
+                clap::error::ErrorKind::ValueValidation,
+                message + "\n",
+            ))
+        };
+        if self.study.is_some() && (self.level.is_none() || self.record.is_none()) {
+            return usage(
+                "--study needs --level X and --record N: the analysis's intensity level and \
+                 record (the `pga` or `pgv` and `record` columns of outcomes.csv)"
+                    .to_string(),
+            );
+        }
+        if let (Some(h1), Some(h2)) = (&self.motion, &self.motion2)
+            && rockfrag::io_util::same_file(h1, h2)
+        {
+            return usage(format!(
+                "--motion2 {} is the --motion file {}: give the second horizontal component, a \
+                 file other than the first",
+                h2.display(),
+                h1.display()
+            ));
+        }
+        if let Some(phi) = self.orientation
+            && !rockfrag::motion::is_orientation(phi)
+        {
+            return usage(format!(
+                "invalid value '{}' for --orientation <DEG>: expected {}",
+                rockfrag::error::number(phi),
+                rockfrag::motion::ORIENTATION_EXPECTED
+            ));
+        }
         match (self.mu_s, self.mu_k) {
             (Some(s), Some(k)) if k > s => Err(clap::Error::raw(
                 clap::error::ErrorKind::ArgumentConflict,
@@ -171,6 +238,9 @@ impl SimulateArgs {
 
 /// Runs `rockfrag simulate`.
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
+    if let Some(path) = &args.study {
+        return run_study(&args, path);
+    }
     let (ground, rotd50) = load_record(&args)?;
     let floor = super::floor::floor_of(
         &args.floor_period,
@@ -227,18 +297,20 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         }
         println!("{v}");
     } else {
-        print_summary(&args, &block, &ground, &outcome);
+        let own = (args.width, args.aspect, args.restitution);
+        print_summary(args.g, own, args.mu_s.is_some(), &block, &ground, &outcome);
         if let (Some(pga), Some(phi)) = (rotd50, args.orientation) {
             println!(
-                "pair              RotD50 PGA {:.3} g, the block faces φ = {phi}° from H1",
-                pga / args.g
+                "pair              RotD50 PGA {} g, the block faces φ = {}° from H1",
+                fixed(pga / args.g, 3),
+                number(phi)
             );
         }
         if !floor.is_ground() {
             println!(
-                "floor             PFA {:.3} g, PFV {:.3} m/s ({} mode{})",
-                record.pga() / args.g,
-                record.pgv(),
+                "floor             PFA {} g, PFV {} m/s ({} mode{})",
+                fixed(record.pga() / args.g, 3),
+                fixed(record.pgv(), 3),
                 floor.modes.len(),
                 if floor.modes.len() == 1 { "" } else { "s" }
             );
@@ -317,8 +389,10 @@ fn load_record(args: &SimulateArgs) -> anyhow::Result<(Record, Option<f64>)> {
             };
             if !(k.is_finite() && k > 0.0) {
                 anyhow::bail!(
-                    "cannot scale {} by {what}: its PGA is {pga} m/s² and its PGV {pgv} m/s{}",
+                    "cannot scale {} by {what}: its PGA is {} m/s² and its PGV {} m/s{}",
                     path.display(),
+                    number(pga),
+                    number(pgv),
                     if pair.is_some() {
                         " (RotD50 of the pair)"
                     } else {
@@ -352,34 +426,185 @@ fn load_record(args: &SimulateArgs) -> anyhow::Result<(Record, Option<f64>)> {
     }
 }
 
-fn print_summary(args: &SimulateArgs, block: &Block, record: &Record, o: &Outcome) {
-    let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{t:.4} s"));
+/// `simulate --study`: one analysis of the study at --level and --record,
+/// of its --case or of the block of the flags (see [`SimulateArgs::study`]).
+fn run_study(args: &SimulateArgs, path: &std::path::Path) -> anyhow::Result<()> {
+    use rockfrag::study::{locate, reanalyse};
+    let study = if path.is_dir() {
+        rockfrag::figures::study_of_folder(path)?.ok_or_else(|| {
+            anyhow::anyhow!(
+                "{}: holds no manifest.json: give a study's spec file, or the folder of a \
+                 finished `rockfrag run`",
+                path.display()
+            )
+        })?
+    } else {
+        rockfrag::spec::Study::load(path)?
+    };
+    let (level, record) = (args.level.expect("checked"), args.record.expect("checked"));
+    let mut history = args.history.as_ref().map(|_| History::default());
+    let (analysis, motion, outcome, drawn, own) = match &args.case {
+        Some(id) => {
+            let r = reanalyse(&study, id, level, record, history.as_mut())?;
+            if args.csv {
+                print!("{}{}", r.header, r.row);
+                return Ok(());
+            }
+            let motion = r.motion.map_err(|e| anyhow::anyhow!("record: {e}"))?;
+            let analysis = r.analysed.analysis.ok_or_else(|| {
+                anyhow::anyhow!("block: {}", r.analysed.result.clone().unwrap_err())
+            })?;
+            let outcome = r
+                .analysed
+                .result
+                .map_err(|e| anyhow::anyhow!("solving record {}: {e}", motion.felt.name))?;
+            let drawn: Vec<String> = r
+                .case
+                .0
+                .drawn()
+                .iter()
+                .map(|f| match f {
+                    rockfrag::case::Field::Friction => format!(
+                        "μs = {}, μk = {}",
+                        r.analysed
+                            .own
+                            .mu_s()
+                            .and_then(|p| p.fixed())
+                            .map_or("-".into(), number),
+                        r.analysed
+                            .own
+                            .mu_k()
+                            .and_then(|p| p.fixed())
+                            .map_or("-".into(), number)
+                    ),
+                    rockfrag::case::Field::Aspect => format!(
+                        "H/B = {}",
+                        r.analysed.own.aspect.fixed().map_or("-".into(), number)
+                    ),
+                    rockfrag::case::Field::Width => format!(
+                        "2B = {} m",
+                        r.analysed.own.width.fixed().map_or("-".into(), number)
+                    ),
+                    rockfrag::case::Field::Restitution => format!(
+                        "e = {}",
+                        r.analysed
+                            .own
+                            .restitution
+                            .fixed()
+                            .map_or("-".into(), number)
+                    ),
+                })
+                .collect();
+            let o = &r.analysed.own;
+            let fixed_or_nan = |p: rockfrag::case::Param<f64>| p.fixed().unwrap_or(f64::NAN);
+            let own = (
+                fixed_or_nan(o.width),
+                fixed_or_nan(o.aspect),
+                fixed_or_nan(o.restitution),
+            );
+            (analysis, motion, outcome, drawn, own)
+        }
+        None => {
+            locate(&study, level, record)?;
+            let motion = rockfrag::study::Source::new(&study)?.motion(&study, level, record)?;
+            let block = Block::new(args.width, args.aspect, study.g)?;
+            let mut analysis = Analysis::new(block, args.restitution);
+            if let Some(mu_s) = args.mu_s {
+                analysis.friction = Friction::Coulomb {
+                    mu_s,
+                    mu_k: args.mu_k.unwrap_or(mu_s),
+                };
+            }
+            let outcome = simulate(&analysis, &motion.felt, &study.solver, history.as_mut())
+                .with_context(|| format!("solving record {}", motion.felt.name))?;
+            let own = (args.width, args.aspect, args.restitution);
+            (analysis, motion, outcome, Vec::new(), own)
+        }
+    };
+    if let (Some(path), Some(h)) = (&args.history, &history) {
+        h.write_csv(path)?;
+    }
+    if args.json {
+        println!("{}", outcome.to_json());
+        return Ok(());
+    }
     println!(
-        "record            {} ({} samples, dt {} s, PGA {:.3} g)",
+        "study             {} ({}), {}level {} and record {record}{}",
+        study.name,
+        path.display(),
+        args.case
+            .as_ref()
+            .map_or(String::new(), |id| format!("case {id}, ")),
+        number(level),
+        if drawn.is_empty() {
+            String::new()
+        } else {
+            format!(" (drawn: {})", drawn.join(", "))
+        }
+    );
+    let b = &analysis.block;
+    let coulomb = matches!(analysis.friction, Friction::Coulomb { .. });
+    print_summary(study.g, own, coulomb, b, &motion.felt, &outcome);
+    if let Some((_, phi)) = motion.pair {
+        println!(
+            "pair              RotD50 PGA {} g, the block faces φ = {}° from H1",
+            fixed(motion.pair.map_or(0.0, |p| p.0[0]), 3),
+            number(phi)
+        );
+    }
+    if let (Some(pfa), Some(pfv)) = (motion.pfa_g, motion.pfv) {
+        println!(
+            "floor             PFA {} g, PFV {} m/s under the ground's PGA {} g",
+            fixed(pfa, 3),
+            fixed(pfv, 3),
+            fixed(motion.pga_g, 3)
+        );
+    }
+    Ok(())
+}
+
+/// The console summary of one analysis of the block `own` = (2B, H/B, e),
+/// with `coulomb` friction, under `record` (the motion it felt), gravity
+/// `g`.
+fn print_summary(
+    g: f64,
+    own: (f64, f64, f64),
+    coulomb: bool,
+    block: &Block,
+    record: &Record,
+    o: &Outcome,
+) {
+    let opt = |x: Option<f64>| x.map_or("-".to_string(), |t| format!("{} s", fixed(t, 4)));
+    println!(
+        "record            {} ({} samples, dt {} s, PGA {} g)",
         record.name,
         record.len(),
-        record.dt,
-        record.pga() / args.g
+        number(record.dt),
+        fixed(record.pga() / g, 3)
     );
     println!(
-        "block             2B = {} m, H/B = {}, θc = {:.4} rad, e = {}",
-        args.width, args.aspect, block.theta_c, args.restitution
+        "block             2B = {} m, H/B = {}, θc = {} rad, e = {}",
+        number(own.0),
+        number(own.1),
+        fixed(block.theta_c, 4),
+        number(own.2)
     );
     println!(
         "overturned        {}{}",
         o.overturned,
         o.overturn_time
-            .map_or(String::new(), |t| format!(" at {t:.4} s"))
+            .map_or(String::new(), |t| format!(" at {} s", fixed(t, 4)))
     );
     println!(
         "uplifted          {} ({} uplifts, {} held lift-offs)",
         o.uplifted, o.uplifts, o.liftoff_holds
     );
-    println!("θmax/θc           {:.6}", o.theta_max_over_theta_c);
-    println!("μ motion          {:.6}", o.mu_motion);
+    println!("θmax/θc           {}", fixed(o.theta_max_over_theta_c, 6));
+    println!("μ motion          {}", fixed(o.mu_motion, 6));
     println!(
-        "μ impact          {:.6} (paper's eq. (5): {:.6})",
-        o.mu_impact, o.mu_impact_eq5
+        "μ impact          {} (paper's eq. (5): {})",
+        fixed(o.mu_impact, 6),
+        fixed(o.mu_impact_eq5, 6)
     );
     println!(
         "impacts           {} (first {}), flights {}, settles {}",
@@ -389,19 +614,21 @@ fn print_summary(args: &SimulateArgs, block: &Block, record: &Record, o: &Outcom
         o.settles
     );
     println!("energy gains      {}", o.energy_gains);
-    if args.mu_s.is_some() {
+    if coulomb {
         println!(
-            "slip              max {:.6} m, final {:.6} m, {} Painlevé holds",
-            o.slip_max, o.slip_final, o.stick_holds
+            "slip              max {} m, final {} m, {} Painlevé holds",
+            fixed(o.slip_max, 6),
+            fixed(o.slip_final, 6),
+            o.stick_holds
         );
     }
     let modes: Vec<String> = Mode::ALL
         .iter()
         .filter(|m| o.time_in_mode[m.index()] > 0.0)
-        .map(|m| format!("{} {:.3} s", m.name(), o.time_in_mode[m.index()]))
+        .map(|m| format!("{} {} s", m.name(), fixed(o.time_in_mode[m.index()], 3)))
         .collect();
     println!("time in modes     {}", modes.join(", "));
-    println!("end time          {:.4} s", o.end_time);
+    println!("end time          {} s", fixed(o.end_time, 4));
     println!(
         "work              {} RHS calls, {} steps ({} rejected), {} events",
         o.stats.rhs_calls, o.stats.steps_accepted, o.stats.steps_rejected, o.stats.events

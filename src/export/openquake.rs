@@ -153,7 +153,7 @@ pub fn export_openquake(
         .collect();
     let t = investigation_time(&curve, &curves, &levels);
 
-    std::fs::create_dir_all(out).map_err(Error::io(out))?;
+    crate::io_util::create_folder(out)?;
     let (lon, lat, depth) = match curve.source {
         HazardSource::OpenQuake { lon, lat, .. } => (lon, lat, 0.0),
         HazardSource::Plain => (0.0, 0.0, 0.0),

@@ -199,7 +199,7 @@ pub fn export_pelicun(
     let json_text = serde_json::to_string_pretty(&serde_json::Value::Object(json))
         .expect("a JSON value serialises")
         + "\n";
-    std::fs::create_dir_all(out).map_err(Error::io(out))?;
+    crate::io_util::create_folder(out)?;
     let paths = (
         out.join(format!("{name}.csv")),
         out.join(format!("{name}.json")),

@@ -174,6 +174,9 @@ pub struct FiguresReport {
     pub written: Vec<PathBuf>,
     /// Figures drawn in reduced form or skipped, and why.
     pub notes: Vec<String>,
+    /// The command that solves the history figure's analysis again
+    /// (`rockfrag simulate --study …`), when there is one.
+    pub history_command: Option<String>,
 }
 
 /// The figures of a study folder, computed and not yet drawn.
@@ -308,11 +311,12 @@ impl StudyFigures {
     /// Draws every figure into `out` (created if missing) in `format`, in
     /// the order of the table above.
     pub fn write(&self, out: &Path, format: Format) -> Result<FiguresReport> {
-        std::fs::create_dir_all(out).map_err(Error::io(out))?;
+        crate::io_util::create_folder(out)?;
         let file = |name: &str| out.join(format!("{name}.{}", format.extension()));
         let mut report = FiguresReport {
             written: Vec::new(),
             notes: self.notes.clone(),
+            history_command: self.history.as_ref().and_then(|h| h.command.clone()),
         };
         if let Some(record) = &self.motion {
             let path = file("motion");

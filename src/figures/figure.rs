@@ -63,7 +63,7 @@ impl Format {
             Some("png") => Ok(Format::Png),
             _ => Err(Error::invalid(
                 "plot",
-                path.display(),
+                path.display().to_string(),
                 "a file name ending in .svg (the default) or .png",
             )),
         }

@@ -41,7 +41,7 @@ use crate::outcome::{Mode, Outcome};
 use crate::outcomes_csv::{Column, OutcomesFile};
 use crate::solver::{Analysis, Block, Friction, History, SolverSettings, simulate};
 use crate::spec::{Intensity, Motions, Study};
-use crate::study::{Source, plan};
+use crate::study::{CommandBlock, Source, plan};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -131,6 +131,10 @@ pub struct HistoryFigure {
     pub record: u64,
     /// The chosen run's outcome.
     pub outcome: Outcome,
+    /// The command that solves the drawn analysis again
+    /// ([`crate::study::simulate_command`]): `None` when the study is not
+    /// known, or the analysis is not one its motions and solver make.
+    pub command: Option<String>,
 }
 
 /// Background colour of each mode, in the order of [`Mode::ALL`].
@@ -180,7 +184,7 @@ impl HistoryFigure {
     ) -> Result<Self> {
         let (case_id, level) = match options.choice {
             HistoryChoice::Case(case) => {
-                return if options.record_files.is_empty() {
+                let drawn = if options.record_files.is_empty() {
                     Self::compute(case, options.synthesis)
                 } else {
                     let records = options
@@ -201,6 +205,10 @@ impl HistoryFigure {
                         .collect();
                     Self::compute_recorded(case, &records, &names, options.synthesis.g)
                 };
+                return drawn.map(|mut figure| {
+                    figure.command = case_command(dir, options, case, figure.record);
+                    figure
+                });
             }
             HistoryChoice::Chosen => (None, None),
             HistoryChoice::At { case, level } => (case.as_deref(), *level),
@@ -282,7 +290,18 @@ impl HistoryFigure {
             chosen.level_text,
             chosen.why
         );
-        Self::of_run(&analysis, &record, &solver, g, title, chosen.record as u64)
+        let mut figure = Self::of_run(&analysis, &record, &solver, g, title, chosen.record as u64)?;
+        // the study's own case of the analysis (drawn parameters drawn)
+        figure.command = options.study.and_then(|study| {
+            let (case, _) = crate::study::case_of(study, &chosen.own)?;
+            Some(crate::study::simulate_command(
+                dir,
+                chosen.level,
+                chosen.record,
+                CommandBlock::Case(&case.id()),
+            ))
+        });
+        Ok(figure)
     }
 
     /// Runs the case's records, chooses one (see the module docs) and
@@ -474,8 +493,55 @@ impl HistoryFigure {
             impacts: impacts.into_iter().filter(|&t| inside(t)).collect(),
             record: index,
             outcome,
+            command: None,
         })
     }
+}
+
+/// The command that solves again the analysis a [`HistoryCase`] figure
+/// drew (its `record`): the case's block under the study's motion at
+/// `case.pga`, when that is what the figure solved — the study's own
+/// ensemble (its seed) or record files, scaled to one of its PGA levels on
+/// the ground, under the default solver settings the figure uses.
+fn case_command(
+    dir: &Path,
+    options: &HistorySource,
+    case: &HistoryCase,
+    record: u64,
+) -> Option<String> {
+    let study = options.study?;
+    let same_motion = match &study.motions {
+        Motions::Synthetic {
+            settings,
+            seed,
+            pairs: None,
+            ..
+        } => *seed == options.seed && settings == options.synthesis,
+        Motions::Files(_) => !options.record_files.is_empty(),
+        _ => false,
+    };
+    let at_level = matches!(&study.intensity, Intensity::Pga(levels) if levels.contains(&case.pga));
+    (same_motion
+        && at_level
+        && study.floor.is_ground()
+        && study.solver == SolverSettings::default()
+        && (record as usize) < study.records())
+    .then(|| {
+        crate::study::simulate_command(
+            dir,
+            case.pga,
+            record as usize,
+            CommandBlock::Block {
+                width: case.width,
+                aspect: case.aspect,
+                restitution: case.restitution,
+                friction: Friction::Coulomb {
+                    mu_s: case.mu_s,
+                    mu_k: case.mu_k,
+                },
+            },
+        )
+    })
 }
 
 /// The analysis [`HistoryFigure::from_study`] draws.

@@ -112,7 +112,7 @@ fn inputs_hash(
 pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferReport> {
     let t0 = Instant::now();
     let dir = &opts.out_dir;
-    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
     let settings = settings(study);
     let models = survey::models(survey, study, &settings, &opts.spec_file)?;

@@ -90,12 +90,13 @@ impl Survey {
     /// Errors: [`Error::Io`]; [`Error::Parse`] naming the file, the line, the
     /// column and the value of anything malformed.
     pub fn read(path: &Path) -> Result<Survey> {
-        let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
+        let text = crate::io_util::read_text(path)?;
         Survey::parse(&text, path)
     }
 
     /// Parses survey text; `path` names it in errors.
     pub fn parse(text: &str, path: &Path) -> Result<Survey> {
+        let text = crate::io_util::strip_bom(text);
         let mut lines = text
             .lines()
             .enumerate()

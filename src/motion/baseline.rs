@@ -67,7 +67,10 @@ impl Baseline {
             return Err(Error::invalid(
                 "baseline.highpass_hz",
                 self.highpass_hz,
-                &format!("0 (no filter) or a frequency in (0, {nyquist}) Hz, below Nyquist"),
+                &format!(
+                    "0 (no filter) or a frequency in (0, {}) Hz, below Nyquist",
+                    crate::error::number(nyquist)
+                ),
             ));
         }
         if self.order == 0 || self.order > 64 {

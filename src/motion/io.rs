@@ -9,7 +9,6 @@
 //! ([`Error::Parse`]).
 
 use crate::detmath as dm;
-use std::fs;
 use std::io::Write;
 use std::path::Path;
 
@@ -54,16 +53,24 @@ fn io_err(path: &Path, source: std::io::Error) -> Error {
 }
 
 fn read_text(path: &Path) -> Result<String> {
-    let text = fs::read_to_string(path).map_err(|e| io_err(path, e))?;
-    Ok(text.strip_prefix('\u{feff}').unwrap_or(&text).to_string())
+    crate::io_util::read_text(path)
 }
 
 /// Parses a float, also accepting a Fortran `D` exponent; rejects NaN and ±∞.
+/// A number written with a decimal comma (`0,01`, as a European locale
+/// writes it) is refused as such.
 fn parse_value(token: &str) -> std::result::Result<f64, String> {
-    let v = token
-        .replace(['D', 'd'], "E")
-        .parse::<f64>()
-        .map_err(|_| format!("cannot read '{token}' as a number"))?;
+    let v =
+        token
+            .replace(['D', 'd'], "E")
+            .parse::<f64>()
+            .map_err(|_| match decimal_comma(token) {
+                Some(point) => format!(
+                    "'{token}' is written with a decimal comma: write it with a decimal point \
+                 ('{point}')"
+                ),
+                None => format!("cannot read '{token}' as a number"),
+            })?;
     if v.is_finite() {
         Ok(v)
     } else {
@@ -71,10 +78,44 @@ fn parse_value(token: &str) -> std::result::Result<f64, String> {
     }
 }
 
+/// `token` with its one comma made a decimal point, if that makes a number
+/// (`0,01` → `0.01`, `-2,5E-3` → `-2.5E-3`): a number written with a
+/// decimal comma.
+fn decimal_comma(token: &str) -> Option<String> {
+    let t = token.trim();
+    let point = t.replace(',', ".");
+    (t.matches(',').count() == 1
+        && t.split(',').all(|s| s.chars().any(|c| c.is_ascii_digit()))
+        && point.replace(['D', 'd'], "E").parse::<f64>().is_ok())
+    .then_some(point)
+}
+
+/// The value of `DT` on an AT2 header line if it is written with a decimal
+/// comma (`DT= 0,01 SEC`), which the header's commas would otherwise split
+/// into `0` and `01`.
+fn dt_with_comma(line: &str) -> Option<(String, String)> {
+    let upper = line.to_ascii_uppercase();
+    let at = upper.find("DT")? + 2;
+    let rest = upper[at..].trim_start_matches([' ', '=', ':', '\t']);
+    let token: String = rest
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || matches!(c, '.' | ',' | '+' | '-' | 'E' | 'D'))
+        .collect();
+    let token = token.trim_end_matches(',');
+    decimal_comma(token).map(|point| (token.to_string(), point))
+}
+
 /// Reads `NPTS` and `DT` from the fourth AT2 header line, in either the NGA
 /// form `NPTS=  5590, DT= .0050 SEC` (any spacing, commas, case) or the older
 /// `5590   .0050   NPTS, DT` form.
 fn parse_npts_dt(line: &str) -> std::result::Result<(usize, f64), String> {
+    if let Some((comma, point)) = dt_with_comma(line) {
+        return Err(format!(
+            "DT = '{comma}' in '{}' is written with a decimal comma: write it with a decimal \
+             point (DT= {point})",
+            line.trim()
+        ));
+    }
     let upper = line.to_ascii_uppercase().replace([',', '=', ':', ';'], " ");
     let tokens: Vec<&str> = upper
         .split_whitespace()
@@ -119,7 +160,10 @@ fn parse_npts_dt(line: &str) -> std::result::Result<(usize, f64), String> {
         .map_err(|_| format!("NPTS = '{npts}' is not a whole number of samples"))?;
     let dt = parse_value(dt)?;
     if dt <= 0.0 {
-        return Err(format!("DT = {dt} must be positive"));
+        return Err(format!(
+            "DT = {} must be positive",
+            crate::error::number(dt)
+        ));
     }
     Ok((npts, dt))
 }
@@ -495,8 +539,8 @@ fn uniform_step(path: &Path, t: &[f64], times: &[&str], lines: &[usize]) -> Resu
             lines[n - 1],
             format!(
                 "time column from {} to {}: no positive time step",
-                t[0],
-                t[n - 1]
+                crate::error::number(t[0]),
+                crate::error::number(t[n - 1])
             ),
         ));
     }
@@ -576,10 +620,17 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
             } else {
                 "unrecognised header"
             };
+            let hint = if header.contains(';') && !header.contains(',') {
+                " (its columns are separated by ';', as a spreadsheet in a locale with a \
+                 decimal comma writes CSV: rockfrag reads columns separated by ',' and numbers \
+                 with a decimal point)"
+            } else {
+                ""
+            };
             return Err(parse_err(
                 path,
                 header_line,
-                format!("{what} '{header}': expected 't,acc' or 't,acc,vel,disp'"),
+                format!("{what} '{header}': expected 't,acc' or 't,acc,vel,disp'{hint}"),
             ));
         }
     };
@@ -588,10 +639,17 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
     for (line_no, line) in rows {
         let fields: Vec<&str> = line.split(',').collect();
         if fields.len() != ncol {
+            // `0,02,-0,0065` is two numbers with decimal commas, not four
+            let hint = if fields.len() > ncol && !line.contains('.') {
+                " (are the numbers written with a decimal comma, e.g. 0,02? write them with a \
+                 decimal point: 0.02)"
+            } else {
+                ""
+            };
             return Err(parse_err(
                 path,
                 line_no,
-                format!("{} fields, expected {ncol} ({header})", fields.len()),
+                format!("{} fields, expected {ncol} ({header}){hint}", fields.len()),
             ));
         }
         for (c, f) in fields.iter().enumerate() {
@@ -616,7 +674,11 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
         return Err(parse_err(
             path,
             lines[1],
-            format!("time step t = {} after {} is not positive", t[1], t[0]),
+            format!(
+                "time step t = {} after {} is not positive",
+                crate::error::number(t[1]),
+                crate::error::number(t[0])
+            ),
         ));
     }
     if !dt_first.is_finite() {
@@ -701,6 +763,7 @@ fn write_atomic(path: &Path, f: impl FnOnce(&mut dyn Write) -> std::io::Result<(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::fs;
 
     #[test]
     fn both_npts_dt_forms() {

@@ -32,7 +32,10 @@ pub use baseline::Baseline;
 pub use envelope::Envelope;
 pub use floor::{Floor, Mode, Oscillator, OscillatorState, floor_into, floor_record};
 pub use io::{At2, DT_REL_TOL, read_at2, read_csv, read_record, write_csv, write_csv_to};
-pub use orientation::{MeasuredPair, Pair, ROTD_ANGLES, rotated_peaks, rotd, rotd_series};
+pub use orientation::{
+    MeasuredPair, ORIENTATION_EXPECTED, Pair, ROTD_ANGLES, is_orientation, rotated_peaks, rotd,
+    rotd_series,
+};
 pub use psd::CloughPenzien;
 pub use record::{G_STANDARD, Record, integrate_linear};
 pub use synth::{

@@ -38,6 +38,17 @@ use crate::error::{Error, Result};
 /// peaks repeat from 180° on, a(φ + 180°) = −a(φ)).
 pub const ROTD_ANGLES: usize = 180;
 
+/// What a block's fixed orientation may be, in words: one turn, each
+/// direction once (a spec's `grid.orientation` and fixed
+/// `uncertainty.orientation`, and `rockfrag simulate --orientation`).
+pub const ORIENTATION_EXPECTED: &str = "an angle in degrees in [0, 360)";
+
+/// Whether `deg` is a fixed orientation a study or `simulate` takes
+/// ([`ORIENTATION_EXPECTED`]): finite, in [0°, 360°).
+pub fn is_orientation(deg: f64) -> bool {
+    (0.0..360.0).contains(&deg)
+}
+
 /// Two orthogonal horizontal components of one ground motion, sampled
 /// together: the same Δt (to [`DT_REL_TOL`] relative) and the same number of
 /// samples ([`Pair::check`]).
@@ -102,8 +113,10 @@ impl Pair {
         };
         if (d1 - d2).abs() > DT_REL_TOL * d1 {
             return Err(bad(format!(
-                "the components are sampled at different intervals (dt = {d1} s and {d2} s): \
-                 a pair needs one time step; resample one component"
+                "the components are sampled at different intervals (dt = {} s and {} s): \
+                 a pair needs one time step; resample one component",
+                crate::error::number(d1),
+                crate::error::number(d2)
             )));
         }
         if self.h1.len() != self.h2.len() {

@@ -132,7 +132,7 @@ impl Record {
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(self.invalid(format!(
                 "sample interval dt = {} must be positive and finite",
-                self.dt
+                crate::error::number(self.dt)
             )));
         }
         if self.acc.len() < 2 {

@@ -240,8 +240,8 @@ impl SynthesisSettings {
                 &format!(
                     "a band [f_min, f_max] holding at least one multiple of df = {} below \
                      the Nyquist frequency {} Hz",
-                    df,
-                    0.5 / self.dt
+                    crate::error::number(df),
+                    crate::error::number(0.5 / self.dt)
                 ),
             ));
         }
@@ -581,7 +581,10 @@ impl Synthesizer {
         if !(peak > 0.0 && peak.is_finite()) {
             return Err(Error::InvalidRecord {
                 name: format!("synthetic seed={seed} index={index}"),
-                message: format!("peak acceleration before scaling is {peak}"),
+                message: format!(
+                    "peak acceleration before scaling is {}",
+                    crate::error::number(peak)
+                ),
             });
         }
         Ok((v0, i_peak, peak))

@@ -3,10 +3,9 @@
 //! `iml,annual_rate` table.
 
 use crate::detmath as dm;
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, number};
 
 /// Where a hazard curve came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -218,11 +217,8 @@ fn openquake_name(im: &str) -> &str {
 /// column and the value for anything malformed, and the number of sites
 /// when `site` is beyond them.
 pub fn read_hazard(path: &Path, site: Option<usize>) -> Result<HazardCurve> {
-    let file = std::fs::File::open(path).map_err(Error::io(path))?;
-    let mut lines = Vec::new();
-    for line in std::io::BufReader::new(file).lines() {
-        lines.push(line.map_err(Error::io(path))?);
-    }
+    let text = crate::io_util::read_text(path)?;
+    let lines: Vec<String> = text.lines().map(str::to_string).collect();
     let first = lines.iter().position(|l| !l.trim().is_empty());
     let is_openquake = first.is_some_and(|i| {
         let l = lines[i].trim_start();
@@ -513,7 +509,11 @@ fn finish(
             return Err(parse(
                 path,
                 line,
-                format!("intensity level {x1} after {x0}: the levels must increase"),
+                format!(
+                    "intensity level {} after {}: the levels must increase",
+                    number(x1),
+                    number(x0)
+                ),
             ));
         }
         if r1 > r0 {
@@ -521,8 +521,10 @@ fn finish(
                 path,
                 line,
                 format!(
-                    "rate of exceeding {x1} ({r1:e}/yr) is above that of {x0} ({r0:e}/yr): \
-                     a hazard curve cannot rise"
+                    "rate of exceeding {} ({r1:e}/yr) is above that of {} ({r0:e}/yr): \
+                     a hazard curve cannot rise",
+                    number(x1),
+                    number(x0)
                 ),
             ));
         }
@@ -531,7 +533,11 @@ fn finish(
         return Err(parse(
             path,
             line,
-            format!("intensity level {x}: rate {r}: expected a finite rate (poe < 1)"),
+            format!(
+                "intensity level {}: rate {}: expected a finite rate (poe < 1)",
+                number(x),
+                number(r)
+            ),
         ));
     }
     let positive = points.iter().take_while(|p| p.2 > 0.0).count();

@@ -1,8 +1,7 @@
 //! Where a field is written: the line numbers of spec errors
 //! (`file:line: field: message`), found in the spec's text.
 
-use crate::error::Error;
-use std::fmt::Display;
+use crate::error::{Error, Shown};
 use std::path::Path;
 
 /// The spec being validated, as its errors name it: its text (to find the
@@ -17,12 +16,12 @@ pub(super) struct Origin<'a> {
 impl Origin<'_> {
     /// A bad value: the field's path in the spec, the value as given and what
     /// would have been accepted.
-    pub(super) fn bad(&self, field: &str, value: &dyn Display, expected: &str) -> Error {
+    pub(super) fn bad(&self, field: &str, value: &dyn Shown, expected: &str) -> Error {
         Error::Spec {
             path: self.origin.to_path_buf(),
             line: locate(self.text, field),
             field: field.to_string(),
-            value: value.to_string(),
+            value: value.shown(),
             expected: expected.to_string(),
         }
     }

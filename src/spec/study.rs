@@ -7,7 +7,7 @@ use super::raw::{
     UncertaintyFile,
 };
 use crate::case::{Case, Field, Param};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::fragility::FragilityOptions;
 use crate::motion::{Floor, SynthesisSettings};
 use crate::solver::{Friction, SolverSettings};
@@ -318,7 +318,7 @@ impl Intensity {
 impl Study {
     /// Reads and validates a spec file; record files are relative to its folder.
     pub fn load(path: &Path) -> Result<Study> {
-        let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
+        let text = crate::io_util::read_text(path)?;
         Study::from_toml(&text, path)
     }
 

@@ -14,7 +14,7 @@ use super::study::{
 };
 use super::uncertainty::uncertainty;
 use crate::case::Param;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, number};
 use crate::fragility::{FragilityOptions, IntensityMeasure};
 use crate::motion::{Floor, G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
@@ -283,7 +283,10 @@ fn synthetic(
         return Err(spec.bad(
             "motion.g",
             &settings.g,
-            &format!("the study's gravity g = {g} (set the top-level `g` instead)"),
+            &format!(
+                "the study's gravity g = {} (set the top-level `g` instead)",
+                number(g)
+            ),
         ));
     }
     settings.g = g;
@@ -390,7 +393,8 @@ fn record_files(spec: &Origin, given: &[RecordEntry], check_files: bool) -> Resu
                 files.push(record_file(spec, &field, name, &files, check_files)?);
             }
             (RecordEntry::Pair([h1, h2]), true) => {
-                if h1 == h2 {
+                let base = spec.origin.parent().unwrap_or(Path::new(""));
+                if crate::io_util::same_file(&base.join(h1), &base.join(h2)) {
                     return Err(spec.bad(
                         &format!("{field}[1]"),
                         &format!("\"{h2}\""),
@@ -457,8 +461,8 @@ fn orientation(
     drawn: Option<Value>,
     seed: u64,
 ) -> Result<Orientation> {
-    const ANGLE: &str = "an angle in degrees in [0, 360)";
-    let in_turn = |v: f64| (0.0..360.0).contains(&v);
+    const ANGLE: &str = crate::motion::ORIENTATION_EXPECTED;
+    let in_turn = crate::motion::is_orientation;
     match (grid, drawn) {
         (Some(_), Some(_)) => Err(spec.bad(
             "uncertainty.orientation",
@@ -474,7 +478,7 @@ fn orientation(
             ANGLE,
         )?)),
         (None, Some(Value::Fixed(x))) => {
-            if !(x.is_finite() && in_turn(x)) {
+            if !in_turn(x) {
                 return Err(spec.bad("uncertainty.orientation", &x, ANGLE));
             }
             Ok(Orientation::Grid(vec![x]))
@@ -515,11 +519,18 @@ fn record_file(
         return Err(spec.bad(field, &format!("{given:?}"), "a path without line breaks"));
     }
     if check_files && !path.is_file() {
+        let found = if path.is_dir() {
+            "is a folder"
+        } else if path.exists() {
+            "is not a regular file"
+        } else {
+            "not found"
+        };
         return Err(spec.bad(
             field,
             &format!("\"{given}\""),
             &format!(
-                "an existing record file, relative to the spec file (not found: {})",
+                "an existing record file, relative to the spec file ({}: {found})",
                 path.display()
             ),
         ));
@@ -738,7 +749,10 @@ fn frictions(spec: &Origin, entries: &[FrictionEntry]) -> Result<Vec<Friction>> 
                 return Err(spec.bad(
                     &format!("grid.friction[{i}].mu_k"),
                     &mu_k,
-                    &format!("a kinetic friction coefficient μk in [0, μs = {mu_s}]"),
+                    &format!(
+                        "a kinetic friction coefficient μk in [0, μs = {}]",
+                        number(mu_s)
+                    ),
                 ));
             }
         }

@@ -35,7 +35,26 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
                     .into(),
             ));
         }
-        let m = Manifest::read(&dir.join(files::MANIFEST))?;
+        // a folder that is not a finished shard's is named with what it lacks
+        let manifest = dir.join(files::MANIFEST);
+        let lacking = [files::OUTCOMES, files::MANIFEST]
+            .into_iter()
+            .find(|f| !dir.join(f).is_file());
+        if let Some(file) = lacking {
+            return Err(conflict(
+                dir,
+                if dir.is_dir() {
+                    format!(
+                        "holds no {file}: not the folder of a finished `rockfrag run --shard K/N` \
+                         (each shard's folder has its outcomes.csv and manifest.json)"
+                    )
+                } else {
+                    "no such folder: expected the folder of a finished `rockfrag run --shard K/N`"
+                        .to_string()
+                },
+            ));
+        }
+        let m = Manifest::read(&manifest)?;
         if std::fs::canonicalize(dir).ok() == std::fs::canonicalize(out).ok() {
             return Err(conflict(
                 out,
@@ -142,7 +161,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
         }
         readers.push((r, path));
     }
-    std::fs::create_dir_all(out).map_err(Error::io(out))?;
+    crate::io_util::create_folder(out)?;
     let out_csv = out.join(files::OUTCOMES);
     let mut row = Vec::new();
     let mut short: Option<PathBuf> = None;

@@ -33,6 +33,7 @@ mod manifest;
 mod merge;
 pub(crate) mod plan;
 mod progress;
+mod single;
 mod source;
 mod summary;
 mod tally;
@@ -40,17 +41,18 @@ mod tally;
 pub use lock::RunLock;
 pub use manifest::{Finished, Manifest};
 pub use merge::merge;
-pub use plan::{Shard, Unit};
+pub use plan::{Shard, Unit, unit_count};
+use single::analyse;
+pub use single::{
+    Analysed, CommandBlock, Reanalysis, case_of, locate, reanalyse, simulate_command,
+};
 pub use source::{Source, UnitMotion};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
 pub use tally::{Counts, Tally};
 
 use crate::case::Case;
 use crate::error::{Error, Result};
-use crate::motion::Record;
-use crate::outcome::Outcome;
-use crate::outcomes_csv::{Columns, RecordInfo};
-use crate::solver::{Analysis, Sensitivity, sensitivity, simulate};
+use crate::outcomes_csv::Columns;
 use crate::spec::{Motions, Study, fnv1a64};
 use plan::columns;
 use rayon::prelude::*;
@@ -59,6 +61,19 @@ use std::collections::HashMap;
 use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// A request to stop: set by the command line's Ctrl-C handler (any caller
+/// may set it), read by [`run`] between chunks. A run that sees it stops
+/// as if killed after the chunk under way, its analyses saved and
+/// checkpointed (so running it again resumes there), and returns as not
+/// complete; [`crate::pipeline::run`] then skips what follows the
+/// analyses.
+pub static INTERRUPT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether [`INTERRUPT`] is set.
+pub fn interrupted() -> bool {
+    INTERRUPT.load(std::sync::atomic::Ordering::SeqCst)
+}
 
 /// Options of one invocation of a run (they do not change the results).
 #[derive(Clone, Debug)]
@@ -163,7 +178,7 @@ fn records_hash(study: &Study) -> Result<Option<u64>> {
 pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let t0 = Instant::now();
     let dir = &opts.out_dir;
-    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
     let threads = if opts.threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
@@ -285,7 +300,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
             );
         }
     }
-    while ckpt.units_done < limit {
+    while ckpt.units_done < limit && !interrupted() {
         let chunk = &units[ckpt.units_done..(ckpt.units_done + chunk_units).min(limit)];
         let (text, solved_here) =
             pool.install(|| run_chunk(study, &cases, &cols, &source, chunk, &mut ahead));
@@ -335,7 +350,13 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     manifest.write(&dir.join(files::MANIFEST))?;
     let out = dir.join(files::OUTCOMES);
     std::fs::rename(&partial_path, &out).map_err(Error::io(&out))?;
-    std::fs::remove_file(&ckpt_path).map_err(Error::io(&ckpt_path))?;
+    // (a shard with no units never wrote a checkpoint)
+    match std::fs::remove_file(&ckpt_path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            return Err(Error::io(&ckpt_path)(e));
+        }
+        _ => {}
+    }
     report.complete = true;
     report.counts = tally.counts();
     report.tally = Some(tally);
@@ -518,44 +539,14 @@ fn solve_units(
             let t0 = Instant::now();
             let (ui, ci) = (k / cases.len(), k % cases.len());
             let unit = plan::unit(study, chunk[ui]);
-            let case = &cases[ci];
-            let record = &records[ui];
-            let made = record.as_ref().ok();
-            let pair = made.and_then(|m| m.pair);
-            let info = RecordInfo {
-                index: unit.record,
-                level: levels[unit.level],
-                pga_g: made.map(|m| m.pga_g),
-                pgv: made.map(|m| m.pgv),
-                pga_rotd50_g: pair.map(|p| p.0[0]),
-                pgv_rotd50: pair.map(|p| p.0[1]),
-                phi: pair.map(|p| p.1),
-                pfa_g: made.and_then(|m| m.pfa_g),
-                pfv: made.and_then(|m| m.pfv),
-                file: file_names[ui].as_deref(),
-            };
-            let (own, analysis) = plan::analysis(study, case, ci, &unit);
-            let (result, sensitive) = match (analysis, record) {
-                (Ok(analysis), Ok(m)) => {
-                    let result = solve(&analysis, &m.felt, study);
-                    // the same analysis under the motion it feels scaled by 1 + 1e-9
-                    let sensitive = match &result {
-                        Ok(base) if cols.sensitivity => {
-                            solve(&analysis, &sensitivity::perturbed(&m.felt), study)
-                                .ok()
-                                .map(|o| Sensitivity::compare(base, &o).sensitive)
-                        }
-                        _ => None,
-                    };
-                    (result, sensitive)
-                }
-                (Ok(_), Err(e)) => (Err(format!("record: {e}")), None),
-                (Err(e), _) => (Err(format!("block: {e}")), None),
-            };
-            let mut row = cols.row(own, &info, result);
-            row.sensitive = sensitive;
-            let mut text = String::with_capacity(256);
-            cols.write_row(&mut text, &row);
+            let (_, text) = analyse(
+                study,
+                cols,
+                (&cases[ci], ci),
+                &unit,
+                &records[ui],
+                file_names[ui].as_deref(),
+            );
             (text, t0.elapsed().as_secs_f64())
         })
         .collect();
@@ -566,29 +557,6 @@ fn solve_units(
             (text, record + unit.iter().map(|(_, t)| t).sum::<f64>())
         })
         .collect()
-}
-
-/// One analysis; a solver error or panic becomes a message.
-fn solve(
-    analysis: &Analysis,
-    record: &Record,
-    study: &Study,
-) -> std::result::Result<Outcome, String> {
-    let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        simulate(analysis, record, &study.solver, None)
-    }));
-    match attempt {
-        Ok(Ok(o)) => Ok(o),
-        Ok(Err(e)) => Err(e.to_string()),
-        Err(panic) => Err(format!(
-            "solver panicked: {}",
-            panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_default()
-        )),
-    }
 }
 
 fn read_checkpoint(path: &Path) -> Result<Option<Checkpoint>> {

@@ -86,8 +86,9 @@ impl Tally {
         let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
         let _ = writeln!(
             s,
-            "{} analyses ({} × {} × {motions}): {} overturned, {} lifted off while rocking, {} \
-             failed.\n",
+            "{} analyses ({} × {} × {motions}): {} overturned, {} lifted off a rocking pivot \
+             (N = 0; bounces into flight after impacts are not counted, and under finite \
+             friction the pivot slips before N reaches 0), {} failed.\n",
             c.analyses,
             plural(cases.len(), "case"),
             plural(study.intensity.levels().len(), "intensity level"),
@@ -125,8 +126,11 @@ impl Tally {
         let any_failed = self.counts.failed > 0;
         let mut s = format!(
             "{COUNTS_HEADING}\n\nPer case and intensity level: the runs, how many \
-             overturned (|θ| reached π/2), lifted off while rocking (N = 0), left rest, and \
-             the mean peak rotation θmax/θc of the runs that stood.\n\n\
+             overturned (|θ| reached π/2), lifted off a rocking pivot (N reached 0 on it: \
+             the seed paper's stop; a bounce into flight after an impact is not one, and under \
+             finite friction the pivot slips before N reaches 0, so the count is rarely above \
+             0 there), left rest, and the mean peak rotation θmax/θc of the runs that \
+             stood.\n\n\
              | case | {level_name}{unit} | runs |{} overturned | lifted off | moved | mean θmax/θc (standing) |\n\
              |---|---|---|{}---|---|---|---|\n",
             if any_failed { " failed |" } else { "" },

@@ -102,7 +102,10 @@ impl Run<'_> {
             if h.is_nan() || (h <= h_min && h < t_end - t0) {
                 return Err(Error::Solver {
                     time: t0,
-                    message: format!("Taylor step {h} s too small in rock"),
+                    message: format!(
+                        "Taylor step {} s too small in rock",
+                        crate::error::number(h)
+                    ),
                 });
             }
             self.out.stats.steps_accepted += 1;

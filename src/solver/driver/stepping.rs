@@ -34,7 +34,10 @@ impl Run<'_> {
                 Err(time) => {
                     return Err(Error::Solver {
                         time,
-                        message: format!("step size {} s too small in {mode}", st.h),
+                        message: format!(
+                            "step size {} s too small in {mode}",
+                            crate::error::number(st.h)
+                        ),
                     });
                 }
             };
