@@ -82,6 +82,7 @@ mod fit;
 mod nrml;
 mod options;
 mod report;
+mod set;
 
 pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile};
 pub use case::{BetaModel, CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
@@ -102,3 +103,4 @@ pub use options::{
     BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_LIMIT_STATES,
 };
 pub use report::{FitReport, fit_and_write};
+pub use set::{SET_FILE, SET_FILES, check_set};

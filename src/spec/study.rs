@@ -517,15 +517,7 @@ impl Study {
     }
 }
 
-/// FNV-1a, 64 bits: a small stable hash for provenance (not for security).
-pub fn fnv1a64(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
+pub use crate::io_util::fnv1a64;
 
 /// A friction model as text: `inf` or `coulomb(μs, μk)`; `coulomb(drawn)`
 /// when its coefficients are drawn per analysis.

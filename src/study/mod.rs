@@ -38,8 +38,8 @@ mod summary;
 mod tally;
 
 pub use lock::RunLock;
-pub use manifest::{Finished, Manifest};
-pub use merge::merge;
+pub use manifest::{Finished, Manifest, clear_previous, record_outputs};
+pub use merge::{merge, merge_into};
 pub use plan::{Shard, Unit};
 pub use source::{Source, UnitMotion};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
@@ -165,6 +165,11 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let dir = &opts.out_dir;
     std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
     let _lock = RunLock::acquire(dir)?;
+    // temporary files of a killed writer (the lock keeps this run's own
+    // writers out of the folder)
+    for d in [dir.clone(), dir.join("figures")] {
+        crate::io_util::remove_stale_temps(&d, std::time::Duration::ZERO);
+    }
     let threads = if opts.threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
@@ -230,7 +235,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
                 .map_or_else(|| start(&cols, fresh.clone(), &partial_path), Ok)?
         }
         None => match manifest::check_finished(dir, &manifest, opts.force)? {
-            Finished::No => start(&cols, fresh.clone(), &partial_path)?,
+            Finished::No => {
+                // a run replaced (--force, or another build's): its outcomes
+                // and what was made from them go, not to be read as this one's
+                manifest::clear_previous(dir)?;
+                start(&cols, fresh.clone(), &partial_path)?
+            }
             Finished::Same(old) => {
                 return reuse_finished(study, dir, opts, manifest, *old, threads, t0);
             }
@@ -397,6 +407,7 @@ fn reuse_finished(
     manifest.analyses_run = old.analyses_run;
     manifest.wall_seconds = old.wall_seconds;
     manifest.merged_from = old.merged_from;
+    manifest.outputs = old.outputs;
     manifest.counts = tally.counts();
     manifest.write(&dir.join(files::MANIFEST))?;
     Ok(RunReport {
@@ -433,6 +444,7 @@ pub fn write_summary(
         }
     };
     let fragility = dir.join("fragility.csv");
+    crate::fragility::check_set(dir)?;
     let fits = if fragility.exists() {
         Some(crate::fragility::read_fragility_csv(&fragility)?)
     } else {
