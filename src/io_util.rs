@@ -296,26 +296,28 @@ pub fn read_limited(path: &Path, limit: u64, what: &str) -> std::io::Result<Vec<
             format!("is a folder: expected {what}"),
         ));
     }
-    let too_big = |size: &str| {
-        std::io::Error::new(
+    if meta.is_file() && meta.len() > limit {
+        return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidData,
             format!(
-                "{size}, more than the {} {what} may have: refused before reading it (is it \
-                 the file you meant?)",
+                "is {}, more than the {} {what} may have: refused before reading it (is it the \
+                 file you meant?)",
+                bytes_text(meta.len()),
                 bytes_text(limit)
             ),
-        )
-    };
-    if meta.is_file() && meta.len() > limit {
-        return Err(too_big(&format!("is {}", bytes_text(meta.len()))));
+        ));
     }
     let mut bytes = Vec::new();
     file.take(limit + 1).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {
-        return Err(too_big(&format!(
-            "gave more than {} (not a regular file: a device or pipe without end?)",
-            bytes_text(limit)
-        )));
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "is not a regular file (a device or a pipe) and gave more than the {} {what} may \
+                 have: refused (a link to /dev/zero?)",
+                bytes_text(limit)
+            ),
+        ));
     }
     Ok(bytes)
 }

@@ -9,7 +9,6 @@
 //! ([`Error::Parse`]).
 
 use crate::detmath as dm;
-use std::fs;
 use std::io::Write;
 use std::path::Path;
 
@@ -53,9 +52,23 @@ fn io_err(path: &Path, source: std::io::Error) -> Error {
     }
 }
 
+/// The largest record file read: 256 MiB. A record of
+/// [`MAX_SAMPLES`](super::MAX_SAMPLES) samples as CSV with its four columns
+/// at full precision takes about 200 MB (97 bytes a sample); a bigger file
+/// (a 2 GB file of zeros, a link to `/dev/zero`) is refused before it is
+/// read, not after it has filled the memory.
+pub const MAX_RECORD_BYTES: u64 = 256 << 20;
+
+/// The bytes of a record file, refused above [`MAX_RECORD_BYTES`]
+/// ([`crate::io_util::read_limited`]).
+pub fn read_record_bytes(path: &Path) -> Result<Vec<u8>> {
+    crate::io_util::read_limited(path, MAX_RECORD_BYTES, "a record file")
+        .map_err(|e| io_err(path, e))
+}
+
 fn read_text(path: &Path) -> Result<String> {
-    let text = fs::read_to_string(path).map_err(|e| io_err(path, e))?;
-    Ok(text.strip_prefix('\u{feff}').unwrap_or(&text).to_string())
+    crate::io_util::read_text_limited(path, MAX_RECORD_BYTES, "a record file")
+        .map_err(|e| io_err(path, e))
 }
 
 /// Parses a float, also accepting a Fortran `D` exponent; rejects NaN and ±∞.
@@ -747,7 +760,7 @@ mod tests {
     fn read_text_as(name: &str, text: &str) -> (Result<Record>, std::path::PathBuf) {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(name);
-        fs::write(&path, text).unwrap();
+        std::fs::write(&path, text).unwrap();
         (read_record(&path, 9.80665), path)
     }
 

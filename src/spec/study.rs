@@ -315,10 +315,17 @@ impl Intensity {
     }
 }
 
+/// The largest spec file read: 16 MiB (a spec is a few kB; a grid of
+/// 10⁵ values is 1 MB).
+pub const MAX_SPEC_BYTES: u64 = 16 << 20;
+
 impl Study {
-    /// Reads and validates a spec file; record files are relative to its folder.
+    /// Reads and validates a spec file; record files are relative to its
+    /// folder. A file of more than [`MAX_SPEC_BYTES`] (a link to
+    /// `/dev/zero`) is refused before it is read.
     pub fn load(path: &Path) -> Result<Study> {
-        let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
+        let text = crate::io_util::read_text_limited(path, MAX_SPEC_BYTES, "a study spec")
+            .map_err(Error::io(path))?;
         Study::from_toml(&text, path)
     }
 
