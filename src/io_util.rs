@@ -341,7 +341,12 @@ pub fn read_text_limited(path: &Path, limit: u64, what: &str) -> std::io::Result
 
 /// A byte count for people: `512 MiB`, `4.2 GB`, `873 bytes`.
 pub fn bytes_text(n: u64) -> String {
-    const UNITS: [(u64, &str); 3] = [(1 << 30, "GiB"), (1 << 20, "MiB"), (1 << 10, "KiB")];
+    const UNITS: [(u64, &str); 4] = [
+        (1 << 40, "TiB"),
+        (1 << 30, "GiB"),
+        (1 << 20, "MiB"),
+        (1 << 10, "KiB"),
+    ];
     for (size, unit) in UNITS {
         if n >= size {
             let x = n as f64 / size as f64;
@@ -584,6 +589,46 @@ mod tests {
         assert_eq!(sig3(4.2e13), "4.20e13");
         assert_eq!(sig3(-0.5244), "-0.524");
         assert_eq!(sig3(0.0), "0");
+    }
+
+    /// Only the temporary names of `write_atomic_path` are taken for
+    /// temporary files (a user's `notes.tmp-1-2.txt` is not), with their pid.
+    #[test]
+    fn temporary_names_are_recognised() {
+        assert_eq!(temp_pid(".outcomes.csv.tmp-123-4"), Some(123));
+        assert_eq!(temp_pid(".motion.svg.tmp-77-0.svg"), Some(77));
+        assert_eq!(temp_pid(".a.tmp-b.tmp-9-1"), Some(9));
+        for name in [
+            "notes.tmp-1-2.txt",
+            ".tmp-1-2",
+            ".a.tmp-x-2",
+            ".a.tmp-1-",
+            ".a.csv",
+        ] {
+            assert_eq!(temp_pid(name), None, "{name}");
+        }
+    }
+
+    /// A file above the limit is refused by its size without being read; one
+    /// within it reads whole; text loses its byte-order mark.
+    #[test]
+    fn reads_are_limited() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("r.csv");
+        std::fs::write(&path, "\u{feff}t,acc\n").unwrap();
+        assert_eq!(
+            read_text_limited(&path, 100, "a record").unwrap(),
+            "t,acc\n"
+        );
+        let err = read_limited(&path, 4, "a record").unwrap_err();
+        assert_eq!(err.kind(), std::io::ErrorKind::InvalidData);
+        assert!(
+            err.to_string()
+                .contains("is 9 bytes, more than the 4 bytes a record"),
+            "{err}"
+        );
+        assert_eq!(bytes_text(256 << 20), "256 MiB");
+        assert_eq!(bytes_text(3 << 40), "3 TiB");
     }
 
     /// An atomic write leaves the whole content, and a failed one leaves
