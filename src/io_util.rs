@@ -281,14 +281,17 @@ pub fn refuse_overwriting_input(
     Ok(())
 }
 
-/// Reads the whole file at `path`, refusing one of more than `limit` bytes
-/// (`what` names it in the message: "a record file") before reading it: a
-/// regular file by its size, anything else (a device such as `/dev/zero`, a
-/// pipe) by reading at most `limit` + 1 bytes. The error is an I/O error of
-/// kind `InvalidData` that says the size, the limit and why.
+/// Reads the whole of the text input at `path` (a record, a spec, a hazard
+/// curve: `what` names it in the messages, "a record file"), refusing one of
+/// more than `limit` bytes: a regular file by its size, before reading it;
+/// anything else (a device, a pipe) once it has given that many. A NUL byte
+/// ends the read at once, as no text holds one: a link to `/dev/zero`, a
+/// sparse or binary file, a UTF-16 text. The error is an I/O error of kind
+/// `InvalidData` that says what was found, the limit and why.
 pub fn read_limited(path: &Path, limit: u64, what: &str) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
-    let file = std::fs::File::open(path)?;
+    let invalid = |message: String| std::io::Error::new(std::io::ErrorKind::InvalidData, message);
+    let mut file = std::fs::File::open(path)?;
     let meta = file.metadata()?;
     if meta.is_dir() {
         return Err(std::io::Error::new(
@@ -297,27 +300,41 @@ pub fn read_limited(path: &Path, limit: u64, what: &str) -> std::io::Result<Vec<
         ));
     }
     if meta.is_file() && meta.len() > limit {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!(
-                "is {}, more than the {} {what} may have: refused before reading it (is it the \
-                 file you meant?)",
-                bytes_text(meta.len()),
-                bytes_text(limit)
-            ),
-        ));
+        return Err(invalid(format!(
+            "is {}, more than the {} {what} may have: refused before reading it (is it the file \
+             you meant?)",
+            bytes_text(meta.len()),
+            bytes_text(limit)
+        )));
     }
-    let mut bytes = Vec::new();
-    file.take(limit + 1).read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > limit {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!(
-                "is not a regular file (a device or a pipe) and gave more than the {} {what} may \
-                 have: refused (a link to /dev/zero?)",
+    let mut bytes = Vec::with_capacity(if meta.is_file() {
+        meta.len() as usize
+    } else {
+        0
+    });
+    let mut chunk = vec![0u8; 1 << 16];
+    loop {
+        let n = match file.read(&mut chunk) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if let Some(i) = chunk[..n].iter().position(|&b| b == 0) {
+            return Err(invalid(format!(
+                "holds a NUL byte (byte {}): expected {what} as text, not a binary or UTF-16 \
+                 file, nor a device such as /dev/zero",
+                bytes.len() + i
+            )));
+        }
+        if (bytes.len() + n) as u64 > limit {
+            return Err(invalid(format!(
+                "is not a regular file (a device or a pipe) and gave more than the {} {what} \
+                 may have: refused",
                 bytes_text(limit)
-            ),
-        ));
+            )));
+        }
+        bytes.extend_from_slice(&chunk[..n]);
     }
     Ok(bytes)
 }
@@ -350,7 +367,7 @@ pub fn bytes_text(n: u64) -> String {
     for (size, unit) in UNITS {
         if n >= size {
             let x = n as f64 / size as f64;
-            return if n % size == 0 {
+            return if n.is_multiple_of(size) {
                 format!("{} {unit}", n / size)
             } else {
                 format!("{} {unit}", sig3(x))
@@ -625,6 +642,12 @@ mod tests {
         assert!(
             err.to_string()
                 .contains("is 9 bytes, more than the 4 bytes a record"),
+            "{err}"
+        );
+        std::fs::write(&path, b"t,acc\n\0\0").unwrap();
+        let err = read_limited(&path, 100, "a record").unwrap_err();
+        assert!(
+            err.to_string().contains("holds a NUL byte (byte 6)"),
             "{err}"
         );
         assert_eq!(bytes_text(256 << 20), "256 MiB");

@@ -87,16 +87,16 @@ fn refused(o: &Output, words: &[&str]) {
 
 /// `motion --duration 1e9` and `--dt 1e-9` (5·10¹⁰ and 3·10¹⁰ samples),
 /// and `[motion] duration = 1e9` in a spec, are refused naming the field,
-/// the value and the limit of 2²¹ samples; the spec before its output
+/// the value and the limit of 2²² samples; the spec before its output
 /// folder or lock is made. `fragility --bootstrap 1000000000` is refused
 /// naming the limit of 100000. Before, each aborted on an allocation of
 /// hundreds of GB, and the spec's run left run.lock behind.
 #[test]
 fn sizes_that_aborted_on_an_allocation_are_refused() {
     let o = quick(&["motion", "--seed", "1", "--pga", "0.3", "--duration", "1e9"]);
-    refused(&o, &["duration", "1000000000", "2097152 samples"]);
+    refused(&o, &["duration", "1000000000", "4194304 samples"]);
     let o = quick(&["motion", "--seed", "1", "--pga", "0.3", "--dt", "1e-9"]);
-    refused(&o, &["dt = 1e-9", "2097152 samples"]);
+    refused(&o, &["dt = 1e-9", "4194304 samples"]);
 
     let tmp = tempfile::tempdir().unwrap();
     let spec = std::fs::read_to_string(SMALL)
@@ -105,7 +105,7 @@ fn sizes_that_aborted_on_an_allocation_are_refused() {
     let spec = write(&tmp.path().join("long.toml"), &spec);
     let out = tmp.path().join("out");
     let o = quick(&["run", s(&spec), "--out", s(&out)]);
-    refused(&o, &["long.toml:", "motion.duration", "2097152 samples"]);
+    refused(&o, &["long.toml:", "motion.duration", "4194304 samples"]);
     assert!(!out.exists(), "the refused run made its folder");
 
     let fitted = tmp.path().join("fitted");
@@ -221,9 +221,9 @@ fn bench_without_records_is_a_usage_error() {
     assert!(stderr(&o).contains("--records"), "{}", stderr(&o));
 }
 
-/// A 300 MB record file (sparse: it takes no disk) is refused by its size
-/// before it is read, and a link to `/dev/zero` after 256 MiB, both with
-/// the limit named; a study with such a record leaves no file in its
+/// A 600 MiB record file (sparse: it takes no disk) is refused by its size
+/// before it is read, naming the limit, and a link to `/dev/zero` at its
+/// first byte (no text holds a NUL); a study with such a record leaves no file in its
 /// folder. Before, a 2 GB file took 4.2 GB of memory before it was
 /// refused, `/dev/zero` was read without end, and a run left its partial
 /// outcomes behind.
@@ -233,14 +233,14 @@ fn huge_and_endless_record_files_are_refused() {
     let big = tmp.path().join("big.csv");
     std::fs::File::create(&big)
         .unwrap()
-        .set_len(300 << 20)
+        .set_len(600 << 20)
         .unwrap();
     let o = quick(&["simulate", "--motion", s(&big)]);
-    refused(&o, &["big.csv", "is 300 MiB", "256 MiB a record file"]);
+    refused(&o, &["big.csv", "is 600 MiB", "512 MiB a record file"]);
     let zero = tmp.path().join("zero.csv");
     std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
     let o = quick(&["simulate", "--motion", s(&zero)]);
-    refused(&o, &["zero.csv", "not a regular file", "256 MiB"]);
+    refused(&o, &["zero.csv", "holds a NUL byte (byte 0)", "/dev/zero"]);
 
     let spec = write(
         &tmp.path().join("rec.toml"),
@@ -249,7 +249,7 @@ fn huge_and_endless_record_files_are_refused() {
     );
     let out = tmp.path().join("out");
     let o = quick(&["run", s(&spec), "--out", s(&out)]);
-    refused(&o, &["big.csv", "256 MiB"]);
+    refused(&o, &["big.csv", "512 MiB"]);
     let left: Vec<_> = std::fs::read_dir(&out)
         .map(|d| d.map(|e| e.unwrap().file_name()).collect())
         .unwrap_or_default();

@@ -52,12 +52,12 @@ fn io_err(path: &Path, source: std::io::Error) -> Error {
     }
 }
 
-/// The largest record file read: 256 MiB. A record of
+/// The largest record file read: 512 MiB. A record of
 /// [`MAX_SAMPLES`](super::MAX_SAMPLES) samples as CSV with its four columns
-/// at full precision takes about 200 MB (97 bytes a sample); a bigger file
+/// at full precision takes 406 MB (97 bytes a sample); a bigger file
 /// (a 2 GB file of zeros, a link to `/dev/zero`) is refused before it is
 /// read, not after it has filled the memory.
-pub const MAX_RECORD_BYTES: u64 = 256 << 20;
+pub const MAX_RECORD_BYTES: u64 = 512 << 20;
 
 /// The bytes of a record file, refused above [`MAX_RECORD_BYTES`]
 /// ([`crate::io_util::read_limited`]).

@@ -134,7 +134,7 @@ impl SynthesisSettings {
         }
         // before anything is sized by it (`duration = 1e9` aborted on an
         // allocation, leaving a run's lock behind)
-        if self.samples() > super::MAX_SAMPLES {
+        if self.samples() > super::record::MAX_SAMPLES {
             return Err(Error::invalid(
                 "duration",
                 format!(
@@ -144,12 +144,12 @@ impl SynthesisSettings {
                     sig3(self.duration / self.dt + 1.0)
                 ),
                 &format!(
-                    "at most {} samples, duration/dt + 1 (2^21: a duration of {} s at this dt, \
+                    "at most {} samples, duration/dt + 1 (2^22: a duration of {} s at this dt, \
                      or a dt of {} s for this duration; a record takes about 110 bytes of \
-                     memory a sample per thread, so the limit keeps one under 250 MB)",
-                    super::MAX_SAMPLES,
-                    sig3((super::MAX_SAMPLES - 1) as f64 * self.dt),
-                    sig3(self.duration / (super::MAX_SAMPLES - 1) as f64)
+                     memory a sample per thread, so the limit keeps one under 450 MB)",
+                    super::record::MAX_SAMPLES,
+                    sig3((super::record::MAX_SAMPLES - 1) as f64 * self.dt),
+                    sig3(self.duration / (super::record::MAX_SAMPLES - 1) as f64)
                 ),
             ));
         }

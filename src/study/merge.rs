@@ -154,7 +154,7 @@ pub fn merge_into(dirs: &[PathBuf], out: &Path, replace: bool) -> Result<Manifes
         readers.push((r, path));
     }
     std::fs::create_dir_all(out).map_err(Error::io(out))?;
-    let _lock = super::RunLock::acquire(out)?;
+    let _lock = super::lock::RunLock::acquire(out)?;
     if out.join(files::CHECKPOINT).exists() || out.join(files::PARTIAL).exists() {
         return Err(conflict(
             out,
