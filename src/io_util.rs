@@ -73,9 +73,8 @@ fn follow_links(path: &Path) -> std::io::Result<PathBuf> {
 /// atomically, the link kept), and a device, FIFO or socket (`/dev/stdout`,
 /// `/dev/null`, a named pipe) is written into, its content made first in a
 /// temporary file of the system's temporary folder; a write error there
-/// (`/dev/full`: no space left on device) is returned. Temporary files
-/// that a killed writer left in the directory are removed
-/// ([`remove_stale_temps`]).
+/// (`/dev/full`: no space left on device) is returned. Temporary files of
+/// `path` that a killed writer left are removed ([`remove_stale_temps`]).
 pub fn write_atomic_path(
     path: &Path,
     write: impl FnOnce(&Path) -> std::io::Result<()>,
@@ -96,7 +95,8 @@ pub fn write_atomic_path(
     };
     let dir = parent(&path);
     std::fs::create_dir_all(dir)?;
-    remove_stale_temps(dir, STALE_TEMP_AGE);
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+    remove_stale_temps(dir, STALE_TEMP_AGE, name.as_deref());
     let tmp = temp_path(dir, &path);
     let result = (|| {
         write(&tmp)?;
@@ -169,13 +169,15 @@ fn temp_pid(name: &str) -> Option<u32> {
 }
 
 /// Removes the temporary files ([`write_atomic_path`]'s
-/// `.name.tmp-<pid>-<n>`) in `dir` that a killed writer left behind: those
-/// whose process is gone, or whose pid now belongs to a process started
-/// after the file was last written (the pid was reused), and that were not
-/// modified for `min_age`. Only where `/proc` tells whether a process lives;
-/// best effort (a file that cannot be removed is left). Returns how many
-/// were removed.
-pub fn remove_stale_temps(dir: &Path, min_age: Duration) -> usize {
+/// `.name.tmp-<pid>-<n>`) in `dir` that a killed writer left behind (of the
+/// file named `only`, if given: a write into a folder of the user's touches
+/// no other name): those whose process is gone, or whose pid now belongs to
+/// a process started after the file was last written (the pid was reused),
+/// and that were not modified for `min_age`. Only where `/proc` tells
+/// whether a process lives; best effort (a file that cannot be removed is
+/// left). Returns how many were removed.
+pub fn remove_stale_temps(dir: &Path, min_age: Duration, only: Option<&str>) -> usize {
+    let prefix = only.map(|name| format!(".{name}.tmp-"));
     let Ok(entries) = std::fs::read_dir(dir) else {
         return 0;
     };
@@ -183,7 +185,16 @@ pub fn remove_stale_temps(dir: &Path, min_age: Duration) -> usize {
     let mut removed = 0;
     for entry in entries.flatten() {
         let name = entry.file_name();
-        let Some(pid) = name.to_str().and_then(temp_pid) else {
+        let Some(name) = name.to_str() else {
+            continue;
+        };
+        if prefix
+            .as_ref()
+            .is_some_and(|p| !name.starts_with(p.as_str()))
+        {
+            continue;
+        }
+        let Some(pid) = temp_pid(name) else {
             continue;
         };
         let Ok(meta) = entry.metadata() else {

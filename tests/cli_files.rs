@@ -234,7 +234,8 @@ fn an_output_never_replaces_its_input() {
 
 /// Temporary files that a killed writer left (`.NAME.tmp-PID-N`, PID gone)
 /// are removed: at the start of a run in its folder and its figures/ at
-/// once, and by a later write into a folder once they are two minutes old.
+/// once, and by a later write of the same file once they are two minutes
+/// old.
 /// A live process's temporary file and other files are kept. Before, they
 /// stayed for ever.
 #[test]
@@ -265,19 +266,23 @@ fn orphan_temporary_files_are_removed() {
         assert!(p.exists(), "{} was removed", p.display());
     }
 
-    // a write into a folder: a dead writer's file two minutes old goes, a
-    // fresh one (perhaps a writer on another host) stays for now
+    // a write of m.csv into a folder: a dead writer's temporary m.csv two
+    // minutes old goes; a fresh one (perhaps a writer on another host) stays
+    // for now, and so does another file's
     let dir = tmp.path().join("motions");
     std::fs::create_dir(&dir).unwrap();
-    let old = write(&dir.join(format!(".a.csv.tmp-{dead}-1")), "partial");
-    let fresh = write(&dir.join(format!(".b.csv.tmp-{dead}-2")), "partial");
+    let old = write(&dir.join(format!(".m.csv.tmp-{dead}-1")), "partial");
+    let fresh = write(&dir.join(format!(".m.csv.tmp-{dead}-2")), "partial");
+    let other = write(&dir.join(format!(".other.csv.tmp-{dead}-3")), "partial");
     let hour_ago = SystemTime::now() - Duration::from_secs(3600);
-    std::fs::File::options()
-        .write(true)
-        .open(&old)
-        .unwrap()
-        .set_modified(hour_ago)
-        .unwrap();
+    for p in [&old, &other] {
+        std::fs::File::options()
+            .write(true)
+            .open(p)
+            .unwrap()
+            .set_modified(hour_ago)
+            .unwrap();
+    }
     let o = rockfrag(&[
         "motion",
         "--seed",
@@ -290,6 +295,7 @@ fn orphan_temporary_files_are_removed() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!old.exists(), "an hour-old orphan was left");
     assert!(fresh.exists(), "a fresh temporary file was removed");
+    assert!(other.exists(), "another file's temporary file was removed");
 }
 
 /// Runs the shards 1/2 and 2/2 of the small study into `dir`/s1, s2.

@@ -175,7 +175,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     // temporary files of a killed writer (the lock keeps this run's own
     // writers out of the folder)
     for d in [dir.clone(), dir.join("figures")] {
-        crate::io_util::remove_stale_temps(&d, std::time::Duration::ZERO);
+        crate::io_util::remove_stale_temps(&d, std::time::Duration::ZERO, None);
     }
     let (pool, threads) = crate::threads::pool(opts.threads)?;
     let records_hash = records_hash(study)?;
