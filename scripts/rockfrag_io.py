@@ -10,6 +10,7 @@ Standard library only (runs under any python3, the OpenQuake and pelicun venvs t
   src/risk/integrate.rs integrates it.
 """
 import csv
+import json
 import math
 import os
 import re
@@ -23,8 +24,38 @@ def read_rows(path):
         return list(csv.DictReader(f))
 
 
+def fnv1a64(data):
+    """FNV-1a, 64 bits, as src/io_util.rs computes it."""
+    h = 0xCBF29CE484222325
+    for b in data:
+        h = ((h ^ b) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def check_fit_set(study):
+    """Refuses the fit of `study` unless its files are the one set its fragility_set.json
+    records (src/fragility/set.rs): a fit interrupted while written, or a file changed or
+    replaced since, raises ValueError saying to rerun `rockfrag fragility`. A folder without
+    the set file (fitted by an older rockfrag) passes."""
+    path = os.path.join(study, "fragility_set.json")
+    if not os.path.exists(path):
+        return
+    with open(path) as f:
+        fit = json.load(f)
+    rerun = f"rerun `rockfrag fragility {study}` to write a whole set"
+    if fit.get("status") != "complete":
+        raise ValueError(f"{path}: the fit was interrupted while its files were written; {rerun}")
+    for entry in fit.get("files", []):
+        with open(os.path.join(study, entry["name"]), "rb") as f:
+            data = f.read()
+        if len(data) != entry["bytes"] or f"{fnv1a64(data):016x}" != entry["fnv1a64"]:
+            raise ValueError(f"{path}: {entry['name']} is not the file this fit wrote; {rerun}")
+
+
 def fragility_rows(study):
-    """fragility.csv rows, in file order (the spec's order: cases, limit states by severity)."""
+    """fragility.csv rows, in file order (the spec's order: cases, limit states by severity),
+    once the fit's files are checked to be one set (check_fit_set)."""
+    check_fit_set(study)
     return read_rows(os.path.join(study, "fragility.csv"))
 
 

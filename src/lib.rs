@@ -19,6 +19,8 @@
 //!
 //! - [`detmath`]: the transcendental functions (sin, exp, ln, Φ, …), the
 //!   same bits on every platform (no call to the platform's math library);
+//! - [`threads`]: how many worker threads a run uses (capped per core), and
+//!   their pool;
 //! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
 //!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
@@ -79,6 +81,7 @@
 pub mod detmath;
 pub mod error;
 pub mod io_util;
+pub mod threads;
 pub mod stats;
 pub mod uncertainty;
 pub mod motion;

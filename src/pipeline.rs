@@ -111,7 +111,25 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
             &FigureOptions::for_study(study),
         )?);
     }
+    if report.fit.is_some() {
+        record_fit(dir, dir)?;
+    }
+    if let Some(summary) = &report.summary {
+        study::record_outputs(dir, &[summary])?;
+    }
     Ok(report)
+}
+
+/// Lists the fit's files in `out` among the outputs of the run in `dir`
+/// (when `out` is inside it): a run that replaces it removes them.
+fn record_fit(dir: &Path, out: &Path) -> Result<()> {
+    let files: Vec<PathBuf> = crate::fragility::SET_FILES
+        .iter()
+        .chain([&crate::fragility::SET_FILE])
+        .map(|name| out.join(name))
+        .collect();
+    let files: Vec<&Path> = files.iter().map(PathBuf::as_path).collect();
+    study::record_outputs(dir, &files)
 }
 
 /// Refits the curves of the study folder `dir` into `out`
@@ -120,6 +138,7 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
 pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitReport> {
     study::require_finished(dir)?;
     let mut report = fit_and_write(dir, out, options)?;
+    record_fit(dir, out)?;
     let summary = dir.join(files::SUMMARY);
     if same_folder(dir, out) && summary.exists() {
         let rows = crate::fragility::read_fragility_csv(&report.fragility_csv)?;
@@ -224,7 +243,10 @@ pub fn figures(
     options: &FigureOptions,
 ) -> Result<FiguresReport> {
     study::require_finished(dir)?;
-    paper::study_figures(study, dir, out, options)
+    let report = paper::study_figures(study, dir, out, options)?;
+    let written: Vec<&Path> = report.written.iter().map(PathBuf::as_path).collect();
+    study::record_outputs(dir, &written)?;
+    Ok(report)
 }
 
 /// What [`risk`] computed and wrote.
@@ -286,6 +308,7 @@ pub fn risk(
     write_used_hazard(&used, &hazard)?;
     let figure = figures.join("risk.svg");
     crate::figures::save(&crate::figures::RiskFigure::new(&rows, &hazard), &figure)?;
+    study::record_outputs(dir, &[&csv, &used, &figure])?;
     let summary = dir.join("summary.md");
     let summary = (same_folder(out, dir) && summary.exists()).then_some(summary);
     if let Some(path) = &summary {

@@ -322,10 +322,9 @@ fn simulate_many<'py>(
         if threads == 0 {
             work()
         } else {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?
+            rockfrag::threads::pool(threads)
+                .map_err(py_err)?
+                .0
                 .install(work)
         }
     })?;

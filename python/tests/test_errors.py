@@ -15,7 +15,7 @@ def cli_error(cli, *args):
 
 
 def test_bad_block_is_a_value_error():
-    with pytest.raises(ValueError, match=r"^invalid width = -1: expected a positive base width 2B in m$"):
+    with pytest.raises(ValueError, match=r"^invalid width = -1: expected a base width 2B in m from 0.001 to 1000 "):
         rockfrag.simulate(ACC, 0.02, width=-1)
     with pytest.raises(ValueError, match=r"invalid restitution = 1.5"):
         rockfrag.simulate(ACC, 0.02, restitution=1.5)

@@ -87,6 +87,14 @@ pub struct FloorArgs {
 
 /// Runs `rockfrag floor`.
 pub fn run(args: FloorArgs) -> anyhow::Result<()> {
+    if let Some(out) = &args.out {
+        rockfrag::io_util::refuse_overwriting_input(
+            out,
+            "--out",
+            &args.record,
+            "the ground record",
+        )?;
+    }
     let floor = floor_of(&args.period, &args.damping, &args.participation, "")?;
     let ground = motion::read_record(&args.record, args.g)?;
     let out = motion::floor_record(&ground, &floor)

@@ -24,7 +24,7 @@ pub struct FragilityArgs {
     pub im: IntensityMeasure,
     /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap
     /// [default: the study's own `[fragility] bootstrap`, else 1000].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = bootstrap_replicates)]
     pub bootstrap: Option<usize>,
     /// Bootstrap seed: the same seed gives the same bands on any machine.
     #[arg(long, value_name = "S", default_value_t = FragilityOptions::default().seed)]
@@ -59,6 +59,18 @@ pub struct FragilityArgs {
     /// records and levels); without it that is refused.
     #[arg(long)]
     pub partial: bool,
+}
+
+/// A number of bootstrap replicates, at most
+/// [`rockfrag::fragility::MAX_BOOTSTRAP`].
+fn bootstrap_replicates(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n <= rockfrag::fragility::MAX_BOOTSTRAP => Ok(n),
+        _ => Err(format!(
+            "expected {}",
+            rockfrag::fragility::bootstrap_limit()
+        )),
+    }
 }
 
 /// Parses `NAME=MEASURE>THRESHOLD` or `NAME=MEASURE`.

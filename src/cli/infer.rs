@@ -77,6 +77,9 @@ pub fn run(args: InferArgs) -> anyhow::Result<()> {
         ..InferOptions::new(&out, &args.study)
     };
     let report = infer::run(&study, &survey, &opts)?;
+    if let Some(note) = rockfrag::threads::cap_note(opts.threads, report.threads) {
+        eprintln!("note: {note}");
+    }
     if report.resumed_levels > 0 {
         eprintln!(
             "reused the simulations of {} level(s) in {}",

@@ -13,6 +13,10 @@ pub struct MergeArgs {
     /// Folder of the merged study.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
+    /// Replace a finished run of other analyses in the output folder (its
+    /// outcomes and the files made from them); without it, that is refused.
+    #[arg(long)]
+    pub force: bool,
     /// Print the fragility table and every note (default: one line per step).
     #[arg(long, short)]
     pub verbose: bool,
@@ -20,7 +24,9 @@ pub struct MergeArgs {
 
 /// Runs `rockfrag merge`.
 pub fn run(args: MergeArgs) -> anyhow::Result<()> {
-    let m = study::merge(&args.dirs, &args.out)?;
+    let m = study::merge_into(&args.dirs, &args.out, args.force)?;
+    // held over what is made from the merged outcomes, as `run` holds it
+    let _lock = study::RunLock::acquire(&args.out)?;
     eprintln!(
         "merged {} shards of study {}: {} analyses ({} overturned, {} failed) into {}",
         args.dirs.len(),

@@ -33,6 +33,11 @@ pub struct RunArgs {
     /// refused).
     #[arg(long)]
     pub force: bool,
+    /// Run even when outcomes.csv is estimated (from the first rows) to
+    /// need more space than the output folder's file system has free
+    /// (without it, that is refused before the bulk of the analyses).
+    #[arg(long)]
+    pub no_space_check: bool,
     /// Print the fragility table and every note (default: one line per step).
     #[arg(long, short)]
     pub verbose: bool,
@@ -57,9 +62,13 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         chunk_analyses: 0,
         stop_after_units: args.stop_after_units,
         force: args.force,
+        no_space_check: args.no_space_check,
     };
     let report = pipeline::run(&study, &opts)?;
     let run = &report.run;
+    if let Some(note) = rockfrag::threads::cap_note(opts.threads, run.threads) {
+        eprintln!("note: {note}");
+    }
     let rate = run.analyses_run as f64 / run.wall_seconds.max(1e-9);
     if run.resumed_at_unit > 0 {
         eprintln!("resumed after {} work units", run.resumed_at_unit);

@@ -238,6 +238,14 @@ impl SimulateArgs {
 
 /// Runs `rockfrag simulate`.
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
+    if let Some(history) = &args.history {
+        for (flag, input) in [("--motion", &args.motion), ("--motion2", &args.motion2)] {
+            if let Some(input) = input {
+                let what = format!("the {flag} record");
+                rockfrag::io_util::refuse_overwriting_input(history, "--history", input, &what)?;
+            }
+        }
+    }
     if let Some(path) = &args.study {
         return run_study(&args, path);
     }

@@ -91,6 +91,7 @@ pub fn export_openquake(
             // An unfinished run or another folder: say so, not "No such file".
             crate::study::require_finished(dir)?;
         }
+        crate::fragility::check_set(dir)?;
         read_fragility_csv(&dir.join("fragility.csv"))?
     };
     let im = rows.first().map_or(IntensityMeasure::Pga, |r| r.im);

@@ -147,6 +147,7 @@ impl StudyData {
             }
             sort(&mut outcomes);
         }
+        crate::fragility::check_set(dir)?;
         let curves_path = dir.join("fragility_curves.csv");
         let curves = if curves_path.exists() {
             Some(read_fragility_curves(&curves_path, im)?)

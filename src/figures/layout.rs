@@ -541,8 +541,18 @@ pub struct LogAxis {
 }
 
 impl LogAxis {
-    /// The ticks of an axis over [lo, hi] (0 < lo < hi).
+    /// The ticks of an axis over [lo, hi] (0 < lo < hi; a bound that is
+    /// not a positive finite number is taken at the nearest one, so the
+    /// loop over decades is at most some 630 long).
     pub fn new(lo: f64, hi: f64) -> LogAxis {
+        let finite = |x: f64| {
+            if x.is_nan() {
+                1.0
+            } else {
+                x.clamp(f64::MIN_POSITIVE, f64::MAX)
+            }
+        };
+        let (lo, hi) = (finite(lo), finite(hi));
         let decades = dm::log10(hi / lo);
         let (multiples, every): (&[f64], i32) = if decades <= 1.5 {
             (&[1.0, 2.0, 5.0], 1)

@@ -524,8 +524,9 @@ pub struct OutputPaths {
 }
 
 /// Writes `fragility.csv`, `fragility_curves.csv`, `fragility_bootstrap.csv`
-/// and `fragility.xml` into `dir`. The NRML file holds every limit state, in
-/// order (see [`nrml::nrml_string`]).
+/// and `fragility.xml` into `dir`, as one set (`fragility_set.json`, see
+/// [`check_set`](super::check_set)). The NRML file holds every limit state,
+/// in order (see [`nrml::nrml_string`]).
 pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
     let paths = OutputPaths {
         fragility: dir.join("fragility.csv"),
@@ -533,10 +534,13 @@ pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
         nrml: dir.join("fragility.xml"),
         bootstrap: dir.join("fragility_bootstrap.csv"),
     };
+    // one set: readers refuse the folder's fit from `begin` to `complete`
+    super::set::begin(dir)?;
     write_fragility_csv(&paths.fragility, fits)?;
     write_curves_csv(&paths.curves, fits)?;
     write_bootstrap_csv(&paths.bootstrap, fits)?;
     nrml::write_nrml(&paths.nrml, fits)?;
+    super::set::complete(dir)?;
     Ok(paths)
 }
 

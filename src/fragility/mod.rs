@@ -82,6 +82,7 @@ mod fit;
 mod nrml;
 mod options;
 mod report;
+mod set;
 
 pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile};
 pub use case::{BetaModel, CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
@@ -99,6 +100,8 @@ pub use nrml::{
     moments_to_lognormal, nrml_model_string, nrml_string, write_nrml,
 };
 pub use options::{
-    BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_LIMIT_STATES,
+    BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_BOOTSTRAP, MAX_GRID_POINTS,
+    MAX_LIMIT_STATES, bootstrap_limit,
 };
 pub use report::{FitReport, fit_and_write};
+pub use set::{SET_FILE, SET_FILES, check_set};

@@ -124,14 +124,27 @@ impl IntensityMeasure {
     }
 }
 
+/// The most bootstrap replicates a fit draws: 10⁵. Each costs about 200
+/// bytes of memory, 30 µs of fitting per 200 analyses and a 78-byte row of
+/// `fragility_bootstrap.csv` for every curve, and more buy nothing: the
+/// Monte Carlo error of a 90 % band's ends is about 0.6 % of its width at
+/// 10⁴ replicates and 0.2 % at 10⁵ (√(q(1−q)/B)/φ(z_q) standard deviations
+/// at q = 0.05). `--bootstrap 1000000000` aborted on an allocation.
+pub const MAX_BOOTSTRAP: usize = 100_000;
+
+/// The most points of a curve's IM grid (`grid_points`): 10⁴, a point
+/// every 0.01 % of the curve's range; each is a row of
+/// `fragility_curves.csv` and is evaluated for every bootstrap replicate.
+pub const MAX_GRID_POINTS: usize = 10_000;
+
 /// Settings of the fragility fit. Plain data with documented defaults.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FragilityOptions {
     /// Intensity measure (default: PGA in g).
     pub im: IntensityMeasure,
-    /// Bootstrap replicates; 0 skips the bootstrap and leaves the bands
-    /// empty (default: 1000).
+    /// Bootstrap replicates, at most [`MAX_BOOTSTRAP`]; 0 skips the
+    /// bootstrap and leaves the bands empty (default: 1000).
     pub bootstrap: usize,
     /// What a replicate resamples (default: whole records, shared across stripes).
     pub unit: BootstrapUnit,
@@ -142,7 +155,7 @@ pub struct FragilityOptions {
     /// (default: 0.9, i.e. the 5th and 95th percentiles).
     pub confidence: f64,
     /// Points of each curve's IM grid, evenly spaced from 0 to the largest
-    /// intensity of the case, ≥ 2 (default: 101).
+    /// intensity of the case, from 2 to [`MAX_GRID_POINTS`] (default: 101).
     pub grid_points: usize,
     /// Limit states in order of increasing severity, one fit per case and
     /// limit state (spec: `[[fragility.limit_state]]`; default: none, which
@@ -194,11 +207,18 @@ impl FragilityOptions {
                 "a number in (0, 1)",
             ));
         }
-        if self.grid_points < 2 {
+        if !(2..=MAX_GRID_POINTS).contains(&self.grid_points) {
             return Err(Error::invalid(
                 "fragility.grid_points",
                 self.grid_points,
-                "an integer ≥ 2",
+                &format!("an integer from 2 to {MAX_GRID_POINTS}"),
+            ));
+        }
+        if self.bootstrap > MAX_BOOTSTRAP {
+            return Err(Error::invalid(
+                "fragility.bootstrap",
+                self.bootstrap,
+                &bootstrap_limit(),
             ));
         }
         if self.limit_state.len() > MAX_LIMIT_STATES {
@@ -324,4 +344,15 @@ pub enum BootstrapUnit {
     /// size). Right only when analyses are independent trials, e.g. a
     /// different record for every analysis.
     Analyses,
+}
+
+/// What [`MAX_BOOTSTRAP`] allows and why, for the messages of the spec
+/// field and of `--bootstrap`.
+pub fn bootstrap_limit() -> String {
+    format!(
+        "a number of replicates from 0 to {MAX_BOOTSTRAP}: each costs about 200 bytes of \
+         memory and a row of fragility_bootstrap.csv per curve, and more do not sharpen the \
+         90 % bands (their ends' Monte Carlo error is 0.6 % of their width at 10000 replicates, \
+         0.2 % at 100000)"
+    )
 }

@@ -8,7 +8,7 @@ use super::inference::{Inference, PriorChoice, infer};
 use super::output;
 use super::simulate::{self, Im, Table};
 use super::survey::{self, KindModel, SlideRule, Survey};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::spec::{InferSettings, Study, fnv1a64};
 use crate::study::{RunLock, Source};
 
@@ -96,7 +96,7 @@ fn inputs_hash(
     let mut text = bare.to_toml();
     text.push_str(&format!("\n{models:?}\n{slide:?}\n{}\n", im.name()));
     for f in study.motions.files() {
-        let bytes = std::fs::read(&f.path).map_err(Error::io(&f.path))?;
+        let bytes = crate::motion::read_record_bytes(&f.path)?;
         text.push_str(&format!("{:016x}\n", fnv1a64(&bytes)));
     }
     Ok(fnv1a64(text.as_bytes()))
@@ -120,15 +120,7 @@ pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferR
     let im = opts.im.or(Im::of_levels(study)).unwrap_or(Im::Pga);
     let exact = Im::of_levels(study) == Some(im);
     let prior = opts.prior.load(im)?;
-    let threads = if opts.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        opts.threads
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::invalid("threads", threads, &format!("a usable thread count ({e})")))?;
+    let (pool, threads) = crate::threads::pool(opts.threads)?;
     let hash = inputs_hash(study, &models, slide.as_ref(), im)?;
     let names: Vec<String> = survey.kinds.iter().map(|k| k.name.clone()).collect();
     let runner = simulate::Runner {

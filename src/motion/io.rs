@@ -52,8 +52,23 @@ fn io_err(path: &Path, source: std::io::Error) -> Error {
     }
 }
 
+/// The largest record file read: 512 MiB. A record of
+/// [`MAX_SAMPLES`](super::MAX_SAMPLES) samples as CSV with its four columns
+/// at full precision takes 406 MB (97 bytes a sample); a bigger file
+/// (a 2 GB file of zeros, a link to `/dev/zero`) is refused before it is
+/// read, not after it has filled the memory.
+pub const MAX_RECORD_BYTES: u64 = 512 << 20;
+
+/// The bytes of a record file, refused above [`MAX_RECORD_BYTES`]
+/// ([`crate::io_util::read_limited`]).
+pub fn read_record_bytes(path: &Path) -> Result<Vec<u8>> {
+    crate::io_util::read_limited(path, MAX_RECORD_BYTES, "a record file")
+        .map_err(|e| io_err(path, e))
+}
+
 fn read_text(path: &Path) -> Result<String> {
-    crate::io_util::read_text(path)
+    crate::io_util::read_text_limited(path, MAX_RECORD_BYTES, "a record file")
+        .map_err(|e| io_err(path, e))
 }
 
 /// Parses a float, also accepting a Fortran `D` exponent; rejects NaN and ±∞.
@@ -763,7 +778,6 @@ fn write_atomic(path: &Path, f: impl FnOnce(&mut dyn Write) -> std::io::Result<(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::fs;
 
     #[test]
     fn both_npts_dt_forms() {
@@ -810,7 +824,7 @@ mod tests {
     fn read_text_as(name: &str, text: &str) -> (Result<Record>, std::path::PathBuf) {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(name);
-        fs::write(&path, text).unwrap();
+        std::fs::write(&path, text).unwrap();
         (read_record(&path, 9.80665), path)
     }
 

@@ -31,13 +31,16 @@ mod synth;
 pub use baseline::Baseline;
 pub use envelope::Envelope;
 pub use floor::{Floor, Mode, Oscillator, OscillatorState, floor_into, floor_record};
-pub use io::{At2, DT_REL_TOL, read_at2, read_csv, read_record, write_csv, write_csv_to};
+pub use io::{
+    At2, DT_REL_TOL, MAX_RECORD_BYTES, read_at2, read_csv, read_record, read_record_bytes,
+    write_csv, write_csv_to,
+};
 pub use orientation::{
     MeasuredPair, ORIENTATION_EXPECTED, Pair, ROTD_ANGLES, is_orientation, rotated_peaks, rotd,
     rotd_series,
 };
 pub use psd::CloughPenzien;
-pub use record::{G_STANDARD, Record, integrate_linear};
+pub use record::{G_STANDARD, MAX_SAMPLES, Record, integrate_linear};
 pub use synth::{
     Natural, PRESETS, SynthesisSettings, Synthesizer, preset, record_seed, second_component_seed,
     synthesize,

@@ -10,6 +10,15 @@ use crate::error::{Error, Result};
 /// Standard gravity used to convert accelerations given in g (m/s²).
 pub const G_STANDARD: f64 = 9.81;
 
+/// The most samples a record may have: 2²² = 4,194,304 (23.3 h at
+/// Δt = 0.02 s, 70 min at Δt = 0.001 s; the longest earthquake records
+/// hold a few 10⁴). A record costs about 110 bytes of memory a sample while
+/// it is made and solved, for each thread of a study: 448 MB a thread at
+/// this limit (measured, `rockfrag motion --duration 83886`). Longer inputs
+/// (`duration = 1e9`, `dt = 1e-9`) are refused, not left to abort on an
+/// allocation.
+pub const MAX_SAMPLES: usize = 1 << 22;
+
 /// A uniformly sampled ground-motion record (SI units), sample k at t = k·dt.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Record {
@@ -114,10 +123,18 @@ impl Record {
         self
     }
 
-    /// Checks that the record is usable: at least two samples, a positive
-    /// finite Δt, equal lengths and finite values.
+    /// Checks that the record is usable: at least two samples and at most
+    /// [`MAX_SAMPLES`], a positive finite Δt, equal lengths and finite
+    /// values.
     pub fn validate(&self) -> Result<()> {
         self.validate_forcing()?;
+        if self.acc.len() > MAX_SAMPLES {
+            return Err(self.invalid(format!(
+                "{} samples: at most {MAX_SAMPLES} are taken (2^22, 23.3 h at dt = 0.02 s; \
+                 about 110 bytes of memory each per thread)",
+                self.acc.len()
+            )));
+        }
         if self.vel.len() != self.acc.len() || self.disp.len() != self.acc.len() {
             return Err(self.invalid("acc, vel and disp have different lengths".into()));
         }

@@ -59,6 +59,7 @@ use super::envelope::Envelope;
 use super::psd::CloughPenzien;
 use super::record::{G_STANDARD, Record};
 use crate::error::{Error, Result};
+use crate::io_util::{number, sig3};
 
 /// Settings of the stochastic ground-motion generator (defaults: see the
 /// docs of `src/motion/synth.rs`).
@@ -130,6 +131,27 @@ impl SynthesisSettings {
         }
         if self.duration < self.dt {
             return Err(Error::invalid("duration", self.duration, "≥ dt"));
+        }
+        // before anything is sized by it (`duration = 1e9` aborted on an
+        // allocation, leaving a run's lock behind)
+        if self.samples() > super::record::MAX_SAMPLES {
+            return Err(Error::invalid(
+                "duration",
+                format!(
+                    "{} s with dt = {} s ({} samples)",
+                    number(self.duration),
+                    number(self.dt),
+                    sig3(self.duration / self.dt + 1.0)
+                ),
+                &format!(
+                    "at most {} samples, duration/dt + 1 (2^22: a duration of {} s at this dt, \
+                     or a dt of {} s for this duration; a record takes about 110 bytes of \
+                     memory a sample per thread, so the limit keeps one under 450 MB)",
+                    super::record::MAX_SAMPLES,
+                    sig3((super::record::MAX_SAMPLES - 1) as f64 * self.dt),
+                    sig3(self.duration / (super::record::MAX_SAMPLES - 1) as f64)
+                ),
+            ));
         }
         self.period_len()?;
         self.components()?;

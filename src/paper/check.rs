@@ -126,10 +126,7 @@ pub fn check(options: &CheckOptions, mut progress: impl FnMut(&str)) -> Result<V
             "at least 2 (the p-values compare ensembles with each other)",
         ));
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
-        .build()
-        .map_err(|e| Error::invalid("threads", options.threads, &e.to_string()))?;
+    let (pool, _) = crate::threads::pool(options.threads)?;
     let mut out = Vec::new();
     for (reading, rock_impact) in candidates() {
         let mut result = ReadingResult {

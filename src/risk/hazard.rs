@@ -217,7 +217,9 @@ fn openquake_name(im: &str) -> &str {
 /// column and the value for anything malformed, and the number of sites
 /// when `site` is beyond them.
 pub fn read_hazard(path: &Path, site: Option<usize>) -> Result<HazardCurve> {
-    let text = crate::io_util::read_text(path)?;
+    // 64 MiB: an OpenQuake hazard-curve CSV of 10⁵ sites is some 30 MB
+    let text = crate::io_util::read_text_limited(path, 64 << 20, "a hazard curve file")
+        .map_err(Error::io(path))?;
     let lines: Vec<String> = text.lines().map(str::to_string).collect();
     let first = lines.iter().position(|l| !l.trim().is_empty());
     let is_openquake = first.is_some_and(|i| {
@@ -496,6 +498,12 @@ fn read_plain(path: &Path, lines: &[String]) -> Result<HazardCurve> {
     Ok(hazard)
 }
 
+/// The largest annual rate of exceedance a hazard curve may give: 1000 a
+/// year, nearly three a day (a curve's lowest levels, a few thousandths of
+/// g, are exceeded a few times a year at the most active sites). Rates of
+/// 10²⁰⁰ made the figure's axes loop for minutes.
+pub const MAX_ANNUAL_RATE: f64 = 1e3;
+
 /// Validates (line, level, rate) points and drops the zero rates at the top.
 fn finish(
     path: &Path,
@@ -537,6 +545,18 @@ fn finish(
                 "intensity level {}: rate {}: expected a finite rate (poe < 1)",
                 number(x),
                 number(r)
+            ),
+        ));
+    }
+    if let Some(&(line, x, r)) = points.iter().find(|p| p.2 > MAX_ANNUAL_RATE) {
+        return Err(parse(
+            path,
+            line,
+            format!(
+                "intensity level {x}: rate {r:e}/yr: expected an annual rate ≤ {MAX_ANNUAL_RATE} \
+                 (more than {} exceedances a day is no site's hazard: a rate per second or per \
+                 day, or an investigation time in seconds?)",
+                crate::io_util::sig3(MAX_ANNUAL_RATE / 365.25)
             ),
         ));
     }

@@ -66,6 +66,7 @@ pub fn read_fragility(dir: &Path) -> Result<FittedFragility> {
         // An unfinished run or another folder: say so, not "No such file".
         crate::study::require_finished(dir)?;
     }
+    crate::fragility::check_set(dir)?;
     let rows = read_fragility_csv(&path)?;
     let Some(first) = rows.first() else {
         return Err(Error::Parse {
@@ -100,13 +101,20 @@ pub fn read_fragility(dir: &Path) -> Result<FittedFragility> {
                     ),
                 });
             };
-            if b.case != curve.key || b.limit_state != curve.limit_state {
+            if b.case != curve.key || b.limit_state != curve.limit_state || b.im.name() != curve.im
+            {
                 return Err(Error::Conflict {
                     path: boot_path.clone(),
                     message: format!(
-                        "line {line}: case {} is {} {} here but {} {} in fragility.csv: the two \
-                         files come from different fits; rerun rockfrag fragility",
-                        b.index, b.case, b.limit_state, curve.key, curve.limit_state
+                        "line {line}: case {} is {} {} ({}) here but {} {} ({}) in fragility.csv: \
+                         the two files come from different fits; rerun rockfrag fragility",
+                        b.index,
+                        b.case,
+                        b.limit_state,
+                        b.im.name(),
+                        curve.key,
+                        curve.limit_state,
+                        curve.im
                     ),
                 });
             }

@@ -93,7 +93,8 @@ mod output;
 
 pub use assess::{RiskOptions, RiskRow, assess, standing_rows};
 pub use hazard::{
-    HazardCurve, HazardSource, MIN_RATE_PRECISION, USED_HAZARD, read_hazard, write_used_hazard,
+    HazardCurve, HazardSource, MAX_ANNUAL_RATE, MIN_RATE_PRECISION, USED_HAZARD, read_hazard,
+    write_used_hazard,
 };
 pub use input::{FittedCurve, FittedFragility, read_fragility};
 pub use integrate::{

@@ -2,6 +2,7 @@
 
 use crate::detmath as dm;
 use crate::error::{Error, Result};
+use crate::io_util::number;
 
 /// A symmetric rigid block of width 2B and height 2H on a rigid foundation.
 /// All dynamic quantities are per unit mass.
@@ -27,28 +28,50 @@ pub struct Block {
     pub p: f64,
 }
 
+/// The base widths 2B a block may have, m: 1 mm to 1 km. Beyond them the
+/// rigid-block model has nothing to say (a precariously balanced rock or a
+/// monolith is metres wide), and far beyond them the arithmetic fails: from
+/// 2B ≈ 10¹⁵⁴ m, R² overflows and the landing search of free flight never
+/// ends (`--width 1e200` hung); below 10⁻¹⁰⁰ m the solver's step underflows.
+pub const WIDTH_RANGE: (f64, f64) = (1e-3, 1e3);
+
+/// The aspect ratios H/B a block may have: 10⁻³ (a sheet) to 10³ (a
+/// needle); from H/B ≈ 10¹⁵⁵ the landing search never ended (`--aspect
+/// 1e160` hung).
+pub const ASPECT_RANGE: (f64, f64) = (1e-3, 1e3);
+
+/// What [`WIDTH_RANGE`] says, for messages.
+pub fn width_expected() -> String {
+    format!(
+        "a base width 2B in m from {} to {} (1 mm to 1 km: the rigid-block model's range; far \
+         beyond it the solver's arithmetic overflows)",
+        WIDTH_RANGE.0, WIDTH_RANGE.1
+    )
+}
+
+/// What [`ASPECT_RANGE`] says, for messages.
+pub fn aspect_expected() -> String {
+    format!(
+        "an aspect ratio H/B from {} to {} (a sheet to a needle; far beyond it the solver's \
+         arithmetic overflows)",
+        ASPECT_RANGE.0, ASPECT_RANGE.1
+    )
+}
+
 impl Block {
-    /// A block of base width `width` = 2B (m) and aspect ratio `aspect` = H/B,
-    /// under gravity `g` (m/s²).
+    /// A block of base width `width` = 2B (m, in [`WIDTH_RANGE`]) and aspect
+    /// ratio `aspect` = H/B (in [`ASPECT_RANGE`]), under gravity `g` (m/s²).
     ///
     /// ```
     /// let b = rockfrag::solver::Block::new(0.5, 4.0, 9.81).unwrap();
     /// assert!((b.theta_c - 0.25f64.atan()).abs() < 1e-15);
     /// ```
     pub fn new(width: f64, aspect: f64, g: f64) -> Result<Self> {
-        if !(width.is_finite() && width > 0.0) {
-            return Err(Error::invalid(
-                "width",
-                width,
-                "a positive base width 2B in m",
-            ));
+        if !(WIDTH_RANGE.0..=WIDTH_RANGE.1).contains(&width) {
+            return Err(Error::invalid("width", number(width), &width_expected()));
         }
-        if !(aspect.is_finite() && aspect > 0.0) {
-            return Err(Error::invalid(
-                "aspect",
-                aspect,
-                "a positive aspect ratio H/B",
-            ));
+        if !(ASPECT_RANGE.0..=ASPECT_RANGE.1).contains(&aspect) {
+            return Err(Error::invalid("aspect", number(aspect), &aspect_expected()));
         }
         if !(g.is_finite() && g > 0.0) {
             return Err(Error::invalid("g", g, "a positive gravity in m/s²"));

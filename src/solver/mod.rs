@@ -36,7 +36,7 @@ pub mod sensitivity;
 mod settings;
 mod taylor;
 
-pub use block::Block;
+pub use block::{ASPECT_RANGE, Block, WIDTH_RANGE, aspect_expected, width_expected};
 pub use driver::simulate;
 pub use history::{History, HistoryRow};
 pub use impact::{

@@ -44,7 +44,7 @@ pub use raw::{
     FrictionEntry, GridFile, MotionFile, OutputFile, RecordEntry, SpecFile, UncertaintyFile,
 };
 pub use study::{
-    Intensity, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN, SHENTON_JONES_TOML, Study,
-    Uncertainty, fnv1a64, friction_label,
+    Intensity, MAX_SPEC_BYTES, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN,
+    SHENTON_JONES_TOML, Study, Uncertainty, fnv1a64, friction_label,
 };
 pub use validate::{MAX_PGA_G, MAX_PGV};

@@ -7,7 +7,7 @@ use super::raw::{
     UncertaintyFile,
 };
 use crate::case::{Case, Field, Param};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::motion::{Floor, SynthesisSettings};
 use crate::solver::{Friction, SolverSettings};
@@ -315,10 +315,17 @@ impl Intensity {
     }
 }
 
+/// The largest spec file read: 16 MiB (a spec is a few kB; a grid of
+/// 10⁵ values is 1 MB).
+pub const MAX_SPEC_BYTES: u64 = 16 << 20;
+
 impl Study {
-    /// Reads and validates a spec file; record files are relative to its folder.
+    /// Reads and validates a spec file; record files are relative to its
+    /// folder. A file of more than [`MAX_SPEC_BYTES`] (a link to
+    /// `/dev/zero`) is refused before it is read.
     pub fn load(path: &Path) -> Result<Study> {
-        let text = crate::io_util::read_text(path)?;
+        let text = crate::io_util::read_text_limited(path, MAX_SPEC_BYTES, "a study spec")
+            .map_err(Error::io(path))?;
         Study::from_toml(&text, path)
     }
 
@@ -517,15 +524,7 @@ impl Study {
     }
 }
 
-/// FNV-1a, 64 bits: a small stable hash for provenance (not for security).
-pub fn fnv1a64(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
+pub use crate::io_util::fnv1a64;
 
 /// A friction model as text: `inf` or `coulomb(μs, μk)`; `coulomb(drawn)`
 /// when its coefficients are drawn per analysis.

@@ -18,7 +18,9 @@ use crate::error::{Error, Result, number};
 use crate::fragility::{FragilityOptions, IntensityMeasure};
 use crate::motion::{Floor, G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
-use crate::solver::{Block, Friction, SolverSettings};
+use crate::solver::{
+    ASPECT_RANGE, Block, Friction, SolverSettings, WIDTH_RANGE, aspect_expected, width_expected,
+};
 use crate::uncertainty::{Property, Value};
 use std::path::Path;
 
@@ -572,6 +574,7 @@ fn grid(
         None if given(p) => None,
         None => Some(default.to_vec()),
     };
+    let (width_text, aspect_text) = (width_expected(), aspect_expected());
     let checked = |p: Property, values, default, ok: fn(f64) -> bool, expected| match list(
         p, values, default,
     ) {
@@ -585,15 +588,15 @@ fn grid(
         Property::Width,
         grid.width,
         &GridFile::WIDTH,
-        |v| v > 0.0,
-        "a positive base width 2B in m",
+        |v| (WIDTH_RANGE.0..=WIDTH_RANGE.1).contains(&v),
+        &width_text,
     )?;
     let aspects = checked(
         Property::Aspect,
         grid.aspect,
         &GridFile::ASPECT,
-        |v| v > 0.0,
-        "a positive aspect ratio H/B",
+        |v| (ASPECT_RANGE.0..=ASPECT_RANGE.1).contains(&v),
+        &aspect_text,
     )?;
     let restitutions = checked(
         Property::Restitution,

@@ -124,16 +124,6 @@ fn host_name() -> String {
         .unwrap_or_else(|| "unknown".to_string())
 }
 
-/// Whether process `pid` of this host is alive: `Some` where `/proc` says,
-/// `None` where it cannot be known.
-fn pid_alive(pid: u32) -> Option<bool> {
-    if Path::new("/proc/self").exists() {
-        Some(Path::new(&format!("/proc/{pid}")).exists())
-    } else {
-        None
-    }
-}
-
 impl RunLock {
     /// Takes the lock on `dir` (which must exist), or refuses naming the
     /// holder.
@@ -200,7 +190,9 @@ fn take(path: &Path, dir: &Path) -> Result<Held> {
             let alive = if old.host == me {
                 // Our OS lock proves the holder dead (it would hold it); else
                 // ask /proc, and assume alive if it cannot be known.
-                !os_lock && old.pid != std::process::id() && pid_alive(old.pid).unwrap_or(true)
+                !os_lock
+                    && old.pid != std::process::id()
+                    && crate::io_util::pid_alive(old.pid).unwrap_or(true)
             } else {
                 let age = std::fs::metadata(path)
                     .and_then(|m| m.modified())

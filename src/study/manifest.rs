@@ -80,6 +80,12 @@ pub struct Manifest {
     /// Shard folders this folder was merged from (empty for a run).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub merged_from: Vec<String>,
+    /// The files rockfrag made from this run's outcomes inside its folder
+    /// (the fit, `summary.md`, figures, risk files), relative to the folder,
+    /// in the order first written: what a run that replaces this one
+    /// removes ([`clear_previous`]). Empty in manifests of older versions.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub outputs: Vec<String>,
 }
 
 impl Manifest {
@@ -115,6 +121,7 @@ impl Manifest {
             wall_seconds: 0.0,
             counts: Counts::default(),
             merged_from: Vec::new(),
+            outputs: Vec::new(),
         }
     }
 
@@ -229,6 +236,85 @@ pub fn check_finished(dir: &Path, this: &Manifest, force: bool) -> Result<Finish
             "holds {what}: refusing to overwrite it; pass another --out, or --force to replace it"
         ),
     })
+}
+
+/// What a folder's run wrote after its analyses, as rockfrag names it,
+/// for manifests written before they listed their `outputs`.
+const OLDER_OUTPUTS: [&str; 8] = [
+    "fragility.csv",
+    "fragility_curves.csv",
+    "fragility_bootstrap.csv",
+    "fragility.xml",
+    crate::fragility::SET_FILE,
+    "risk.csv",
+    "risk_hazard.csv",
+    super::files::SUMMARY,
+];
+
+/// Adds the files `written` that lie inside `dir` to the `outputs` of the
+/// manifest of `dir`, when the folder holds a run (else nothing is done):
+/// the run that replaces this one removes them.
+pub fn record_outputs(dir: &Path, written: &[&Path]) -> Result<()> {
+    let path = dir.join(super::files::MANIFEST);
+    if !path.is_file() {
+        return Ok(());
+    }
+    let Ok(root) = std::fs::canonicalize(dir) else {
+        return Ok(());
+    };
+    let mut m = Manifest::read(&path)?;
+    let before = m.outputs.len();
+    for file in written {
+        let inside = file
+            .parent()
+            .and_then(|p| std::fs::canonicalize(p).ok())
+            .zip(file.file_name())
+            .and_then(|(p, name)| p.join(name).strip_prefix(&root).ok().map(Path::to_path_buf));
+        let Some(rel) = inside else { continue };
+        let rel = rel.to_string_lossy().replace('\\', "/");
+        if !m.outputs.contains(&rel) {
+            m.outputs.push(rel);
+        }
+    }
+    if m.outputs.len() == before {
+        return Ok(());
+    }
+    m.write(&path)
+}
+
+/// Removes the finished run that `dir` holds, before a run or merge that
+/// replaces it writes there: the files its manifest lists as its
+/// `outputs` (the fixed names of the fit, risk and summary for a manifest
+/// of an older version), then its `outcomes.csv` and `manifest.json`. Only
+/// files rockfrag wrote, by those names, inside `dir`: nothing else in the
+/// folder is touched. Returns the files removed.
+pub fn clear_previous(dir: &Path) -> Result<Vec<std::path::PathBuf>> {
+    let manifest = dir.join(super::files::MANIFEST);
+    let listed: Vec<String> = match Manifest::read(&manifest) {
+        Ok(m) if !m.outputs.is_empty() => m.outputs,
+        Ok(_) => OLDER_OUTPUTS.iter().map(|s| s.to_string()).collect(),
+        Err(_) => Vec::new(),
+    };
+    let mut removed = Vec::new();
+    let plain = |rel: &str| {
+        Path::new(rel)
+            .components()
+            .all(|c| matches!(c, std::path::Component::Normal(_)))
+    };
+    let names = listed
+        .iter()
+        .map(String::as_str)
+        .filter(|r| plain(r))
+        .chain([super::files::OUTCOMES, super::files::MANIFEST]);
+    for rel in names {
+        let path = dir.join(rel);
+        let is_file = std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file());
+        if is_file {
+            std::fs::remove_file(&path).map_err(Error::io(&path))?;
+            removed.push(path);
+        }
+    }
+    Ok(removed)
 }
 
 /// A hash as written in manifests and checkpoints.

@@ -17,8 +17,19 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 
 /// Merges complete shard folders `dirs` (in any order) into `out`; returns
-/// the merged manifest.
+/// the merged manifest. A folder `out` that holds a run of other analyses
+/// is refused ([`merge_into`] with `replace` replaces it).
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
+    merge_into(dirs, out, false)
+}
+
+/// [`merge`], and with `replace` (`rockfrag merge --force`) a finished run
+/// of other analyses in `out` is replaced: its outcomes and the files made
+/// from them are removed ([`super::clear_previous`]). As for a run, `out`
+/// is locked while it is written ([`super::RunLock`]: a folder another
+/// process is writing is refused), and a folder holding an unfinished run
+/// is refused.
+pub fn merge_into(dirs: &[PathBuf], out: &Path, replace: bool) -> Result<Manifest> {
     let conflict = |path: &Path, message: String| Error::Conflict {
         path: path.to_path_buf(),
         message,
@@ -162,6 +173,24 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
         readers.push((r, path));
     }
     crate::io_util::create_folder(out)?;
+    let _lock = super::lock::RunLock::acquire(out)?;
+    if out.join(files::CHECKPOINT).exists() || out.join(files::PARTIAL).exists() {
+        return Err(conflict(
+            out,
+            format!(
+                "holds an unfinished run ({} or {}): refusing to merge into it; finish it with \
+                 the `rockfrag run` that started it, or pass another --out",
+                files::CHECKPOINT,
+                files::PARTIAL
+            ),
+        ));
+    }
+    let mut whole = Manifest::new(&study, &first.spec_file, None, Shard::WHOLE);
+    whole.records_hash = first.records_hash.clone();
+    // as `run` does: a finished run of other analyses is refused unless
+    // replaced; one of the same analyses is merged again
+    manifest::check_finished(out, &whole, replace)?;
+    manifest::clear_previous(out)?;
     let out_csv = out.join(files::OUTCOMES);
     let mut row = Vec::new();
     let mut short: Option<PathBuf> = None;
@@ -200,8 +229,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Manifest> {
     }
 
     let tally = Tally::read(&out_csv, &study, Shard::WHOLE)?;
-    let mut m = Manifest::new(&study, &first.spec_file, None, Shard::WHOLE);
-    m.records_hash = first.records_hash.clone();
+    let mut m = whole;
     let started = shards
         .iter()
         .map(|(m, _)| m.started_unix)

@@ -35,18 +35,20 @@ pub(crate) mod plan;
 mod progress;
 mod single;
 mod source;
+mod space;
 mod summary;
 mod tally;
 
 pub use lock::RunLock;
-pub use manifest::{Finished, Manifest};
-pub use merge::merge;
+pub use manifest::{Finished, Manifest, clear_previous, record_outputs};
+pub use merge::{merge, merge_into};
 pub use plan::{Shard, Unit, unit_count};
 use single::analyse;
 pub use single::{
     Analysed, CommandBlock, Reanalysis, case_of, locate, reanalyse, simulate_command,
 };
 pub use source::{Source, UnitMotion};
+pub use space::{SAY_FROM_BYTES, SpaceEstimate, free_bytes};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
 pub use tally::{Counts, Tally};
 
@@ -80,7 +82,8 @@ pub fn interrupted() -> bool {
 pub struct RunOptions {
     /// Output folder.
     pub out_dir: PathBuf,
-    /// Worker threads (0: one per available core).
+    /// Worker threads (0: one per available core; capped at
+    /// [`crate::threads::MAX_THREADS_PER_CORE`] per core).
     pub threads: usize,
     /// Which shard of the units to run.
     pub shard: Shard,
@@ -99,6 +102,9 @@ pub struct RunOptions {
     /// Replace a finished run of another spec or shard in `out_dir` (else
     /// refused).
     pub force: bool,
+    /// Run even when the estimated size of `outcomes.csv` exceeds the free
+    /// space of `out_dir`'s file system (else refused; [`SpaceEstimate`]).
+    pub no_space_check: bool,
 }
 
 impl RunOptions {
@@ -113,6 +119,7 @@ impl RunOptions {
             chunk_analyses: 0,
             stop_after_units: None,
             force: false,
+            no_space_check: false,
         }
     }
 }
@@ -164,7 +171,7 @@ fn records_hash(study: &Study) -> Result<Option<u64>> {
         Motions::Files(_) | Motions::Pairs { .. } => {
             let mut all = Vec::new();
             for f in study.motions.files() {
-                let bytes = std::fs::read(&f.path).map_err(Error::io(&f.path))?;
+                let bytes = crate::motion::read_record_bytes(&f.path)?;
                 all.extend_from_slice(&fnv1a64(&bytes).to_le_bytes());
             }
             Ok(Some(fnv1a64(&all)))
@@ -180,12 +187,15 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     let dir = &opts.out_dir;
     crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
-    let threads = if opts.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        opts.threads
-    };
+    // temporary files of a killed writer (the lock keeps this run's own
+    // writers out of the folder)
+    for d in [dir.clone(), dir.join("figures")] {
+        crate::io_util::remove_stale_temps(&d, std::time::Duration::ZERO, None);
+    }
+    let (pool, threads) = crate::threads::pool(opts.threads)?;
     let records_hash = records_hash(study)?;
+    // the records are read (and a bad one refused) before a file is written
+    let mut source = Source::new(study)?;
     let mut manifest = Manifest::new(study, &opts.spec_file, records_hash, opts.shard);
     let cols = columns(study);
     let cases = plan::cases(study);
@@ -245,7 +255,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
                 .map_or_else(|| start(&cols, fresh.clone(), &partial_path), Ok)?
         }
         None => match manifest::check_finished(dir, &manifest, opts.force)? {
-            Finished::No => start(&cols, fresh.clone(), &partial_path)?,
+            Finished::No => {
+                // a run replaced (--force, or another build's): its outcomes
+                // and what was made from them go, not to be read as this one's
+                manifest::clear_previous(dir)?;
+                start(&cols, fresh.clone(), &partial_path)?
+            }
             Finished::Same(old) => {
                 return reuse_finished(study, dir, opts, manifest, *old, threads, t0);
             }
@@ -253,11 +268,6 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     };
     let resumed_at_unit = ckpt.units_done;
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::invalid("threads", threads, &format!("a usable thread count ({e})")))?;
-    let mut source = Source::new(study)?;
     let mut bar = progress::Progress::start(
         opts.progress,
         (units.len() * cases.len()) as u64,
@@ -281,6 +291,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     // cost (the first chunk, the lowest level, is the cheapest).
     let level_of = |u: usize| plan::unit(study, u).level;
     let mut ahead = HashMap::new();
+    // the disk space the rest needs, from the pilot's rows, else the first chunk's
+    let mut space_checked = false;
     if opts.progress {
         let left = &units[ckpt.units_done..limit];
         let (pilot, left_per_level) =
@@ -293,6 +305,22 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
                 forecast.solved(level_of(u), *seconds);
             }
             bar.pilot(forecast, pilot.len() * cases.len(), t.elapsed());
+            let sample: usize = solved.iter().map(|(text, _)| text.len()).sum();
+            let left = ((units.len() - ckpt.units_done) * cases.len()) as u64;
+            let space = SpaceEstimate::new(dir, sample, pilot.len() * cases.len(), left);
+            if space.bytes >= SAY_FROM_BYTES {
+                bar.say(&space.line());
+            }
+            if let Err(e) = space.check(dir, opts.no_space_check) {
+                bar.finish();
+                if ckpt.units_done == 0 && !ckpt_path.exists() {
+                    // nothing done yet: no partial file is left behind
+                    drop(file);
+                    let _ = std::fs::remove_file(&partial_path);
+                }
+                return Err(e);
+            }
+            space_checked = true;
             ahead.extend(
                 pilot
                     .into_iter()
@@ -310,6 +338,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         ckpt.bytes += text.len() as u64;
         ckpt.units_done += chunk.len();
         write_checkpoint(&ckpt_path, &ckpt)?;
+        if !space_checked {
+            space_checked = true;
+            let left = ((units.len() - ckpt.units_done) * cases.len()) as u64;
+            SpaceEstimate::new(dir, text.len(), chunk.len() * cases.len(), left)
+                .check(dir, opts.no_space_check)?;
+        }
         let n = (chunk.len() * cases.len()) as u64;
         analyses_run += n;
         let solved: Vec<(usize, f64)> = solved_here
@@ -420,6 +454,7 @@ fn reuse_finished(
     manifest.analyses_run = old.analyses_run;
     manifest.wall_seconds = old.wall_seconds;
     manifest.merged_from = old.merged_from;
+    manifest.outputs = old.outputs;
     manifest.counts = tally.counts();
     manifest.write(&dir.join(files::MANIFEST))?;
     Ok(RunReport {
@@ -456,6 +491,7 @@ pub fn write_summary(
         }
     };
     let fragility = dir.join("fragility.csv");
+    crate::fragility::check_set(dir)?;
     let fits = if fragility.exists() {
         Some(crate::fragility::read_fragility_csv(&fragility)?)
     } else {

@@ -212,6 +212,16 @@ impl Progress {
         }
     }
 
+    /// Says `line` on standard error (above the bar, if any), unless quiet.
+    pub fn say(&self, line: &str) {
+        if self.show {
+            match &self.bar {
+                Some(bar) => bar.println(line),
+                None => eprintln!("{line}"),
+            }
+        }
+    }
+
     /// Seconds left: the wall time so far in proportion to the cost of the
     /// units left against that of the units solved.
     fn eta(&self) -> f64 {

@@ -10,8 +10,8 @@ use std::path::PathBuf;
 /// Flags of `rockfrag bench`.
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
-    /// Records per intensity level.
-    #[arg(long, value_name = "N", default_value_t = 25)]
+    /// Records per intensity level (at least 1).
+    #[arg(long, value_name = "N", default_value_t = 25, value_parser = records)]
     pub records: u64,
     /// Where to write `work_precision.md` and `work_precision.svg`.
     #[arg(long, value_name = "DIR", default_value = "figures")]
@@ -19,6 +19,15 @@ pub struct BenchArgs {
     /// Also draw the figure as `work_precision.png`.
     #[arg(long)]
     pub png: bool,
+}
+
+/// A number of records per level ≥ 1 (`--records 0` panicked: the
+/// reference had no analysis to fit).
+fn records(text: &str) -> Result<u64, String> {
+    match text.trim().parse::<u64>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err("expected a whole number of records per intensity level ≥ 1".into()),
+    }
 }
 
 /// Runs `rockfrag bench`.
