@@ -217,7 +217,7 @@ impl StudyFigures {
     /// Errors: [`Error::Io`] if `outcomes.csv` is missing, [`Error::Parse`]
     /// for malformed CSV or a folder without successful analyses.
     pub fn compute(dir: &Path, options: &FigureOptions) -> Result<StudyFigures> {
-        let data = StudyData::load_pooled(dir, &options.pooled)?;
+        let data = StudyData::load_study(dir, options.study.as_ref(), &options.pooled)?;
         if data.outcomes.is_empty() {
             return Err(Error::Parse {
                 path: dir.join("outcomes.csv"),

@@ -44,7 +44,7 @@ pub mod style;
 
 pub use batch::{FigureOptions, FiguresReport, StudyFigures, study_figures, study_of_folder};
 pub use compare::{CompareFigure, CompareSeries};
-pub use data::{CurvePoint, LognormalCurve, PlotRow, StudyData};
+pub use data::{CurvePoint, LognormalCurve, ObservedStripe, PlotRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::{FragilityFigure, ShortCurves};
 pub use friction::FrictionDemandFigure;
