@@ -383,8 +383,8 @@ impl FragilityFigure {
             });
         }
         let fitted = data.curves.is_some();
-        let (x_max, short_of_reach) = extend(&mut panels, im_max);
         let as_infinite = mark_as_infinite(&mut panels, frictions.len());
+        let (x_max, short_of_reach) = extend(&mut panels, im_max);
         for panel in &mut panels {
             let distinct = panel
                 .series
@@ -539,7 +539,8 @@ impl FragilityFigure {
     }
 }
 
-/// Sets the axis end and continues the fitted curves to it: the axis ends
+/// Sets the axis end and continues the fitted curves to it (after
+/// [`mark_as_infinite`]: a twin counts with its μ = ∞ curve): the axis ends
 /// where every fitted curve reaches `P_REACHED` (by its θ and β, or else
 /// by its sampled points), at least at `im_max` and at most
 /// `CAP_STRIPES` × `im_max`; each curve with a θ and β is continued from
@@ -553,7 +554,8 @@ fn extend(panels: &mut [FragilityPanel], im_max: f64) -> (f64, ShortCurves) {
     }
     let cap = CAP_STRIPES * im_max;
     let mut reach = im_max;
-    for s in panels.iter().flat_map(|p| &p.series) {
+    // a curve drawn on its μ = ∞ twin is not one more curve short
+    for s in panels.iter().flat_map(|p| &p.series).filter(|s| !s.as_infinite) {
         for (fit, params) in s.fits.iter().zip(&s.lognormal) {
             if fit.is_empty() {
                 continue;
