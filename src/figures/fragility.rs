@@ -233,7 +233,9 @@ pub struct FragilityFigure {
     /// The legend's text of a drawn e (`e ~ U(0.2, 0.6), drawn per
     /// analysis`), when the study draws it.
     pub drawn_restitution: Option<String>,
-    /// The legend's text of drawn friction, when the study draws it.
+    /// The legend's text of drawn friction, when the study draws it (`μₛ ~
+    /// LN(0.5, 0.15), μₖ/μₛ ~ U(0.75, 0.95)`, and `drawn per analysis` when
+    /// e is not drawn).
     pub drawn_friction: Option<String>,
 }
 
@@ -412,11 +414,17 @@ impl FragilityFigure {
             .chain(short_of_reach.clauses())
             .collect::<Vec<_>>()
             .join("; ");
-        let drawn = |f: Field| drawn_label(study, f).map(|d| format!("{d}, drawn per analysis"));
+        // "drawn per analysis" once, on the first drawn entry of the legend
+        let drawn_restitution =
+            drawn_label(study, Field::Restitution).map(|d| format!("{d}, drawn per analysis"));
+        let drawn_friction = drawn_label(study, Field::Friction).map(|d| match drawn_restitution {
+            Some(_) => d,
+            None => format!("{d}, drawn per analysis"),
+        });
         FragilityFigure {
             title,
-            drawn_restitution: drawn(Field::Restitution),
-            drawn_friction: drawn(Field::Friction),
+            drawn_restitution,
+            drawn_friction,
             restitutions,
             frictions,
             fitted,
@@ -555,7 +563,11 @@ fn extend(panels: &mut [FragilityPanel], im_max: f64) -> (f64, ShortCurves) {
     let cap = CAP_STRIPES * im_max;
     let mut reach = im_max;
     // a curve drawn on its μ = ∞ twin is not one more curve short
-    for s in panels.iter().flat_map(|p| &p.series).filter(|s| !s.as_infinite) {
+    for s in panels
+        .iter()
+        .flat_map(|p| &p.series)
+        .filter(|s| !s.as_infinite)
+    {
         for (fit, params) in s.fits.iter().zip(&s.lognormal) {
             if fit.is_empty() {
                 continue;

@@ -500,7 +500,8 @@ mod tests {
     fn psd_axis_labels_are_distinct_powers_of_ten_and_the_title_counts_the_records() {
         let fig = SpectrumFigure::compute(&SynthesisSettings::default(), 5, 3).unwrap();
         assert!(
-            fig.title.contains("Mean spectrum of the 3 records (seed 5)"),
+            fig.title
+                .contains("Mean spectrum of the 3 records (seed 5)"),
             "{}",
             fig.title
         );
