@@ -78,7 +78,7 @@ fn recorded_study_figures_show_its_records_in_its_folder() {
     assert!(!motion.contains("ensemble seed"));
     let history = std::fs::read_to_string(figures.join("history.svg")).unwrap();
     assert!(
-        history.contains(": rec-"),
+        history.contains("; rec-"),
         "history title names a record file"
     );
     assert!(!history.contains("of seed"));

@@ -16,6 +16,12 @@
 //! Confidence bands are `<polygon>`s and observed points `<circle>`s in the
 //! series' colour (legend markers are black; hollow markers add a white
 //! `<circle>` beneath, which is not counted).
+//!
+//! The fragility figure draws a fitted curve over its case's stripes in the
+//! curve's colour and its extrapolated parts (below the lowest stripe,
+//! above the highest) dotted, in a lighter tint: many two-point polylines
+//! of a colour no curve has over the stripes. [`Marks::curves`] and
+//! [`Marks::dashed_in`] count the curves by their colours over the stripes.
 
 mod common;
 
@@ -26,7 +32,7 @@ use std::path::{Path, PathBuf};
 
 use rockfrag::figures::StudyData;
 use rockfrag::figures::{FigureOptions, study_figures};
-use rockfrag::figures::{HistoryCase, HistoryFigure, mode_colour};
+use rockfrag::figures::{HistoryCase, HistoryFigure, bounce_colour, mode_colour};
 use rockfrag::motion::SynthesisSettings;
 
 const ASPECTS: [f64; 2] = [2.0, 4.0];
@@ -212,6 +218,49 @@ impl Marks {
         runs
     }
 
+    /// Colours of the polylines of at least `points` points: the solid
+    /// curves' colours over the stripes.
+    fn curve_colours(&self, points: usize) -> std::collections::BTreeSet<&str> {
+        self.lines
+            .iter()
+            .filter(|l| l.1 >= points)
+            .map(|l| l.0.as_str())
+            .collect()
+    }
+
+    /// Solid curves: polylines of at least `points` points.
+    fn curves(&self, points: usize) -> usize {
+        self.lines.iter().filter(|l| l.1 >= points).count()
+    }
+
+    /// Dashed series in `colours`: maximal runs of consecutive polylines of
+    /// one of those colours with fewer than `points` points.
+    fn dashed_in(&self, points: usize, colours: &std::collections::BTreeSet<&str>) -> usize {
+        let mut runs = 0;
+        let mut prev: Option<&str> = None;
+        for (stroke, n) in &self.lines {
+            if *n >= points || !colours.contains(stroke.as_str()) {
+                prev = None;
+                continue;
+            }
+            if prev != Some(stroke.as_str()) {
+                runs += 1;
+            }
+            prev = Some(stroke);
+        }
+        runs
+    }
+
+    /// Short polylines in colours no curve over the stripes has: the dotted
+    /// extrapolated parts.
+    fn dotted(&self, points: usize) -> usize {
+        let colours = self.curve_colours(points);
+        self.lines
+            .iter()
+            .filter(|l| l.1 < points && !colours.contains(l.0.as_str()))
+            .count()
+    }
+
     fn has_text(&self, needle: &str) -> bool {
         self.texts.iter().any(|t| t.contains(needle))
     }
@@ -237,9 +286,11 @@ fn svg(dir: &Path, name: &str) -> PathBuf {
 
 /// A study fitted for a second limit state (`uplift`, every case, listed
 /// before overturning as the milder one) has its curves drawn too, each with
-/// its own band: twice the solid and dashed series and twice the bands; the
-/// title names both in order of severity and the legend has a row for each;
-/// the axis says P(exceeded).
+/// its own band: twice the solid and dashed series and twice the bands (one
+/// per distinct curve: the fixture's Coulomb curves are its μ = ∞ ones, and
+/// a curve drawn on its twin gets no band of its own); the title names both
+/// in order of severity and the legend has a row for each; the axis says
+/// P(exceeded).
 #[test]
 fn every_limit_state_is_drawn_with_its_band() {
     let study = tempfile::tempdir().unwrap();
@@ -268,9 +319,15 @@ fn every_limit_state_is_drawn_with_its_band() {
     study_figures(study.path(), &out, &quick()).unwrap();
     let series = ASPECTS.len() * RESTITUTIONS.len();
     let f = marks(&svg(&out, "fragility"));
-    assert_eq!(f.solid(IM_POINTS), 2 * series, "solid curves (μ = ∞)");
-    assert_eq!(f.dashed(IM_POINTS), 2 * series, "dashed curves (Coulomb)");
-    assert_eq!(f.polygons, 2 * 2 * series, "a band for every curve");
+    let long = IM_POINTS / 2;
+    assert_eq!(f.curves(long), 2 * series, "solid curves (μ = ∞)");
+    let colours = f.curve_colours(long);
+    assert_eq!(
+        f.dashed_in(long, &colours),
+        2 * series,
+        "dashed curves (Coulomb)"
+    );
+    assert_eq!(f.polygons, 2 * series, "a band for every distinct curve");
     assert!(f.has_text("P(exceeded)"), "{:?}", f.texts);
     assert!(
         f.texts
@@ -279,6 +336,7 @@ fn every_limit_state_is_drawn_with_its_band() {
         "{:?}",
         f.texts
     );
+    assert!(f.dotted(long) > 0, "extrapolated parts drawn dotted");
     assert!(
         f.has_text("uplift") && f.has_text("overturning"),
         "{:?}",
@@ -304,13 +362,16 @@ fn every_figure_parses_and_has_its_curves() {
 
     let series = ASPECTS.len() * RESTITUTIONS.len();
     let f = marks(&svg(&out, "fragility"));
-    assert_eq!(f.solid(IM_POINTS), series, "solid fitted curves (μ = ∞)");
+    let long = IM_POINTS / 2;
+    assert_eq!(f.curves(long), series, "solid fitted curves (μ = ∞)");
+    let colours = f.curve_colours(long);
     assert_eq!(
-        f.dashed(IM_POINTS),
+        f.dashed_in(long, &colours),
         series,
         "dashed fitted curves (Coulomb)"
     );
-    assert_eq!(f.polygons, 2 * series, "one 90 % band per curve");
+    // the Coulomb curves are the μ = ∞ ones: one band for the two
+    assert_eq!(f.polygons, series, "one 90 % band per distinct curve");
     assert_eq!(
         f.coloured_circles,
         2 * series * PGAS.len(),
@@ -378,10 +439,13 @@ fn every_figure_parses_and_has_its_curves() {
         assert!(r.has_text(t), "restitution lacks {t:?}: {:?}", r.texts);
     }
 
-    // target and records as lines, the stationary process as markers
+    // target and records as lines, what the records should show dashed,
+    // the stationary process as markers
     let s = marks(&svg(&out, "spectrum"));
-    assert_eq!(s.long_any, 2, "target (black) and records (coloured)");
-    assert_eq!(s.lines.len(), 1);
+    assert_eq!(s.lines.len(), 1, "the records (coloured)");
+    // the target (black) and the dashes of the records' expected spectrum
+    assert!(s.long_any > 2, "{}", s.long_any);
+    assert!(s.has_text("S(f) through envelope and high-pass"));
     assert!(s.coloured_circles > 20, "stationary estimate markers");
     assert!(s.has_text("Frequency (Hz)"));
 
@@ -417,7 +481,9 @@ fn history_shades_every_mode_interval_and_shows_several_modes() {
     assert!(fig.window.1 - fig.window.0 < 30.0, "zoomed in");
     for w in fig.intervals.windows(2) {
         assert_eq!(w[0].t1, w[1].t0, "intervals tile the window");
-        assert_ne!(w[0].mode, w[1].mode, "neighbours differ");
+        // but two flights with a bounce (an impact) between them
+        let bounce = w[0].mode == rockfrag::outcome::Mode::Flight && fig.impacts.contains(&w[1].t0);
+        assert!(w[0].mode != w[1].mode || bounce, "neighbours differ");
     }
 
     let dir = tempfile::tempdir().unwrap();
@@ -425,16 +491,19 @@ fn history_shades_every_mode_interval_and_shows_several_modes() {
     rockfrag::figures::save(&fig, &path).unwrap();
     let h = marks(&path);
     assert_eq!(h.long_any, 2, "acceleration and θ/θc");
+    let key = |c: plotters::style::RGBColor| format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+    let flight = rockfrag::outcome::Mode::Flight;
     let shaded: usize = rockfrag::outcome::Mode::ALL
         .iter()
-        .map(|&m| {
-            let c = mode_colour(m);
-            let key = format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
-            h.rects.get(&key).copied().unwrap_or(0)
-        })
-        .sum();
-    // legend blocks: one per mode
-    assert_eq!(shaded, 2 * fig.intervals.len() + 5);
+        .map(|&m| h.rects.get(&key(mode_colour(m))).copied().unwrap_or(0))
+        .sum::<usize>()
+        + h.rects
+            .get(&key(bounce_colour(flight)))
+            .copied()
+            .unwrap_or(0);
+    // legend blocks: one per mode, and one for a flight after a bounce
+    let bounces = fig.intervals.windows(2).any(|w| w[0].mode == w[1].mode);
+    assert_eq!(shaded, 2 * fig.intervals.len() + 5 + usize::from(bounces));
     for t in [
         "Time (s)",
         "Rotation θ/θc",
@@ -573,10 +642,11 @@ fn write_lognormal_fits(dir: &Path, theta: &dyn Fn(f64, f64, &str) -> f64, beta:
 /// Issue 29: the fragility axis stopped at the last stripe, cutting the
 /// H/B 2 curves off at P ≈ 0.6. With θ and β in `fragility.csv`, the axis
 /// runs on to where every curve reaches P = 0.95, and each curve is drawn on
-/// to it (one polyline per curve, the file's points then the extension);
-/// the bands stop at the last stripe. When a curve would need more than 3×
-/// the last stripe, the axis stops there and the title says how many
-/// curves are still below 0.95.
+/// to it (the file's points then the extension), dotted beyond the
+/// stripes; the bands stop at the last stripe. When a curve would need
+/// more than 1.5× the last point of the data, the axis stops there and the
+/// title says how many curves are still below 0.95 (issue 37: it ran to
+/// 3×).
 #[test]
 fn the_fragility_axis_reaches_where_every_curve_is_at_0_95() {
     use rockfrag::figures::{FragilityFigure, ShortCurves};
@@ -601,36 +671,50 @@ fn the_fragility_axis_reaches_where_every_curve_is_at_0_95() {
         let end = s.extension[0].last().expect("extended to the axis end");
         assert!(end.1 >= 0.95, "curve ends at P = {}", end.1);
         assert_eq!(s.extension[0].len(), n_ext);
+        // over the stripes (0.3–1.2 g) in full, dotted beyond
+        let [below, middle, above] = s.curve_parts(0);
+        assert_eq!(s.stripe_range, Some((0.3, 1.2)));
+        assert!(middle.iter().all(|p| (0.3..=1.2).contains(&p.0)));
+        assert!(below.iter().all(|p| p.0 <= 0.3) && above.iter().all(|p| p.0 >= 1.2));
+        assert_eq!(above.last().map(|p| p.0), Some(fig.x_max));
     }
     let out = study.path().join("figures");
     study_figures(study.path(), &out, &quick()).unwrap();
     let f = marks(&svg(&out, "fragility"));
     let series = ASPECTS.len() * RESTITUTIONS.len();
-    assert_eq!(f.solid(IM_POINTS + n_ext), series, "solid curves, extended");
-    assert_eq!(f.polygons, 2 * series, "bands, to the last stripe");
-    assert!(f.has_text("to the last stripe"), "{:?}", f.texts);
+    assert_eq!(f.curves(IM_POINTS / 2), series, "solid curves");
+    assert!(f.dotted(IM_POINTS / 2) > 0, "extrapolated, dotted");
+    assert_eq!(f.polygons, series, "bands, over the stripes");
+    assert!(f.has_text("over the stripes"), "{:?}", f.texts);
+    assert!(
+        f.has_text("extrapolated beyond the stripes"),
+        "{:?}",
+        f.texts
+    );
 
-    // β = 1: θ·e^(1.645) ≈ 6.2 g for H/B 2, beyond 3 × 1.5 g
+    // β = 1: θ·e^(1.645) ≈ 6.2 g for H/B 2, beyond 1.5 × 1.5 g
     write_lognormal_fits(study.path(), &theta, 1.0);
     let fig = FragilityFigure::from_study(&StudyData::load(study.path()).unwrap());
-    assert!((fig.x_max - 1.03 * 3.0 * 1.5).abs() < 1e-9, "{}", fig.x_max);
+    assert!((fig.x_max - 1.03 * 1.5 * 1.5).abs() < 1e-9, "{}", fig.x_max);
     let capped = fig.short_of_reach.capped;
     assert!(capped > 0 && fig.short_of_reach.unextended == 0);
     assert!(
         fig.title.contains(&format!(
-            "{capped} curves below P = 0.95 at the axis end (3 × the last stripe)"
+            "{capped} curves below P = 0.95 at the axis end (1.5 × the last stripe)"
         )),
         "{}",
         fig.title
     );
-    // the fixture's own curves (no fragility.csv) stop short for H/B 2
+    // the fixture's own curves (no fragility.csv) stop short for H/B 2;
+    // its Coulomb curves are drawn on their μ = ∞ twins and not counted
+    // again
     fs::remove_file(study.path().join("fragility.csv")).unwrap();
     write_study(study.path(), true, false);
     let fig = FragilityFigure::from_study(&StudyData::load(study.path()).unwrap());
-    assert_eq!(fig.short_of_reach.unextended, 2 * RESTITUTIONS.len());
+    assert_eq!(fig.short_of_reach.unextended, RESTITUTIONS.len());
     assert!(
         fig.title
-            .contains("8 curves end below P = 0.95 (no θ, β in fragility.csv)"),
+            .contains("4 curves end below P = 0.95 (no θ, β in fragility.csv)"),
         "{}",
         fig.title
     );

@@ -58,7 +58,8 @@ pub struct FigureOptions {
     /// Ensemble seed of the sample record and the spectrum (default: 1, the
     /// study runner's default seed).
     pub seed: u64,
-    /// Records in the spectrum's ensemble average (default: 200).
+    /// Records in the spectrum's ensemble average (default: 200; for a
+    /// study, its own number of records, or of record pairs).
     pub spectrum_records: usize,
     /// PGA of the sample record, g (default: 0.6).
     pub motion_pga: f64,
@@ -108,9 +109,19 @@ impl FigureOptions {
             ..FigureOptions::default()
         };
         match &study.motions {
-            Motions::Synthetic { settings, seed, .. } => {
+            Motions::Synthetic {
+                settings,
+                seed,
+                records,
+                pairs,
+            } => {
                 options.seed = *seed;
                 options.synthesis = settings.clone();
+                // the records the study ran: a pair's angles share its records
+                options.spectrum_records = match pairs {
+                    Some(orientation) => records.div_ceil(orientation.per_pair()),
+                    None => *records,
+                };
             }
             // a pair's components each count as a record of the spectrum
             Motions::Files(_) | Motions::Pairs { .. } => {
@@ -209,7 +220,7 @@ impl StudyFigures {
     /// Errors: [`Error::Io`] if `outcomes.csv` is missing, [`Error::Parse`]
     /// for malformed CSV or a folder without successful analyses.
     pub fn compute(dir: &Path, options: &FigureOptions) -> Result<StudyFigures> {
-        let data = StudyData::load_pooled(dir, &options.pooled)?;
+        let data = StudyData::load_study(dir, options.study.as_ref(), &options.pooled)?;
         if data.outcomes.is_empty() {
             return Err(Error::Parse {
                 path: dir.join("outcomes.csv"),
@@ -230,11 +241,19 @@ impl StudyFigures {
                 options.seed,
                 super::style::tick_label(options.motion_pga)
             );
-            let spectrum = SpectrumFigure::compute(
-                &options.synthesis,
-                options.seed,
-                options.spectrum_records,
-            )?;
+            let pairs = options
+                .study
+                .as_ref()
+                .is_some_and(|s| matches!(s.motions, Motions::Synthetic { pairs: Some(_), .. }));
+            let spectrum = if pairs {
+                SpectrumFigure::compute_pairs(
+                    &options.synthesis,
+                    options.seed,
+                    options.spectrum_records,
+                )?
+            } else {
+                SpectrumFigure::compute(&options.synthesis, options.seed, options.spectrum_records)?
+            };
             (Some(record), Some(spectrum))
         } else {
             recorded_figures(options, &mut notes)

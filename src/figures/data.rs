@@ -15,9 +15,13 @@ use std::path::Path;
 
 use crate::case::{Case, Field, Param, cmp_friction};
 use crate::error::{Error, Result};
-use crate::fragility::{IntensityMeasure, read_curves_csv, read_fragility_csv};
+use crate::fragility::{
+    FragilityOptions, IntensityMeasure, read_curves_csv, read_fragility_csv, read_outcomes_for,
+};
 use crate::outcomes_csv::{Column, OutcomesFile};
 use crate::solver::Friction;
+use crate::spec::Study;
+use crate::uncertainty::{Distribution, Property, Value};
 
 /// One analysis as the figures plot it: the case, the intensity and the
 /// outcome quantities that are drawn (taken from an
@@ -79,6 +83,43 @@ pub struct LognormalCurve {
     pub median: f64,
     /// Logarithmic standard deviation β.
     pub beta: f64,
+    /// The bootstrap band of θ, when the fit has one.
+    pub median_band: Option<(f64, f64)>,
+    /// Analyses that exceeded the limit state.
+    pub n_exceeded: usize,
+}
+
+/// The observed fraction of a case's analyses at one stripe that exceeded
+/// one limit state (as the fit counts them: [`read_outcomes_for`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObservedStripe {
+    /// The case (drawn parameters pooled).
+    pub case: Case,
+    /// The limit state.
+    pub limit_state: String,
+    /// The stripe's PGA (g), as [`PlotRow::pga`].
+    pub im: f64,
+    /// Analyses that exceeded the limit state.
+    pub exceeded: usize,
+    /// Analyses at the stripe.
+    pub trials: usize,
+}
+
+/// Relative difference below which two intensities are one stripe: the
+/// measured IMs of records scaled to one level differ in their last bits.
+pub const STRIPE_TOL: f64 = 1e-9;
+
+/// Whether `a` and `b` are the same stripe ([`STRIPE_TOL`]).
+pub fn same_stripe(a: f64, b: f64) -> bool {
+    (a - b).abs() <= STRIPE_TOL * a.abs().max(b.abs())
+}
+
+/// The stripes of `values`: sorted, those within [`STRIPE_TOL`] of the
+/// previous one merged into it (each stripe is its smallest value).
+pub fn stripes(values: impl IntoIterator<Item = f64>) -> Vec<f64> {
+    let mut v = distinct_numbers(values);
+    v.dedup_by(|b, a| same_stripe(*a, *b));
+    v
 }
 
 /// A friction model for legends: `μ = ∞` or `μₛ = 0.7, μₖ = 0.6` (`μₛ, μₖ
@@ -92,6 +133,61 @@ pub fn friction_label(f: &Param<Friction>) -> String {
             super::style::tick_label(mu_s),
             super::style::tick_label(mu_k)
         ),
+    }
+}
+
+/// A distribution in a legend: `U(0.2, 0.6)`, `N(0.5, 0.02)`,
+/// `LN(0.5, 0.15)` (median, β), with ` on [a, b]` when truncated.
+pub fn distribution_label(d: &Distribution) -> String {
+    let t = super::style::tick_label;
+    let bounds = |min: Option<f64>, max: Option<f64>| match (min, max) {
+        (None, None) => String::new(),
+        (a, b) => format!(
+            " on [{}, {}]",
+            a.map_or("−∞".to_string(), t),
+            b.map_or("∞".to_string(), t)
+        ),
+    };
+    match *d {
+        Distribution::Uniform { min, max } => format!("U({}, {})", t(min), t(max)),
+        Distribution::Normal { mean, sd, min, max } => {
+            format!("N({}, {}){}", t(mean), t(sd), bounds(min, max))
+        }
+        Distribution::Lognormal {
+            median,
+            beta,
+            min,
+            max,
+        } => format!("LN({}, {}){}", t(median), t(beta), bounds(min, max)),
+    }
+}
+
+/// What a study draws for `field`, for a legend: `e ~ U(0.2, 0.6)`,
+/// `2B ~ N(0.5, 0.02) m`, `μₛ ~ LN(0.5, 0.15), μₖ/μₛ ~ U(0.75, 0.95)`;
+/// `None` when `study` is unknown or does not draw the field.
+pub fn drawn_label(study: Option<&Study>, field: Field) -> Option<String> {
+    let u = study?.uncertainty.as_ref()?;
+    let value = |v: &Value| match v {
+        Value::Fixed(x) => format!("= {}", super::style::tick_label(*x)),
+        Value::Drawn(d) => format!("~ {}", distribution_label(d)),
+    };
+    let one = |name: &str, p: Property, unit: &str| {
+        u.get(p)
+            .filter(|v| v.is_drawn())
+            .map(|v| format!("{name} {}{unit}", value(v)))
+    };
+    match field {
+        Field::Aspect => one("H/B", Property::Aspect, ""),
+        Field::Width => one("2B", Property::Width, " m"),
+        Field::Restitution => one("e", Property::Restitution, ""),
+        Field::Friction => {
+            let parts: Vec<String> = [(Property::MuS, "μₛ"), (Property::MuKOverMuS, "μₖ/μₛ")]
+                .iter()
+                .filter_map(|&(p, name)| u.get(p).map(|v| format!("{name} {}", value(v))))
+                .collect();
+            (u.is_drawn(Property::MuS) || u.is_drawn(Property::MuKOverMuS))
+                .then(|| parts.join(", "))
+        }
     }
 }
 
@@ -117,6 +213,13 @@ pub struct StudyData {
     /// The PGA of the stripes and curves: the record's, or a record pair's
     /// RotD50 ([`read_outcomes`]).
     pub im: IntensityMeasure,
+    /// The study, when known (from the folder's manifest): its limit
+    /// states' definitions and the distributions of what it draws.
+    pub study: Option<Study>,
+    /// The observed fractions of every limit state of the study's
+    /// `[fragility]` at every stripe of every case (empty without a study
+    /// or when `outcomes.csv` cannot be read for them).
+    pub observed: Vec<ObservedStripe>,
 }
 
 impl StudyData {
@@ -165,7 +268,66 @@ impl StudyData {
             curves,
             lognormal,
             im,
+            study: None,
+            observed: Vec::new(),
         })
+    }
+
+    /// As [`StudyData::load_pooled`] for `study` (the folder's, when known,
+    /// pooling what it draws), with the observed fraction of each of its
+    /// limit states at each stripe ([`StudyData::observed`]). A limit state
+    /// whose count differs from the fit's (`fragility.csv` refitted with
+    /// other definitions) gets none.
+    pub fn load_study(dir: &Path, study: Option<&Study>, pooled: &[Field]) -> Result<StudyData> {
+        let mut data = StudyData::load_pooled(dir, pooled)?;
+        data.study = study.cloned();
+        let Some(study) = study else {
+            return Ok(data);
+        };
+        let options = FragilityOptions {
+            im: data.im,
+            limit_state: study
+                .fragility
+                .as_ref()
+                .map_or_else(Vec::new, |f| f.limit_state.clone()),
+            pool: pooled.to_vec(),
+            ..FragilityOptions::default()
+        };
+        // A spec whose limit states the file cannot count draws without them.
+        let Ok(outcomes) = read_outcomes_for(&dir.join("outcomes.csv"), &options) else {
+            return Ok(data);
+        };
+        for case in &outcomes.cases {
+            let levels = stripes(case.trials.iter().map(|t| t.im));
+            for (k, ls) in outcomes.limit_states.iter().enumerate() {
+                let mut counts: Vec<(usize, usize)> = vec![(0, 0); levels.len()];
+                for t in &case.trials {
+                    let i = levels.partition_point(|&l| l < t.im && !same_stripe(l, t.im));
+                    counts[i.min(levels.len() - 1)].0 += usize::from(t.exceeds(k));
+                    counts[i.min(levels.len() - 1)].1 += 1;
+                }
+                // the fit's count, if it has one, must be this one
+                let total: usize = counts.iter().map(|c| c.0).sum();
+                let fitted = data
+                    .lognormal
+                    .iter()
+                    .find(|l| l.case == case.key && l.limit_state == ls.name);
+                if fitted.is_some_and(|l| l.n_exceeded != total) {
+                    continue;
+                }
+                data.observed
+                    .extend(levels.iter().zip(counts).map(|(&im, (exceeded, trials))| {
+                        ObservedStripe {
+                            case: case.key,
+                            limit_state: ls.name.clone(),
+                            im,
+                            exceeded,
+                            trials,
+                        }
+                    }));
+            }
+        }
+        Ok(data)
     }
 }
 
@@ -330,6 +492,8 @@ pub fn read_lognormal(path: &Path, im: IntensityMeasure) -> Result<Vec<Lognormal
                 limit_state: r.limit_state,
                 median,
                 beta,
+                median_band: r.median_band,
+                n_exceeded: r.n_exceeded,
             }),
             _ => None,
         })

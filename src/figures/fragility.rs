@@ -1,32 +1,46 @@
-//! Fragility curves: probability of overturning against PGA, one panel per
-//! block (aspect ratio, and width when a study has several), one colour per
-//! coefficient of restitution, one line pattern per friction model (infinite
-//! friction solid, the first Coulomb model dashed, a second short-dashed),
-//! the fitted curve over its 90 % band, and the observed fraction of each
-//! PGA stripe as points (filled for infinite friction, open otherwise).
+//! Fragility curves: probability of exceeding each limit state against
+//! PGA, one panel per block (aspect ratio, and width when a study has
+//! several), one colour per coefficient of restitution, one line pattern per
+//! friction model (infinite friction solid, the first Coulomb model dashed,
+//! a second short-dashed), the fitted curves over their 90 % bands, and the
+//! observed fraction of each PGA stripe as points (filled for infinite
+//! friction, open otherwise).
 //!
-//! Without fitted curves (no `fragility_curves.csv`) the observed fractions
-//! are joined by straight lines and the title says so. A study fitted for
-//! several limit states draws every limit state of a case, each with its
-//! band, in the case's colour: the most severe in full colour, the milder
-//! ones lighter tints of it (a legend row names them, light to dark); the
-//! points stay the observed overturning fractions.
+//! Without fitted curves (no `fragility_curves.csv`) the observed
+//! overturning fractions are joined by straight lines and the title says
+//! so. A study fitted for several limit states draws every limit state of a
+//! case, each with its band and its observed fractions, in the case's
+//! colour: the most severe in full colour, the milder ones lighter tints of
+//! it (a legend row names them, light to dark, in the case's colour when
+//! the figure has one). A limit state's points are the fractions the fit
+//! counted, from the definitions of the study's `[fragility]`
+//! ([`StudyData::load_study`]); a limit state refitted with other
+//! definitions than the spec's has none.
 //!
-//! A parameter drawn per analysis (`[uncertainty]`) reads `drawn` in the
-//! legend or heading: its case pools every draw.
+//! A parameter drawn per analysis (`[uncertainty]`) is named with its
+//! distribution in the legend or heading (`e ~ U(0.2, 0.6), drawn per
+//! analysis`): its case pools every draw.
 //!
-//! **The IM axis reaches the top of every curve.** `fragility_curves.csv`
-//! samples each fit from 0 to the case's last stripe only, where a curve of
-//! a stocky block may still be at P ≈ 0.6. The axis runs on to where every
-//! fitted curve reaches P = 0.95 (θ·e^(1.645β)), but no further than
-//! `CAP_STRIPES` × the last stripe; the title says how many curves are
-//! still below 0.95 there ([`ShortCurves`]). Beyond the last stripe the
-//! figure evaluates the fitted lognormal itself, from the θ and β of
-//! `fragility.csv` (read with [`crate::fragility::read_fragility_csv`]), so
-//! the curve files keep their grid (and every other reader of them its
-//! numbers); the bootstrap band stops at the last stripe, where the data
-//! stop (its legend entry says so). Without `fragility.csv` the curves end
-//! where their file does, and the title counts those that stop below 0.95.
+//! **Inside the stripes, and beyond.** A fit rests on the stripes of its
+//! case: below the lowest and above the highest it is the lognormal's
+//! extrapolation (a median above the strongest stripe is one). That part of
+//! every curve is drawn dotted, in a lighter tint of its colour (a legend
+//! entry says so), and the bands are drawn over the stripes only. The IM axis runs
+//! on to where every fitted curve reaches P = 0.95 (θ·e^(1.645β)), but no
+//! further than [`CAP_STRIPES`] × the last stripe; the title says how many
+//! curves are still below 0.95 there ([`ShortCurves`]). Beyond the last
+//! stripe the figure evaluates the fitted lognormal itself, from the θ and
+//! β of `fragility.csv` (read with [`crate::fragility::read_fragility_csv`]),
+//! so the curve files keep their grid (and every other reader of them its
+//! numbers). Without `fragility.csv` the curves end where their file does,
+//! and the title counts those that stop below 0.95.
+//!
+//! **Bands that stay readable.** A band per curve is drawn while a panel
+//! has at most [`MAX_BANDED`] distinct curves per limit state; beyond that,
+//! overlapping bands of four colours make a grey mud, and each curve's
+//! uncertainty is shown instead as the 90 % band of its median θ (from
+//! `fragility.csv`), a bar at P = 0.5 in the curve's colour, the bars of a
+//! panel stacked a little apart so that none hides another.
 //!
 //! **Friction that changes nothing is said, not hidden.** When a finite
 //! friction model gives the same outcomes as μ = ∞ (a stocky block on a
@@ -35,20 +49,24 @@
 //! fractions are equal and its fitted curves differ by less than
 //! [`SAME_CURVE_TOL`] everywhere: if that holds for every case, the legend
 //! entry of the model says `(as μ = ∞)`; otherwise each panel names, at its
-//! top left, the e values whose dashed curve is the solid one.
+//! top left, the e values whose dashed curve is the solid one. A curve drawn
+//! on its twin gets no band (or bar) of its own.
+//!
+//! A study of one block draws its one panel a journal column wide.
 
 use crate::detmath as dm;
 use plotters::coord::Shift;
-use plotters::prelude::{DrawingArea, DrawingBackend, Polygon, Text};
-use plotters::style::{BLACK, Color};
+use plotters::prelude::{DrawingArea, DrawingBackend, PathElement, Polygon, Text};
+use plotters::style::{BLACK, Color, RGBColor};
 
 use super::data::{
-    StudyData, distinct, distinct_friction, distinct_numbers, friction_label, param_label, runs,
+    StudyData, distinct, distinct_friction, drawn_label, friction_label, param_label, runs,
+    same_stripe, stripes,
 };
 use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
-use super::style::{PAGE_WIDTH_IN, Style};
-use crate::case::{Case, Param};
+use super::style::{COLUMN_WIDTH_IN, PAGE_WIDTH_IN, Style};
+use crate::case::{Case, Field, Param};
 use crate::solver::Friction;
 
 /// Figure height (in), before legend rows beyond the first.
@@ -60,12 +78,22 @@ const BAND_ALPHA: f64 = 0.14;
 /// The probability every fitted curve should reach inside the IM axis.
 pub const P_REACHED: f64 = 0.95;
 /// The IM axis ends at most this many times the last stripe.
-pub const CAP_STRIPES: f64 = 3.0;
+pub const CAP_STRIPES: f64 = 1.5;
 /// Most points of a fitted curve's extension beyond the last stripe (it
 /// is sampled at the spacing of the curve's file, `fragility_curves.csv`).
 pub const EXTENSION_POINTS: usize = 100;
 /// Largest difference in P between two fitted curves drawn as one.
 pub const SAME_CURVE_TOL: f64 = 0.005;
+/// Most distinct curves of one limit state in a panel drawn with bands;
+/// a panel with more shows the bands of the medians as bars.
+pub const MAX_BANDED: usize = 2;
+/// How much lighter (towards white) the extrapolated part of a curve is;
+/// it is dotted, too.
+pub const EXTRAPOLATED_TINT: f64 = 0.3;
+/// Vertical spacing of the median bars of one panel (in P).
+const BAR_STEP: f64 = 0.03;
+/// Thickness of a median bar (pt).
+const BAR_PT: f64 = 1.3;
 
 /// One curve: a case's fit (if any) and its observed stripe fractions.
 #[derive(Clone, Debug, PartialEq)]
@@ -78,11 +106,18 @@ pub struct FragilitySeries {
     /// of [`FragilityFigure::limit_states`] in its order (empty where that
     /// limit state has no fit).
     pub fits: Vec<Vec<(f64, f64, f64, f64)>>,
-    /// Observed stripes (pga, fraction overturned, analyses).
-    pub observed: Vec<(f64, f64, usize)>,
+    /// Observed stripes (pga, fraction exceeding, analyses), one list per
+    /// limit state in the order of [`FragilitySeries::fits`] (empty where
+    /// the limit state's counts are not known).
+    pub observed: Vec<Vec<(f64, f64, usize)>>,
+    /// The lowest and highest stripe of the case: where its fits rest on
+    /// data (`None` without stripes).
+    pub stripe_range: Option<(f64, f64)>,
     /// Each fit's θ and β (g), from `fragility.csv`, in the order of
     /// [`FragilitySeries::fits`] (`None` where the file has none).
     pub lognormal: Vec<Option<(f64, f64)>>,
+    /// Each fit's bootstrap band of θ (g), from `fragility.csv`.
+    pub median_band: Vec<Option<(f64, f64)>>,
     /// Each fit of [`FragilitySeries::fits`] continued beyond its last
     /// point to the axis end, (im, p) from its θ and β (empty where
     /// `fragility.csv` has none, or the fit already reaches the end).
@@ -92,6 +127,68 @@ pub struct FragilitySeries {
     pub as_infinite: bool,
 }
 
+impl FragilitySeries {
+    /// Limit state `k`'s fitted curve and its extension, (im, p), split at
+    /// the stripes' range: (below the lowest stripe, over the stripes,
+    /// above the highest), each part sharing its end point with the next.
+    pub fn curve_parts(&self, k: usize) -> [Vec<(f64, f64)>; 3] {
+        let points: Vec<(f64, f64)> = self.fits[k]
+            .iter()
+            .map(|p| (p.0, p.1))
+            .chain(self.extension[k].iter().copied())
+            .collect();
+        let Some((lo, hi)) = self.stripe_range else {
+            return [Vec::new(), points, Vec::new()];
+        };
+        let at = |x: f64| interpolate(&points, x);
+        let inside = |x: f64| x >= lo && x <= hi;
+        let mut below: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.0 < lo).collect();
+        let mut middle: Vec<(f64, f64)> = points.iter().copied().filter(|p| inside(p.0)).collect();
+        let mut above: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.0 > hi).collect();
+        if points.first().is_some_and(|p| p.0 < lo) && points.last().is_some_and(|p| p.0 >= lo) {
+            let joint = (lo, at(lo));
+            below.push(joint);
+            if middle.first().is_none_or(|p| p.0 > lo) {
+                middle.insert(0, joint);
+            }
+        }
+        if points.last().is_some_and(|p| p.0 > hi) && points.first().is_some_and(|p| p.0 <= hi) {
+            let joint = (hi, at(hi));
+            above.insert(0, joint);
+            if middle.last().is_none_or(|p| p.0 < hi) {
+                middle.push(joint);
+            }
+        }
+        [below, middle, above]
+    }
+
+    /// Limit state `k`'s band over the stripes: (im, p_lo, p_hi).
+    pub fn band(&self, k: usize) -> Vec<(f64, f64, f64)> {
+        let (lo, hi) = self
+            .stripe_range
+            .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+        self.fits[k]
+            .iter()
+            .filter(|p| p.0 >= lo && p.0 <= hi)
+            .map(|p| (p.0, p.2, p.3))
+            .collect()
+    }
+}
+
+/// Linear interpolation of (x, y) points, x ascending, at `x` (clamped to
+/// the ends).
+fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
+    let i = points.partition_point(|p| p.0 <= x);
+    match i {
+        0 => points.first().map_or(0.0, |p| p.1),
+        i if i >= points.len() => points[points.len() - 1].1,
+        i => {
+            let (a, b) = (points[i - 1], points[i]);
+            a.1 + (b.1 - a.1) * (x - a.0) / (b.0 - a.0)
+        }
+    }
+}
+
 /// One panel: one block.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FragilityPanel {
@@ -99,6 +196,9 @@ pub struct FragilityPanel {
     pub label: String,
     /// Its series, by restitution then friction.
     pub series: Vec<FragilitySeries>,
+    /// Whether its curves' uncertainty is drawn as bars of the medians'
+    /// bands instead of bands (more than [`MAX_BANDED`] distinct curves).
+    pub median_bars: bool,
 }
 
 /// The fragility figure's data.
@@ -130,6 +230,13 @@ pub struct FragilityFigure {
     pub limit_states: Vec<String>,
     /// The IM axis's label ([`StudyData::pga_label`]).
     pub x_label: String,
+    /// The legend's text of a drawn e (`e ~ U(0.2, 0.6), drawn per
+    /// analysis`), when the study draws it.
+    pub drawn_restitution: Option<String>,
+    /// The legend's text of drawn friction, when the study draws it (`μₛ ~
+    /// LN(0.5, 0.15), μₖ/μₛ ~ U(0.75, 0.95)`, and `drawn per analysis` when
+    /// e is not drawn).
+    pub drawn_friction: Option<String>,
 }
 
 impl FragilityFigure {
@@ -148,6 +255,7 @@ impl FragilityFigure {
         let frictions = distinct_friction(cases.iter().map(|c| c.friction));
         let blocks = distinct_blocks(&cases);
         let several_widths = distinct(cases.iter().map(|c| c.width)).len() > 1;
+        let study = data.study.as_ref();
         // In order of first appearance: the file lists a case's limit
         // states in order of severity.
         let mut limit_states: Vec<String> = Vec::new();
@@ -182,34 +290,67 @@ impl FragilityFigure {
                         })
                         .collect();
                     let mine: Vec<_> = rows.iter().filter(|r| r.case == case).collect();
-                    let observed: Vec<(f64, f64, usize)> =
-                        distinct_numbers(mine.iter().map(|r| r.pga))
-                            .into_iter()
-                            .map(|pga| {
-                                let at: Vec<_> = mine.iter().filter(|r| r.pga == pga).collect();
-                                let k = at.iter().filter(|r| r.overturned).count();
-                                (pga, k as f64 / at.len() as f64, at.len())
-                            })
-                            .collect();
-                    if fits.iter().all(Vec::is_empty) && observed.is_empty() {
+                    let levels = stripes(mine.iter().map(|r| r.pga));
+                    // the overturning fractions from the rows themselves
+                    let overturned: Vec<(f64, f64, usize)> = levels
+                        .iter()
+                        .map(|&pga| {
+                            let at: Vec<_> =
+                                mine.iter().filter(|r| same_stripe(r.pga, pga)).collect();
+                            let k = at.iter().filter(|r| r.overturned).count();
+                            (pga, k as f64 / at.len() as f64, at.len())
+                        })
+                        .collect();
+                    let observed: Vec<Vec<(f64, f64, usize)>> = limit_states
+                        .iter()
+                        .map(|ls| {
+                            let counted: Vec<(f64, f64, usize)> = data
+                                .observed
+                                .iter()
+                                .filter(|o| o.case == case && &o.limit_state == ls)
+                                .map(|o| (o.im, o.exceeded as f64 / o.trials as f64, o.trials))
+                                .collect();
+                            if !counted.is_empty() {
+                                counted
+                            } else if ls == "overturning"
+                                && !data.observed.iter().any(|o| &o.limit_state == ls)
+                            {
+                                // no spec's definition to count by: the name says it
+                                overturned.clone()
+                            } else {
+                                Vec::new()
+                            }
+                        })
+                        .collect();
+                    let observed = if curves.is_empty() {
+                        vec![overturned]
+                    } else {
+                        observed
+                    };
+                    if fits.iter().all(Vec::is_empty) && observed.iter().all(Vec::is_empty) {
                         continue;
                     }
                     im_max = fits
                         .iter()
                         .flatten()
                         .map(|p| p.0)
-                        .chain(observed.iter().map(|o| o.0))
+                        .chain(levels.iter().copied())
                         .fold(im_max, f64::max);
+                    let fitted = |ls: &String, fit: &Vec<(f64, f64, f64, f64)>| {
+                        data.lognormal
+                            .iter()
+                            .find(|l| l.case == case && &l.limit_state == ls)
+                            .filter(|_| !fit.is_empty())
+                    };
                     let lognormal = limit_states
                         .iter()
                         .zip(&fits)
-                        .map(|(ls, fit)| {
-                            let l = data
-                                .lognormal
-                                .iter()
-                                .find(|l| l.case == case && &l.limit_state == ls);
-                            l.filter(|_| !fit.is_empty()).map(|l| (l.median, l.beta))
-                        })
+                        .map(|(ls, fit)| fitted(ls, fit).map(|l| (l.median, l.beta)))
+                        .collect();
+                    let median_band = limit_states
+                        .iter()
+                        .zip(&fits)
+                        .map(|(ls, fit)| fitted(ls, fit).and_then(|l| l.median_band))
                         .collect();
                     series.push(FragilitySeries {
                         restitution: ie,
@@ -217,31 +358,56 @@ impl FragilityFigure {
                         extension: vec![Vec::new(); fits.len()],
                         fits,
                         observed,
+                        stripe_range: levels.first().zip(levels.last()).map(|(a, b)| (*a, *b)),
                         lognormal,
+                        median_band,
                         as_infinite: false,
                     });
                 }
             }
-            let mut label = format!("H/B = {}", param_label(aspect));
+            let mut label = match drawn_label(study, Field::Aspect).filter(|_| aspect.is_drawn()) {
+                Some(d) => d,
+                None => format!("H/B = {}", param_label(aspect)),
+            };
             if several_widths || width.is_drawn() {
-                label.push_str(&format!(", 2B = {}", param_label(width)));
-                if !width.is_drawn() {
-                    label.push_str(" m");
+                match drawn_label(study, Field::Width).filter(|_| width.is_drawn()) {
+                    Some(d) => label.push_str(&format!(", {d}")),
+                    None => {
+                        label.push_str(&format!(", 2B = {}", param_label(width)));
+                        if !width.is_drawn() {
+                            label.push_str(" m");
+                        }
+                    }
                 }
             }
-            panels.push(FragilityPanel { label, series });
+            panels.push(FragilityPanel {
+                label,
+                series,
+                median_bars: false,
+            });
         }
         let fitted = data.curves.is_some();
-        let (x_max, short_of_reach) = extend(&mut panels, im_max);
         let as_infinite = mark_as_infinite(&mut panels, frictions.len());
+        let (x_max, short_of_reach) = extend(&mut panels, im_max);
+        for panel in &mut panels {
+            let distinct = panel
+                .series
+                .iter()
+                .filter(|s| !s.as_infinite && s.fits.iter().any(|f| !f.is_empty()))
+                .count();
+            // bars need every curve's band of θ (from fragility.csv)
+            let bands_known = panel.series.iter().filter(|s| !s.as_infinite).all(|s| {
+                (0..s.fits.len()).all(|k| s.fits[k].is_empty() || s.median_band[k].is_some())
+            });
+            panel.median_bars = distinct > MAX_BANDED && bands_known;
+        }
         let title = if fitted && limit_states.len() > 1 {
             format!(
-                "Fragility: {} (light to dark) with 90 % bands; observed overturning (points)",
+                "Fragility: {} (light to dark); observed fractions (points)",
                 limit_states.join(", ")
             )
         } else if fitted {
-            "Fragility: fitted curves with 90 % band (lines), observed stripe fractions (points)"
-                .to_string()
+            "Fragility: fitted curves (lines), observed stripe fractions (points)".to_string()
         } else {
             "Observed overturning fractions per PGA stripe (no fragility_curves.csv: no fits)"
                 .to_string()
@@ -250,8 +416,17 @@ impl FragilityFigure {
             .chain(short_of_reach.clauses())
             .collect::<Vec<_>>()
             .join("; ");
+        // "drawn per analysis" once, on the first drawn entry of the legend
+        let drawn_restitution =
+            drawn_label(study, Field::Restitution).map(|d| format!("{d}, drawn per analysis"));
+        let drawn_friction = drawn_label(study, Field::Friction).map(|d| match drawn_restitution {
+            Some(_) => d,
+            None => format!("{d}, drawn per analysis"),
+        });
         FragilityFigure {
             title,
+            drawn_restitution,
+            drawn_friction,
             restitutions,
             frictions,
             fitted,
@@ -284,65 +459,98 @@ impl FragilityFigure {
                 let pattern = match Dash::nth(j) {
                     Dash::Solid => "solid",
                     Dash::Dashed => "dashed",
-                    Dash::Short => "short-dashed",
+                    Dash::Short | Dash::Dotted => "short-dashed",
                 };
                 (!es.is_empty()).then(|| format!("{pattern} = solid: e = {}", es.join(", ")))
             })
             .collect()
     }
 
-    /// The legend: colours for e, patterns and markers for friction.
-    fn legend(&self) -> Vec<Entry> {
+    /// The colour of the legend's samples that stand for no one case: the
+    /// case's colour when the figure has one e, else black.
+    fn neutral(&self) -> RGBColor {
+        if self.restitutions.len() == 1 {
+            restitution_colour(0)
+        } else {
+            BLACK
+        }
+    }
+
+    /// Whether any curve is drawn outside its stripes.
+    pub fn extrapolates(&self) -> bool {
+        self.fitted
+            && self.panels.iter().flat_map(|p| &p.series).any(|s| {
+                (0..s.fits.len()).any(|k| {
+                    let [below, _, above] = s.curve_parts(k);
+                    below.len() > 1 || above.len() > 1
+                })
+            })
+    }
+
+    /// The legend: colours for e, tints for limit states, patterns and
+    /// markers for friction, then the bands and the extrapolation.
+    pub fn legend(&self) -> Vec<Entry> {
+        let neutral = self.neutral();
         let mut entries: Vec<Entry> = self
             .restitutions
             .iter()
             .enumerate()
             .map(|(i, e)| {
-                Entry::new(
-                    Sample::Line(restitution_colour(i), Dash::Solid),
-                    format!("e = {}", param_label(*e)),
-                )
+                let label = match (&self.drawn_restitution, e) {
+                    (Some(d), Param::Drawn) => d.clone(),
+                    _ => format!("e = {}", param_label(*e)),
+                };
+                Entry::new(Sample::Line(restitution_colour(i), Dash::Solid), label)
             })
             .collect();
         if self.fitted && self.limit_states.len() > 1 {
             let n = self.limit_states.len();
             for (k, ls) in self.limit_states.iter().enumerate() {
                 entries.push(Entry::new(
-                    Sample::Line(layout::tint(BLACK, severity_tint(k, n)), Dash::Solid),
+                    Sample::Line(layout::tint(neutral, severity_tint(k, n)), Dash::Solid),
                     ls.clone(),
                 ));
             }
         }
         for (j, f) in self.frictions.iter().enumerate() {
-            let mut label = friction_label(f);
+            let mut label = match (&self.drawn_friction, f) {
+                (Some(d), Param::Drawn) => d.clone(),
+                _ => friction_label(f),
+            };
             if self.as_infinite.get(j).copied().unwrap_or(false) {
                 label.push_str(" (as μ = ∞)");
             }
             entries.push(Entry::new(
-                Sample::LinePoint(BLACK, Dash::nth(j), Marker::Circle, j == 0),
+                Sample::LinePoint(neutral, Dash::nth(j), Marker::Circle, j == 0),
                 label,
             ));
         }
         if self.fitted {
-            let extended = self
-                .panels
-                .iter()
-                .flat_map(|p| &p.series)
-                .any(|s| s.extension.iter().any(|e| !e.is_empty()));
-            entries.push(Entry::new(
-                Sample::Block(layout::tint(BLACK, 1.0 - 1.5 * BAND_ALPHA)),
-                if extended {
-                    "90 % band, to the last stripe"
-                } else {
-                    "90 % band"
-                },
-            ));
+            if self.panels.iter().any(|p| !p.median_bars) {
+                entries.push(Entry::new(
+                    Sample::Block(layout::tint(neutral, 1.0 - 1.5 * BAND_ALPHA)),
+                    "90 % band, over the stripes",
+                ));
+            }
+            if self.panels.iter().any(|p| p.median_bars) {
+                entries.push(Entry::new(
+                    Sample::Bar(neutral),
+                    "90 % band of the median (at P = 0.5)",
+                ));
+            }
+            if self.extrapolates() {
+                entries.push(Entry::new(
+                    Sample::Line(layout::tint(neutral, EXTRAPOLATED_TINT), Dash::Dotted),
+                    "extrapolated beyond the stripes (dotted)",
+                ));
+            }
         }
         entries
     }
 }
 
-/// Sets the axis end and continues the fitted curves to it: the axis ends
+/// Sets the axis end and continues the fitted curves to it (after
+/// [`mark_as_infinite`]: a twin counts with its μ = ∞ curve): the axis ends
 /// where every fitted curve reaches `P_REACHED` (by its θ and β, or else
 /// by its sampled points), at least at `im_max` and at most
 /// `CAP_STRIPES` × `im_max`; each curve with a θ and β is continued from
@@ -356,7 +564,12 @@ fn extend(panels: &mut [FragilityPanel], im_max: f64) -> (f64, ShortCurves) {
     }
     let cap = CAP_STRIPES * im_max;
     let mut reach = im_max;
-    for s in panels.iter().flat_map(|p| &p.series) {
+    // a curve drawn on its μ = ∞ twin is not one more curve short
+    for s in panels
+        .iter()
+        .flat_map(|p| &p.series)
+        .filter(|s| !s.as_infinite)
+    {
         for (fit, params) in s.fits.iter().zip(&s.lognormal) {
             if fit.is_empty() {
                 continue;
@@ -423,7 +636,7 @@ pub struct ShortCurves {
 
 impl ShortCurves {
     /// The clauses the title adds, e.g. `2 curves below P = 0.95 at the
-    /// axis end (3 × the last stripe)`.
+    /// axis end (1.5 × the last stripe)`.
     fn clauses(self) -> Vec<String> {
         let curves = |n: usize| format!("{n} curve{}", if n == 1 { "" } else { "s" });
         let mut v = Vec::new();
@@ -469,6 +682,9 @@ fn mark_as_infinite(panels: &mut [FragilityPanel], n_frictions: usize) -> Vec<bo
                 .zip(b)
                 .all(|(p, q)| p.0 == q.0 && (p.1 - q.1).abs() <= SAME_CURVE_TOL)
     };
+    let same_observed = |a: &[(f64, f64, usize)], b: &[(f64, f64, usize)]| {
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.0 == y.0 && x.1 == y.1)
+    };
     // μ = ∞ (index 0) is never "as μ = ∞"
     let mut all: Vec<bool> = (0..n_frictions).map(|j| j > 0).collect();
     let mut any = vec![false; n_frictions];
@@ -485,7 +701,7 @@ fn mark_as_infinite(panels: &mut [FragilityPanel], n_frictions: usize) -> Vec<bo
                             && t.observed
                                 .iter()
                                 .zip(&s.observed)
-                                .all(|(a, b)| a.0 == b.0 && a.1 == b.1)
+                                .all(|(a, b)| same_observed(a, b))
                             && t.fits.len() == s.fits.len()
                             && t.fits.iter().zip(&s.fits).all(|(a, b)| same_fit(a, b))
                     })
@@ -532,7 +748,20 @@ pub(crate) fn distinct_blocks(cases: &[Case]) -> Vec<(Param<f64>, Param<f64>)> {
 
 impl Figure for FragilityFigure {
     fn size_in(&self) -> (f64, f64) {
-        (PAGE_WIDTH_IN, HEIGHT_IN)
+        // one block: one panel a column wide, taller for the legend rows
+        // and title lines the narrower page wraps onto
+        let width = if self.panels.len() <= 1 {
+            COLUMN_WIDTH_IN
+        } else {
+            PAGE_WIDTH_IN
+        };
+        let labels: Vec<String> = self.legend().into_iter().map(|e| e.label).collect();
+        let extra = layout::estimated_legend_rows(&labels, width).saturating_sub(1)
+            + layout::estimated_title_lines(&self.title, width).saturating_sub(1);
+        (
+            width,
+            HEIGHT_IN + extra as f64 * layout::LEGEND_ROW_PT / 72.0,
+        )
     }
 
     fn draw<DB: DrawingBackend>(
@@ -555,6 +784,10 @@ impl Figure for FragilityFigure {
         )?;
         let areas = body.split_evenly((1, n));
         let x_max = if self.x_max > 0.0 { self.x_max } else { 1.0 };
+        let n_ls = self.limit_states.len();
+        let ls_colour = |s: &FragilitySeries, k: usize| {
+            layout::tint(restitution_colour(s.restitution), severity_tint(k, n_ls))
+        };
         for (k_panel, (panel, area)) in self.panels.iter().zip(&areas).enumerate() {
             frame.heading(area, &panel.label)?;
             let mut chart = frame
@@ -566,20 +799,21 @@ impl Figure for FragilityFigure {
                 .x_desc(self.x_label.as_str())
                 .draw()?;
 
-            let n_ls = self.limit_states.len();
-            for s in &panel.series {
-                for (k, fit) in s.fits.iter().enumerate() {
-                    if fit.is_empty() {
-                        continue;
+            if !panel.median_bars {
+                for s in panel.series.iter().filter(|s| !s.as_infinite) {
+                    for k in 0..s.fits.len() {
+                        let band = s.band(k);
+                        if band.is_empty() {
+                            continue;
+                        }
+                        let mut outline: Vec<(f64, f64)> =
+                            band.iter().map(|p| (p.0, p.2)).collect();
+                        outline.extend(band.iter().rev().map(|p| (p.0, p.1)));
+                        chart.draw_series(std::iter::once(Polygon::new(
+                            outline,
+                            ls_colour(s, k).mix(BAND_ALPHA).filled(),
+                        )))?;
                     }
-                    let colour =
-                        layout::tint(restitution_colour(s.restitution), severity_tint(k, n_ls));
-                    let mut outline: Vec<(f64, f64)> = fit.iter().map(|p| (p.0, p.3)).collect();
-                    outline.extend(fit.iter().rev().map(|p| (p.0, p.2)));
-                    chart.draw_series(std::iter::once(Polygon::new(
-                        outline,
-                        colour.mix(BAND_ALPHA).filled(),
-                    )))?;
                 }
             }
             let unfitted = self.fitted
@@ -606,40 +840,68 @@ impl Figure for FragilityFigure {
             // is a run of consecutive polylines of one colour
             let mut order: Vec<&FragilitySeries> = panel.series.iter().collect();
             order.sort_by_key(|s| (s.friction, s.restitution));
+            let line_pt = style.ipx(super::style::LINE_PT);
             for s in &order {
-                let line_pt = style.ipx(super::style::LINE_PT);
                 if self.fitted {
-                    for (k, fit) in s.fits.iter().enumerate() {
-                        let colour =
-                            layout::tint(restitution_colour(s.restitution), severity_tint(k, n_ls));
-                        let points: Vec<(f64, f64)> = fit
-                            .iter()
-                            .map(|p| (p.0, p.1))
-                            .chain(s.extension[k].iter().copied())
-                            .collect();
-                        if !points.is_empty() {
+                    for k in 0..s.fits.len() {
+                        let colour = ls_colour(s, k);
+                        let [below, middle, above] = s.curve_parts(k);
+                        let light = layout::tint(colour, EXTRAPOLATED_TINT).stroke_width(line_pt);
+                        for part in [below, above] {
+                            if part.len() > 1 {
+                                curve!(chart, part, light, Dash::Dotted, style);
+                            }
+                        }
+                        if middle.len() > 1 {
                             let line = colour.stroke_width(line_pt);
-                            curve!(chart, points, line, Dash::nth(s.friction), style);
+                            curve!(chart, middle, line, Dash::nth(s.friction), style);
                         }
                     }
                 } else {
                     let line = restitution_colour(s.restitution).stroke_width(line_pt);
-                    let points: Vec<(f64, f64)> = s.observed.iter().map(|o| (o.0, o.1)).collect();
+                    let points: Vec<(f64, f64)> =
+                        s.observed.iter().flatten().map(|o| (o.0, o.1)).collect();
                     curve!(chart, points, line, Dash::nth(s.friction), style);
+                }
+            }
+            if panel.median_bars {
+                // the medians' bands as bars at P = 0.5, stacked apart
+                let bars: Vec<(RGBColor, (f64, f64))> = order
+                    .iter()
+                    .filter(|s| !s.as_infinite)
+                    .flat_map(|s| {
+                        (0..s.fits.len())
+                            .filter_map(move |k| s.median_band[k].map(|b| (ls_colour(s, k), b)))
+                    })
+                    .collect();
+                let first = 0.5 - BAR_STEP * (bars.len().saturating_sub(1)) as f64 / 2.0;
+                let bar = style.ipx(BAR_PT);
+                for (i, (colour, (lo, hi))) in bars.into_iter().enumerate() {
+                    let y = first + BAR_STEP * i as f64;
+                    chart.draw_series(std::iter::once(PathElement::new(
+                        vec![(lo, y), (hi.min(x_max), y)],
+                        colour.stroke_width(bar),
+                    )))?;
                 }
             }
             // hollow (finite friction) markers first: a filled one on top
             // at the same place leaves a ring showing both
             for s in order.iter().rev() {
-                let colour = restitution_colour(s.restitution);
-                markers!(
-                    chart,
-                    s.observed.iter().map(|o| (o.0, o.1)),
-                    colour,
-                    Marker::Circle,
-                    s.friction == 0,
-                    style
-                );
+                for (k, observed) in s.observed.iter().enumerate() {
+                    let colour = if self.fitted {
+                        ls_colour(s, k)
+                    } else {
+                        restitution_colour(s.restitution)
+                    };
+                    markers!(
+                        chart,
+                        observed.iter().map(|o| (o.0, o.1)),
+                        colour,
+                        Marker::Circle,
+                        s.friction == 0,
+                        style
+                    );
+                }
             }
             // which curves hide under the solid ones, at the top left (below
             // the no-fit lines, if any)

@@ -494,7 +494,7 @@ mod tests {
             outcomes: vec![row(0.0, Some(0.185)), row(0.9, Some(250.0))],
             curves: None,
             lognormal: Vec::new(),
-            im: Default::default(),
+            ..StudyData::default()
         };
         let f = FrictionDemandFigure::from_study(&with).unwrap();
         assert_eq!(f.eq5.len(), 2);
@@ -505,7 +505,7 @@ mod tests {
             outcomes: vec![row(0.0, None), row(0.9, None)],
             curves: None,
             lognormal: Vec::new(),
-            im: Default::default(),
+            ..StudyData::default()
         };
         let f = FrictionDemandFigure::from_study(&without).unwrap();
         assert!(f.eq5.is_empty());

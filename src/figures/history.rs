@@ -1,6 +1,14 @@
-//! A time history of one analysis: ground acceleration and θ/θc against
-//! time, with the block's mode shaded behind both panels and the impacts
-//! marked. The time axis is zoomed to the active part of the record.
+//! A time history of one analysis: the acceleration the block feels (the
+//! ground's, or the floor's for a study on a floor, whose heading names the
+//! floor by its modes) and θ/θc against time, with the block's mode shaded
+//! behind both panels and the impacts marked as a rug in a strip of its
+//! own above the θ panel (clear of its gridlines). The time axis is zoomed
+//! to the active part of the record. A run of bounces (a flight ended by an
+//! impact that throws the block into the next) is drawn as the flights it
+//! was, alternate ones in a darker shade ([`bounce_colour`]), not as one
+//! long flight. The title names the block (a grid value as the spec gave
+//! it, a drawn one to three figures) and the record; why this run is drawn
+//! heads the θ panel, so that the title keeps to a line or two.
 //!
 //! The analysis is chosen, not hand-picked ([`HistoryChoice`]). By default
 //! it is one of the study's own analyses ([`HistoryFigure::from_study`]),
@@ -51,6 +59,8 @@ const HEIGHT_IN: f64 = 3.3;
 const MARGINS: Margins = Margins::new(34.0, 10.0);
 /// Shortest time in a mode that counts as showing it (s).
 pub const MIN_MODE_S: f64 = 0.01;
+/// Height of the strip above the θ panel that holds the impacts' rug (pt).
+const RUG_STRIP_PT: f64 = 7.0;
 /// Time shown before the first motion and after the last (s).
 const ZOOM_PAD_S: f64 = 1.0;
 /// Velocity jump (relative to √(gR)) above which an event is an impact.
@@ -114,8 +124,13 @@ pub struct ModeInterval {
 /// The history figure's data.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HistoryFigure {
-    /// Title.
+    /// Title: the block and the record.
     pub title: String,
+    /// Heading of the upper panel: the acceleration the block feels
+    /// (`Ground acceleration (g)`, or the floor's, naming the floor).
+    pub acc_label: String,
+    /// Heading of the lower panel: θ/θc and why this run is drawn.
+    pub theta_label: String,
     /// Shown time window (s).
     pub window: (f64, f64),
     /// Ground acceleration (s, g) inside the window.
@@ -123,7 +138,8 @@ pub struct HistoryFigure {
     /// θ/θc (s, –) inside the window.
     pub theta: Vec<(f64, f64)>,
     /// Mode intervals overlapping the window, clipped to it; consecutive
-    /// intervals have different modes.
+    /// intervals have different modes, but for flights with a bounce (an
+    /// impact) between them.
     pub intervals: Vec<ModeInterval>,
     /// Impact times inside the window (s).
     pub impacts: Vec<f64>,
@@ -145,6 +161,15 @@ pub fn mode_colour(mode: Mode) -> RGBColor {
         Mode::Rock => layout::tint(PALETTE[5], 0.6),
         Mode::SlideRock => layout::tint(PALETTE[3], 0.5),
         Mode::Flight => layout::tint(PALETTE[2], 0.55),
+    }
+}
+
+/// The darker shade of `mode`'s colour that every other flight of a run of
+/// bounces is drawn in.
+pub fn bounce_colour(mode: Mode) -> RGBColor {
+    match mode {
+        Mode::Flight => layout::tint(PALETTE[2], 0.3),
+        other => mode_colour(other),
     }
 }
 
@@ -261,7 +286,7 @@ impl HistoryFigure {
                 ..
             }) => {
                 let (p, phi) = orientation.member(chosen.record);
-                format!("pair {p} of seed {seed} at φ = {}°", sig3(phi))
+                format!("pair {p} of seed {seed} (φ = {}°)", sig3(phi))
             }
             Some(Motions::Synthetic { seed, .. }) => {
                 format!("record {} of seed {seed}", chosen.record)
@@ -274,7 +299,7 @@ impl HistoryFigure {
                         .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
                 };
                 format!(
-                    "{} + {} at φ = {}°",
+                    "{} + {} (φ = {}°)",
                     name(&pairs[p][0]),
                     name(&pairs[p][1]),
                     sig3(phi)
@@ -282,15 +307,52 @@ impl HistoryFigure {
             }
             None => format!("record {} of seed {}", chosen.record, options.seed),
         };
+        // A value of the grid as the spec gave it; a drawn one to three
+        // figures (all its digits are in outcomes.csv).
+        let value = |x: f64, field: Field| {
+            if options.pooled.contains(&field) {
+                sig3(x)
+            } else {
+                tick_label(x)
+            }
+        };
+        let friction = if options.pooled.contains(&Field::Friction) {
+            friction
+        } else {
+            match analysis.friction {
+                Friction::Infinite => "μ = ∞".to_string(),
+                Friction::Coulomb { mu_s, mu_k } => {
+                    format!("μₛ = {}, μₖ = {}", tick_label(mu_s), tick_label(mu_k))
+                }
+            }
+        };
         let title = format!(
-            "H/B = {}, 2B = {} m, e = {}, {friction}: {record_name} at {} ({})",
-            sig3(aspect),
-            sig3(width),
-            sig3(e),
+            "H/B = {}, 2B = {} m, e = {}, {friction}; {record_name} at {}",
+            value(aspect, Field::Aspect),
+            value(width, Field::Width),
+            value(e, Field::Restitution),
             chosen.level_text,
-            chosen.why
         );
-        let mut figure = Self::of_run(&analysis, &record, &solver, g, title, chosen.record as u64)?;
+        let felt = match options.study.map(|s| s.motions.orientation().is_some()) {
+            Some(true) => "acceleration along φ",
+            _ => "acceleration",
+        };
+        let acc_label = match options.study.map(|s| &s.floor) {
+            Some(floor) if !floor.is_ground() => {
+                format!("Floor {felt} (g), on {}", floor_text(floor))
+            }
+            _ => format!("Ground {felt} (g)"),
+        };
+        let labels = (acc_label, format!("Rotation θ/θc: {}", chosen.why));
+        let mut figure = Self::of_run(
+            &analysis,
+            &record,
+            &solver,
+            g,
+            title,
+            labels,
+            chosen.record as u64,
+        )?;
         // the study's own case of the analysis (drawn parameters drawn)
         figure.command = options.study.and_then(|study| {
             let (case, _) = crate::study::case_of(study, &chosen.own)?;
@@ -393,7 +455,7 @@ impl HistoryFigure {
         let index = best.map_or(0, |(_, i)| i);
         let record = record_at(index)?;
         let title = format!(
-            "H/B = {}, 2B = {} m, e = {}, μₛ = {}, μₖ = {}: {} at {} g",
+            "H/B = {}, 2B = {} m, e = {}, μₛ = {}, μₖ = {}; {} at {} g",
             tick_label(case.aspect),
             tick_label(case.width),
             tick_label(case.restitution),
@@ -402,7 +464,16 @@ impl HistoryFigure {
             label(index),
             tick_label(case.pga),
         );
-        Self::of_run(&analysis, &record, &solver, g, title, index)
+        let why = if count > 1 {
+            format!(
+                "Rotation θ/θc: of records 0–{}, the run showing the most modes",
+                count - 1
+            )
+        } else {
+            "Rotation θ/θc".to_string()
+        };
+        let labels = ("Ground acceleration (g)".to_string(), why);
+        Self::of_run(&analysis, &record, &solver, g, title, labels, index)
     }
 
     /// The figure of one run: `analysis` under `record`, solved with its
@@ -413,6 +484,7 @@ impl HistoryFigure {
         solver: &SolverSettings,
         g: f64,
         title: String,
+        (acc_label, theta_label): (String, String),
         index: u64,
     ) -> Result<Self> {
         let block = &analysis.block;
@@ -421,21 +493,6 @@ impl HistoryFigure {
 
         let rows = &history.rows;
         let end = outcome.end_time;
-        let mut intervals: Vec<ModeInterval> = Vec::new();
-        for (k, r) in rows.iter().enumerate() {
-            let t1 = rows.get(k + 1).map_or(end, |n| n.t);
-            if t1 <= r.t {
-                continue;
-            }
-            match intervals.last_mut() {
-                Some(last) if last.mode == r.mode && last.t1 >= r.t => last.t1 = t1,
-                _ => intervals.push(ModeInterval {
-                    t0: r.t,
-                    t1,
-                    mode: r.mode,
-                }),
-            }
-        }
         let v_scale = (g * block.r).sqrt();
         let impacts: Vec<f64> = rows
             .windows(2)
@@ -450,6 +507,31 @@ impl HistoryFigure {
             })
             .map(|w| w[0].t)
             .collect();
+        // Consecutive rows of one mode make one interval, except flights:
+        // an impact between two flights (a bounce) ends one and starts the
+        // next, so a run of bounces is drawn as the flights it was.
+        let bounce = |t: f64| impacts.binary_search_by(|x| x.total_cmp(&t)).is_ok();
+        let mut intervals: Vec<ModeInterval> = Vec::new();
+        for (k, r) in rows.iter().enumerate() {
+            let t1 = rows.get(k + 1).map_or(end, |n| n.t);
+            if t1 <= r.t {
+                continue;
+            }
+            match intervals.last_mut() {
+                Some(last)
+                    if last.mode == r.mode
+                        && last.t1 >= r.t
+                        && !(r.mode == Mode::Flight && bounce(r.t)) =>
+                {
+                    last.t1 = t1
+                }
+                _ => intervals.push(ModeInterval {
+                    t0: r.t,
+                    t1,
+                    mode: r.mode,
+                }),
+            }
+        }
 
         let active: Vec<&ModeInterval> = intervals
             .iter()
@@ -486,6 +568,8 @@ impl HistoryFigure {
             .collect();
         Ok(HistoryFigure {
             title,
+            acc_label,
+            theta_label,
             window,
             acc,
             theta,
@@ -716,9 +800,49 @@ fn choose_run(
     ))
 }
 
+/// A floor for a heading: `a floor of a building with T = 0.8 s, ζ = 5 %,
+/// Γφ = 1.3` (its modes, `;` between them).
+fn floor_text(floor: &crate::motion::Floor) -> String {
+    let modes: Vec<String> = floor
+        .modes
+        .iter()
+        .map(|m| {
+            format!(
+                "T = {} s, ζ = {} %, Γφ = {}",
+                tick_label(m.period),
+                tick_label(m.damping * 100.0),
+                tick_label(m.participation)
+            )
+        })
+        .collect();
+    format!("a floor of a building with {}", modes.join("; "))
+}
+
 /// `x` to three decimals, for a title.
 fn round3(x: f64) -> f64 {
     (x * 1000.0).round() / 1000.0
+}
+
+impl HistoryFigure {
+    /// The colour of each interval: its mode's, and for a flight that
+    /// follows a flight (a bounce between them), alternately
+    /// [`bounce_colour`], so that a run of bounces shows its flights.
+    pub fn shades(&self) -> Vec<RGBColor> {
+        let mut odd = false;
+        let mut prev: Option<Mode> = None;
+        self.intervals
+            .iter()
+            .map(|iv| {
+                odd = prev == Some(iv.mode) && !odd;
+                prev = Some(iv.mode);
+                if odd {
+                    bounce_colour(iv.mode)
+                } else {
+                    mode_colour(iv.mode)
+                }
+            })
+            .collect()
+    }
 }
 
 impl Figure for HistoryFigure {
@@ -735,32 +859,43 @@ impl Figure for HistoryFigure {
             .iter()
             .map(|&m| Entry::new(Sample::Block(mode_colour(m)), m.name()))
             .collect();
+        if self.intervals.windows(2).any(|w| w[0].mode == w[1].mode) {
+            entries.push(Entry::new(
+                Sample::Block(bounce_colour(Mode::Flight)),
+                "flight after a bounce",
+            ));
+        }
         entries.push(Entry::new(Sample::Tick(BLACK), "impact"));
         let frame = Frame::new(root, style, &self.title, &entries, MARGINS)?;
 
         let (_, h) = frame.body.dim_in_pixel();
-        let plot_h = h.saturating_sub(frame.x_area + 2 * frame.top);
+        // the impacts' rug gets a strip of its own above the θ panel, clear
+        // of the data and of the gridlines
+        let rug = style.ipx(RUG_STRIP_PT);
+        let plot_h = h.saturating_sub(frame.x_area + 2 * frame.top + rug);
         let (top, bottom) = frame.body.split_vertically(frame.top + plot_h * 2 / 5);
         let (t0, t1) = self.window;
 
         let panels = [
-            (&top, "Ground acceleration (g)", &self.acc),
-            (&bottom, "Rotation θ/θc", &self.theta),
+            (&top, self.acc_label.as_str(), &self.acc),
+            (&bottom, self.theta_label.as_str(), &self.theta),
         ];
         for (k, (area, label, data)) in panels.into_iter().enumerate() {
             let last = k == 1;
             frame.heading(area, label)?;
             let peak = data.iter().fold(0.0_f64, |m, &(_, y)| m.max(y.abs()));
             let y_max = if peak > 0.0 { 1.12 * peak } else { 1.0 };
-            let mut chart = frame
-                .chart(area, last)
-                .build_cartesian_2d(t0..t1, -y_max..y_max)?;
-            chart.draw_series(self.intervals.iter().map(|iv| {
-                Rectangle::new(
-                    [(iv.t0, -y_max), (iv.t1, y_max)],
-                    mode_colour(iv.mode).filled(),
-                )
-            }))?;
+            let mut builder = frame.chart(area, last);
+            if last {
+                builder.margin_top(frame.top + rug);
+            }
+            let mut chart = builder.build_cartesian_2d(t0..t1, -y_max..y_max)?;
+            chart.draw_series(
+                self.intervals
+                    .iter()
+                    .zip(self.shades())
+                    .map(|(iv, c)| Rectangle::new([(iv.t0, -y_max), (iv.t1, y_max)], c.filled())),
+            )?;
             let mut mesh = layout::mesh(&mut chart, style);
             mesh.x_labels(10).y_labels(5).disable_x_mesh();
             if last {
@@ -768,15 +903,21 @@ impl Figure for HistoryFigure {
             }
             mesh.draw()?;
             if last {
-                // impacts: a rug of short ticks along the top edge
-                let tick = 0.12 * y_max;
-                let tick_style = BLACK.stroke_width(style.ipx(layout::RUG_PT));
-                chart.draw_series(self.impacts.iter().map(|&t| {
-                    plotters::prelude::PathElement::new(
-                        vec![(t, y_max), (t, y_max - tick)],
-                        tick_style,
-                    )
-                }))?;
+                // impacts: a rug of short ticks in the strip above the plot
+                let (x0, y0) = area.get_base_pixel();
+                let (_, y_px) = chart.plotting_area().get_pixel_range();
+                let (y_lo, y_hi) = (
+                    y_px.start - y0 - rug as i32 + style.ipx(1.0) as i32,
+                    y_px.start - y0 - style.ipx(1.5) as i32,
+                );
+                let w = style.ipx(layout::RUG_PT).max(1) as i32;
+                for &t in &self.impacts {
+                    let (x, _) = chart.backend_coord(&(t, 0.0));
+                    area.draw(&Rectangle::new(
+                        [(x - x0, y_lo), (x - x0 + w, y_hi)],
+                        BLACK.filled(),
+                    ))?;
+                }
             }
             curve!(
                 chart,

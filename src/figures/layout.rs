@@ -37,6 +37,8 @@ const SAMPLE_GAP_PT: f64 = 3.0;
 pub const DASH_PT: (f64, f64) = (3.5, 2.0);
 /// Dash and gap of short-dashed lines (pt).
 pub const SHORT_DASH_PT: (f64, f64) = (1.2, 1.5);
+/// Dot and gap of dotted lines (pt).
+pub const DOT_PT: (f64, f64) = (0.6, 1.4);
 /// Width of rug ticks (pt).
 pub const RUG_PT: f64 = 0.4;
 /// Radius of filled point markers (pt).
@@ -61,6 +63,9 @@ pub enum Dash {
     Dashed,
     /// Short dashes of [`SHORT_DASH_PT`].
     Short,
+    /// Dots of [`DOT_PT`] (not one of [`Dash::nth`]'s: kept for what a
+    /// figure marks apart, such as a curve's extrapolated part).
+    Dotted,
 }
 
 impl Dash {
@@ -75,6 +80,7 @@ impl Dash {
             Dash::Solid => None,
             Dash::Dashed => Some(DASH_PT),
             Dash::Short => Some(SHORT_DASH_PT),
+            Dash::Dotted => Some(DOT_PT),
         }
     }
 }
@@ -101,6 +107,8 @@ pub enum Sample {
     Tick(RGBColor),
     /// A line with a marker on it (a series drawn as line and points).
     LinePoint(RGBColor, Dash, Marker, bool),
+    /// A thick horizontal bar (an interval drawn as a bar).
+    Bar(RGBColor),
     /// No sample: the label alone (a heading for the entries after it).
     Text,
 }
@@ -267,6 +275,38 @@ pub fn wrap_title<'t>(title: &'t str, fits: &dyn Fn(&str) -> bool) -> Vec<&'t st
     }
 }
 
+/// Average width of a character of the tick font, in ems, for estimates
+/// made before anything is drawn (DejaVu Sans runs at about 0.55 em).
+const CHAR_EM: f64 = 0.58;
+
+/// An estimate, from the characters alone, of the legend rows `labels` need
+/// across a figure `width_in` inches wide (the drawn legend measures its
+/// text; a figure sizes its canvas before it draws).
+pub fn estimated_legend_rows(labels: &[String], width_in: f64) -> usize {
+    let char_pt = CHAR_EM * super::style::TICK_PT;
+    let width = width_in * 72.0;
+    let mut rows = 1;
+    let mut x = 0.0;
+    for label in labels {
+        let w = SAMPLE_PT + SAMPLE_GAP_PT + label.chars().count() as f64 * char_pt;
+        if x > 0.0 && x + w > width {
+            rows += 1;
+            x = 0.0;
+        }
+        x += w + ENTRY_GAP_PT;
+    }
+    rows
+}
+
+/// An estimate, from the characters alone, of the lines `title` wraps
+/// onto across a figure `width_in` inches wide (see
+/// [`estimated_legend_rows`]).
+pub fn estimated_title_lines(title: &str, width_in: f64) -> usize {
+    let char_pt = CHAR_EM * super::style::TITLE_PT;
+    let per_line = ((width_in * 72.0 - 4.0) / char_pt).floor().max(1.0);
+    (title.chars().count() as f64 / per_line).ceil().max(1.0) as usize
+}
+
 /// Number of legend rows `entries` need across `width` pixels.
 pub fn legend_rows<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
@@ -328,6 +368,9 @@ pub fn legend_in_rows<DB: DrawingBackend>(
     entries: &[Entry],
     min_rows: usize,
 ) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
+    if entries.is_empty() && min_rows == 0 {
+        return Ok(area.clone());
+    }
     let rows = layout_legend(area, style, entries);
     let row_h = style.px(LEGEND_ROW_PT);
     let n_rows = rows.len().max(min_rows);
@@ -395,6 +438,13 @@ fn draw_sample<DB: DrawingBackend>(
                     }
                 }
             }
+        }
+        Sample::Bar(colour) => {
+            let h = style.ipx(1.3) as i32;
+            area.draw(&Rectangle::new(
+                [(x, y - h / 2), (x + len.round() as i32, y - h / 2 + h)],
+                colour.filled(),
+            ))?;
         }
         Sample::Point(colour, marker, filled) => {
             let xc = x + (len / 2.0).round() as i32;

@@ -44,11 +44,13 @@ pub mod style;
 
 pub use batch::{FigureOptions, FiguresReport, StudyFigures, study_figures, study_of_folder};
 pub use compare::{CompareFigure, CompareSeries};
-pub use data::{CurvePoint, LognormalCurve, PlotRow, StudyData};
+pub use data::{CurvePoint, LognormalCurve, ObservedStripe, PlotRow, StudyData};
 pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::{FragilityFigure, ShortCurves};
 pub use friction::FrictionDemandFigure;
-pub use history::{HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, mode_colour};
+pub use history::{
+    HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, bounce_colour, mode_colour,
+};
 pub use motion::plot_record;
 pub use restitution::RestitutionFigure;
 pub(crate) use restitution::trend_text;

@@ -12,9 +12,15 @@
 //!   ([`crate::risk::deaggregation_smoothed`]), as each peak is located:
 //!   with the log–log interpolant's slope, which jumps at every level, each
 //!   was a sawtooth. The ticks along the top mark the peaks (see
-//!   [`crate::risk`]). The cases' curves are drawn as one bundle
-//!   per limit state: cases that differ little overlap, and their spread is
-//!   the information.
+//!   [`crate::risk`]). A curve's colour is its limit state's and its line
+//!   pattern its case's value of the first parameter that varies between
+//!   the cases (H/B in the default study, as panel (b) groups its rows),
+//!   while that takes at most three values (solid, dashed, dotted; the
+//!   legend names them): nine integrands of three cases and three limit
+//!   states are nine looks. Cases that differ only in the other parameters
+//!   overlap in one bundle, whose spread is the information. The right-hand
+//!   axis has the house's tick marks, its labels clear of them, and its
+//!   description beside them, well apart from panel (b).
 //! - **(b) Annual rate per case.** One row per case (in `risk.csv`'s order),
 //!   one marker per limit state at its annual rate λ_LS on a logarithmic
 //!   axis, with the bootstrap band of the rate as a line through it (a
@@ -60,14 +66,22 @@ const HEADER_IN: f64 = 0.62;
 const FOOTER_IN: f64 = 0.5;
 /// Width of panel (a) (in), with its axes.
 const HAZARD_PANEL_IN: f64 = 2.7;
-/// Room right of the hazard panel for its right-hand axis labels (pt).
-const RIGHT_AXIS_PT: f64 = 30.0;
+/// The right-hand axis's description (panel (a)).
+const DEAGGREGATION_LABEL: &str = "Deaggregation (peak = 1)";
+/// Gap between the right-hand axis's tick labels and its description (pt).
+const RIGHT_DESC_GAP_PT: f64 = 2.0;
+/// A line of axis-label text (pt), if it cannot be measured.
+const LABEL_PT_LINE: f64 = 11.0;
+/// Gap between panel (a)'s right-hand axis and panel (b)'s row labels (pt).
+const PANEL_GAP_PT: f64 = 20.0;
 /// Room beside a plot beyond its widest tick label: tick marks and a gap (pt).
 const TICK_ROOM_PT: f64 = 9.0;
 /// Samples per integrand curve.
 const SAMPLES: usize = 240;
 /// Opacity of an integrand line (many overlap).
 const INTEGRAND_ALPHA: f64 = 0.45;
+/// Colour of the legend's samples of panel (a)'s line patterns.
+const GROUP_SAMPLE: RGBColor = RGBColor(0x66, 0x66, 0x66);
 /// Shading of alternate H/B groups of rows.
 const GROUP_SHADE: RGBColor = RGBColor(0xF2, 0xF2, 0xF2);
 
@@ -274,6 +288,47 @@ impl RiskFigure {
         }
     }
 
+    /// Panel (a)'s line pattern of each case: the index of its value of
+    /// the first parameter that varies between the cases (H/B, 2B, e,
+    /// friction, as panel (b)'s rows are grouped), while it takes at most
+    /// three values (`None` for all: one pattern, the curves a bundle);
+    /// with the values, in order, for the legend.
+    pub fn groups(&self) -> Vec<Option<usize>> {
+        self.grouping().map_or_else(
+            || vec![None; self.cases.len()],
+            |(of, _)| of.into_iter().map(Some).collect(),
+        )
+    }
+
+    /// See [`RiskFigure::groups`]: each case's group and the groups' labels.
+    fn grouping(&self) -> Option<(Vec<usize>, Vec<String>)> {
+        let keys: Vec<[String; 4]> = self
+            .cases
+            .iter()
+            .map(|c| {
+                [
+                    format!("H/B {}", param_label(c.key.aspect)),
+                    format!("2B {}", param_label(c.key.width)),
+                    format!("e {}", param_label(c.key.restitution)),
+                    compact_friction(&friction_label(&c.key.friction)),
+                ]
+            })
+            .collect();
+        let field = (0..4).find(|&k| keys.iter().any(|p| p[k] != keys[0][k]))?;
+        let mut values: Vec<String> = Vec::new();
+        let of: Vec<usize> = keys
+            .iter()
+            .map(|p| match values.iter().position(|v| *v == p[field]) {
+                Some(i) => i,
+                None => {
+                    values.push(p[field].clone());
+                    values.len() - 1
+                }
+            })
+            .collect();
+        (values.len() <= 3).then_some((of, values))
+    }
+
     fn legend(&self) -> Vec<Entry> {
         let mut entries = vec![Entry::new(Sample::Line(BLACK, Dash::Solid), "hazard λ")];
         // only when the IM axis reaches beyond the hazard's levels
@@ -288,6 +343,13 @@ impl RiskFigure {
                 Sample::LinePoint(colour(i), Dash::Solid, Marker::Circle, true),
                 ls.clone(),
             ));
+        }
+        // which deaggregation curve is which case's
+        if let Some((_, values)) = self.grouping() {
+            entries.push(Entry::new(Sample::Text, "(a):"));
+            for (i, v) in values.into_iter().enumerate() {
+                entries.push(Entry::new(Sample::Line(GROUP_SAMPLE, Dash::nth(i)), v));
+            }
         }
         entries
     }
@@ -424,8 +486,19 @@ impl Figure for RiskFigure {
             frame.x_area,
         )?;
         frame.heading(&left, "(a) Hazard and deaggregation")?;
+        // the right-hand axis: tick marks, labels (twice the ticks' length
+        // from the axis), then its description beside them, close enough to
+        // read as its own
+        let right_labels = ["0", "0.5", "1"].map(String::from);
+        let label_font = style.label_font();
+        let desc_h = left
+            .estimate_text_size(DEAGGREGATION_LABEL, &label_font)
+            .map_or(style.ipx(LABEL_PT_LINE), |(_, h)| h);
+        let right_area = style.ipx(2.0 * 2.5 + RIGHT_DESC_GAP_PT)
+            + layout::widest(root, style, right_labels)
+            + desc_h;
         let mut builder = frame.chart(&left, true);
-        builder.right_y_label_area_size(style.ipx(RIGHT_AXIS_PT));
+        builder.right_y_label_area_size(right_area);
         let mut chart = builder
             .build_cartesian_2d(
                 (xl..xh).log_scale().with_key_points(im_axis.ticks.clone()),
@@ -439,21 +512,45 @@ impl Figure for RiskFigure {
             .x_label_formatter(&|v| im_axis.label(*v))
             .y_label_formatter(&|v| lambda_axis.label(*v))
             .draw()?;
+        // the house's tick marks: the labels stand clear of them (plotters
+        // puts a label twice the tick's length from the axis)
         chart
             .configure_secondary_axes()
             .axis_style(style.axis())
+            .set_all_tick_mark_size(style.ipx(2.5))
             .label_style(style.tick_font())
             .axis_desc_style(style.label_font())
-            .y_desc("Deaggregation (peak = 1)")
+            .y_desc(DEAGGREGATION_LABEL)
             .y_labels(3)
             .y_label_formatter(&|v| super::style::tick_label(*v))
             .draw()?;
+        let groups = self.groups();
+        for (case, group) in self.cases.iter().zip(&groups) {
+            for s in &case.series {
+                let c = colour(s.limit_state)
+                    .mix(INTEGRAND_ALPHA)
+                    .stroke_width(thin);
+                let dash = group.map_or(Dash::Solid, Dash::nth);
+                match dash.pattern() {
+                    None => {
+                        chart.draw_secondary_series(LineSeries::new(
+                            s.integrand.iter().copied(),
+                            c,
+                        ))?;
+                    }
+                    Some((on, off)) => {
+                        chart.draw_secondary_series(plotters::prelude::DashedLineSeries::new(
+                            s.integrand.iter().copied(),
+                            style.px(on).round() as i32,
+                            style.px(off).round() as i32,
+                            c,
+                        ))?;
+                    }
+                }
+            }
+        }
         for s in self.cases.iter().flat_map(|c| &c.series) {
             let c = colour(s.limit_state);
-            chart.draw_secondary_series(LineSeries::new(
-                s.integrand.iter().copied(),
-                c.mix(INTEGRAND_ALPHA).stroke_width(thin),
-            ))?;
             chart.draw_secondary_series(std::iter::once(PathElement::new(
                 vec![(s.peak_im, 1.0), (s.peak_im, 1.05)],
                 c.stroke_width(thin),
@@ -481,7 +578,7 @@ impl Figure for RiskFigure {
             &right,
             style,
             &heading,
-            label_w + style.ipx(TICK_ROOM_PT + 6.0),
+            label_w + style.ipx(TICK_ROOM_PT + PANEL_GAP_PT),
         )?;
         let n = shown.len().max(1);
         let note_room = if note_w > 0 {
@@ -491,7 +588,7 @@ impl Figure for RiskFigure {
         };
         let mut chart = frame
             .chart(&right, true)
-            .margin_left(style.ipx(6.0))
+            .margin_left(style.ipx(PANEL_GAP_PT))
             .margin_right(note_room)
             .y_label_area_size(label_w + style.ipx(TICK_ROOM_PT))
             .build_cartesian_2d(

@@ -1,9 +1,12 @@
 //! `figures/inference.svg`: (a) the prior, the joint posterior (its 90 %
-//! interval shaded) and the naive posterior on one logarithmic IM axis, as
-//! densities per unit ln IM; (b) each kind's fragility, its draws'
-//! overturning fraction pooled over the records (solid) and its lognormal
-//! fit (dashed), with the fraction observed at the site drawn beside it as
-//! a bar across the joint posterior's 90 % interval.
+//! interval shaded, and its pointwise Monte Carlo band from the bootstrap
+//! of the simulations: where the posterior is a few records' bumps, the
+//! band says how much of its shape more records would change) and the
+//! naive posterior on one logarithmic IM axis, as densities per unit ln IM;
+//! (b) each kind's fragility, its draws' overturning fraction pooled over
+//! the records (solid) and its lognormal fit (dashed), with the fraction
+//! observed at the site drawn beside it as a bar across the joint
+//! posterior's 90 % interval. Each panel has its legend above it.
 
 use plotters::coord::Shift;
 use plotters::prelude::{BindKeyPoints, DrawingArea, DrawingBackend, IntoLogRange, LineSeries};
@@ -26,8 +29,15 @@ const MARGINS: Margins = Margins::new(30.0, 8.0);
 const PRIOR: RGBColor = RGBColor(0x88, 0x88, 0x88);
 /// Colour of the naive posterior.
 const NAIVE: RGBColor = RGBColor(0xD5, 0x5E, 0x00);
+/// Colour of the Monte Carlo band.
+const BAND: RGBColor = RGBColor(0x00, 0x72, 0xB2);
+/// Its opacity.
+const BAND_ALPHA: f64 = 0.25;
 /// Points per curve of the fits.
 const SAMPLES: usize = 200;
+
+/// A point of a band: (IM, lower, upper).
+pub type BandPoint = (f64, f64, f64);
 
 /// One kind's fragility.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,6 +67,9 @@ pub struct InferenceFigure {
     pub joint: Vec<(f64, f64)>,
     /// Its 90 % interval and median.
     pub interval: (f64, f64, f64),
+    /// Its pointwise Monte Carlo 90 % band per unit ln IM, and the
+    /// bootstrap replicates behind it (none without a bootstrap).
+    pub band: Option<(Vec<BandPoint>, usize)>,
     /// Naive posterior density per unit ln IM.
     pub naive: Option<Vec<(f64, f64)>>,
     /// The naive median.
@@ -113,36 +126,55 @@ impl InferenceFigure {
             prior: per_u(&inf.prior),
             joint: per_u(&inf.joint.density),
             interval: (s.p05, s.p95, s.median),
+            band: inf.joint_band.as_ref().map(|b| {
+                let points =
+                    g.x.iter()
+                        .zip(b.lo.iter().zip(&b.hi))
+                        .map(|(&x, (&lo, &hi))| (x, lo * x, hi * x))
+                        .collect();
+                (points, b.replicates)
+            }),
             naive: inf.naive.as_ref().map(|p| per_u(&p.density)),
             naive_median: inf.naive.as_ref().map(|p| p.summary.median),
             kinds,
         }
     }
 
-    fn legend(&self) -> Vec<Entry> {
+    /// Panel (a)'s legend.
+    fn legend_a(&self) -> Vec<Entry> {
         let mut e = vec![
             Entry::new(Sample::Line(PRIOR, Dash::Dashed), "prior"),
+            Entry::new(Sample::Line(NAIVE, Dash::Short), "naive posterior"),
             Entry::new(Sample::Line(BLACK, Dash::Solid), "joint posterior"),
             Entry::new(
                 Sample::Block(layout::tint(BLACK, 0.85)),
                 "its 90 % interval",
             ),
-            Entry::new(Sample::Line(NAIVE, Dash::Short), "naive posterior"),
-            Entry::new(Sample::Text, "(b) kinds:"),
         ];
-        for (i, k) in self.kinds.iter().enumerate() {
+        if let Some((_, n)) = &self.band {
             e.push(Entry::new(
-                Sample::Line(colour(i), Dash::Solid),
-                k.name.clone(),
+                Sample::Block(layout::tint(BAND, 1.0 - BAND_ALPHA)),
+                format!("its MC band ({n} replicates)"),
             ));
         }
+        e
+    }
+
+    /// Panel (b)'s legend.
+    fn legend_b(&self) -> Vec<Entry> {
+        let mut e: Vec<Entry> = self
+            .kinds
+            .iter()
+            .enumerate()
+            .map(|(i, k)| Entry::new(Sample::Line(colour(i), Dash::Solid), k.name.clone()))
+            .collect();
         e.push(Entry::new(
             Sample::Line(BLACK, Dash::Dashed),
             "lognormal fit",
         ));
         e.push(Entry::new(
-            Sample::Block(BLACK),
-            "observed fraction (bar over the 90 % interval)",
+            Sample::Bar(BLACK),
+            "observed, across the 90 % interval",
         ));
         e
     }
@@ -185,14 +217,33 @@ impl Figure for InferenceFigure {
         root: &DrawingArea<DB, Shift>,
         style: &Style,
     ) -> DrawResult<DB> {
-        let frame = Frame::new(root, style, &self.title, &self.legend(), MARGINS)?;
-        // Each panel's y-axis label in a strip of its own (a label drawn by
+        let frame = Frame::new(root, style, &self.title, &[], MARGINS)?;
+        // Each panel its legend, both taking as many rows as the longer;
+        // each panel's y-axis label in a strip of its own (a label drawn by
         // the mesh at the figure's left edge loses its descenders).
         let halves = frame.body.split_evenly((1, 2));
-        let side = |i: usize, text: &str| {
-            layout::side_label(&halves[i], style, text, frame.top, frame.x_area)
-        };
-        let areas = [side(0, "density per ln IM")?, side(1, "P(overturn)")?];
+        let legends = [self.legend_a(), self.legend_b()];
+        let rows = halves
+            .iter()
+            .zip(&legends)
+            .map(|(h, l)| layout::legend_rows(h, style, l))
+            .max()
+            .unwrap_or(1);
+        let mut areas = Vec::with_capacity(2);
+        for ((half, entries), text) in halves
+            .iter()
+            .zip(&legends)
+            .zip(["density per ln IM", "P(overturn)"])
+        {
+            let below = layout::legend_in_rows(half, style, entries, rows)?;
+            areas.push(layout::side_label(
+                &below,
+                style,
+                text,
+                frame.top,
+                frame.x_area,
+            )?);
+        }
         let (xl, xh) = self.range;
         let ticks = log_ticks(xl, xh);
         let thin = style.ipx(LINE_PT);
@@ -205,6 +256,7 @@ impl Figure for InferenceFigure {
             .chain(self.naive.iter().flatten())
             .chain(&self.prior)
             .map(|p| p.1)
+            .chain(self.band.iter().flat_map(|b| b.0.iter().map(|p| p.2)))
             .fold(0.0, f64::max)
             * 1.08;
         frame.heading(&areas[0], "(a) prior and posteriors")?;
@@ -233,6 +285,14 @@ impl Figure for InferenceFigure {
             chart.draw_series(std::iter::once(Polygon::new(
                 shade,
                 layout::tint(BLACK, 0.85).filled(),
+            )))?;
+        }
+        if let Some((band, _)) = &self.band {
+            let mut outline: Vec<(f64, f64)> = band.iter().map(|p| (p.0, p.2)).collect();
+            outline.extend(band.iter().rev().map(|p| (p.0, p.1)));
+            chart.draw_series(std::iter::once(Polygon::new(
+                outline,
+                BAND.mix(BAND_ALPHA).filled(),
             )))?;
         }
         curve!(

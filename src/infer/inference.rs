@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use super::likelihood::{self, Grid, KindCurve};
-use super::posterior::{self, McError, Posterior, Prior};
+use super::posterior::{self, McBand, McError, Posterior, Prior};
 use super::simulate::{Im, Table};
 use super::survey::Survey;
 use crate::error::{Error, Result};
@@ -107,6 +107,8 @@ pub struct Inference {
     pub joint_mc: Option<McError>,
     /// Of the naive method's.
     pub naive_mc: Option<McError>,
+    /// The joint posterior's pointwise Monte Carlo band (with a bootstrap).
+    pub joint_band: Option<McBand>,
 }
 
 /// Infers the IM from `table` (the simulations of `survey`'s kinds) under
@@ -144,10 +146,10 @@ pub fn infer(
     let curves = likelihood::kind_curves(table, survey, &grid);
     let naive_ln_l = likelihood::naive(&curves, survey, &grid);
     let naive = Posterior::new(&grid, &prior_u, &naive_ln_l);
-    let (joint_mc, naive_mc) = if bootstrap > 0 {
+    let (joint_mc, naive_mc, joint_band) = if bootstrap > 0 {
         posterior::mc_error(table, survey, &grid, &prior_u, bootstrap, seed)
     } else {
-        (None, None)
+        (None, None, None)
     };
     Ok(Inference {
         im,
@@ -161,5 +163,6 @@ pub fn infer(
         effective_records,
         joint_mc,
         naive_mc,
+        joint_band,
     })
 }

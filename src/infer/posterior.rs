@@ -162,9 +162,21 @@ pub fn summaries(
     grid: &Grid,
     prior_u: &[f64],
 ) -> (Option<Summary>, Option<Summary>) {
-    let joint = Posterior::new(grid, prior_u, &joint(table, survey, grid)).map(|p| p.summary);
+    let (joint, naive) = posteriors(table, survey, grid, prior_u);
+    (joint.map(|p| p.summary), naive.map(|p| p.summary))
+}
+
+/// Both methods' posteriors of one (resampled) table, `None` where a
+/// method's likelihood vanishes.
+fn posteriors(
+    table: &Table,
+    survey: &Survey,
+    grid: &Grid,
+    prior_u: &[f64],
+) -> (Option<Posterior>, Option<Posterior>) {
+    let joint = Posterior::new(grid, prior_u, &joint(table, survey, grid));
     let curves = kind_curves(table, survey, grid);
-    let naive = Posterior::new(grid, prior_u, &naive(&curves, survey, grid)).map(|p| p.summary);
+    let naive = Posterior::new(grid, prior_u, &naive(&curves, survey, grid));
     (joint, naive)
 }
 
@@ -279,7 +291,8 @@ fn resample(table: &Table, rng: &mut Xoshiro256PlusPlus) -> Table {
 
 /// The Monte Carlo error of both methods' bounds from `replicates`
 /// bootstrap replicates (see the [module docs](self)); `None` for a method
-/// with fewer than two usable replicates.
+/// with fewer than two usable replicates. Also the joint posterior's
+/// pointwise Monte Carlo band ([`McBand`]).
 pub fn mc_error(
     table: &Table,
     survey: &Survey,
@@ -287,18 +300,79 @@ pub fn mc_error(
     prior_u: &[f64],
     replicates: usize,
     seed: u64,
-) -> (Option<McError>, Option<McError>) {
-    let results: Vec<(Option<Summary>, Option<Summary>)> = (0..replicates as u64)
+) -> (Option<McError>, Option<McError>, Option<McBand>) {
+    let results: Vec<(Option<Posterior>, Option<Summary>)> = (0..replicates as u64)
         .into_par_iter()
         .map(|b| {
             let mut rng = Xoshiro256PlusPlus::seed_from_u64(replicate_seed(seed, b));
             let t = resample(table, &mut rng);
-            summaries(&t, survey, grid, prior_u)
+            let (joint, naive) = posteriors(&t, survey, grid, prior_u);
+            (joint, naive.map(|p| p.summary))
         })
         .collect();
-    let joint: Vec<Summary> = results.iter().filter_map(|r| r.0).collect();
+    let joint: Vec<Summary> = results
+        .iter()
+        .filter_map(|r| r.0.as_ref().map(|p| p.summary))
+        .collect();
     let naive: Vec<Summary> = results.iter().filter_map(|r| r.1).collect();
-    (McError::of(&joint), McError::of(&naive))
+    let densities: Vec<&[f64]> = results
+        .iter()
+        .filter_map(|r| r.0.as_ref().map(|p| p.density.as_slice()))
+        .collect();
+    (
+        McError::of(&joint),
+        McError::of(&naive),
+        McBand::of(&densities, grid.len()),
+    )
+}
+
+/// The joint posterior's pointwise Monte Carlo band: at each grid point,
+/// the 5th and 95th percentiles of the bootstrap replicates' densities (per
+/// unit IM). A posterior made of a few records' bumps moves from replicate
+/// to replicate, and its band is wide where it does.
+#[derive(Clone, Debug, PartialEq)]
+pub struct McBand {
+    /// 5th percentile of the density at each grid point.
+    pub lo: Vec<f64>,
+    /// 95th percentile.
+    pub hi: Vec<f64>,
+    /// Replicates behind it.
+    pub replicates: usize,
+}
+
+impl McBand {
+    fn of(densities: &[&[f64]], points: usize) -> Option<McBand> {
+        if densities.len() < 2 {
+            return None;
+        }
+        let mut lo = Vec::with_capacity(points);
+        let mut hi = Vec::with_capacity(points);
+        let mut column = vec![0.0; densities.len()];
+        for i in 0..points {
+            for (c, d) in column.iter_mut().zip(densities) {
+                *c = d[i];
+            }
+            column.sort_by(f64::total_cmp);
+            lo.push(sorted_quantile(&column, 0.05));
+            hi.push(sorted_quantile(&column, 0.95));
+        }
+        Some(McBand {
+            lo,
+            hi,
+            replicates: densities.len(),
+        })
+    }
+}
+
+/// The `q`-quantile of `sorted` (ascending, not empty), linear between
+/// order statistics.
+fn sorted_quantile(sorted: &[f64], q: f64) -> f64 {
+    let h = q * (sorted.len() - 1) as f64;
+    let (i, t) = (h.floor() as usize, h - h.floor());
+    match sorted.get(i + 1) {
+        Some(next) => sorted[i] + t * (next - sorted[i]),
+        None => sorted[i],
+    }
 }
 
 #[cfg(test)]

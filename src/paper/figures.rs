@@ -16,7 +16,9 @@
 //! - the paper's published counts (Tables 1–3), which fall too.
 //!
 //! So the figure shows the stabilisation, where it comes from (the
-//! program's rule), and that physics does not produce it.
+//! program's rule), and that physics does not produce it. At each e the
+//! three series are drawn a little apart ([`DODGE`]), so that no 95 %
+//! whisker hides another.
 
 use std::path::Path;
 
@@ -166,6 +168,9 @@ fn published_counts(aspects: &[f64], levels: &[f64], es: &[f64]) -> (Vec<u64>, V
 
 /// Figure height (in).
 const HEIGHT_IN: f64 = 3.2;
+/// How far apart the e-trend's three series are drawn at one e, as a
+/// fraction of the largest e.
+pub const DODGE: f64 = 0.015;
 /// Panel margins: 30 pt for the y tick labels, 10 pt on the right.
 const MARGINS: Margins = Margins::new(30.0, 10.0);
 
@@ -424,24 +429,39 @@ impl Figure for ETrendFigure {
             .y_labels(6)
             .x_desc("Coefficient of restitution e")
             .draw()?;
+        // The three series at one e are set a little apart (dodged), so
+        // that no whisker hides another.
+        let dodge = |i: usize| (i as f64 - 1.0) * DODGE * e_max;
         // Lines and 95 % binomial whiskers (±1.96 √(p(1−p)/n)) first, then
         // the markers in reverse order, so that a filled marker on top of a
         // hollow one at the same place leaves a ring showing both.
-        for (s, (colour, dash, _, _)) in self.series.iter().zip(looks) {
-            let points: Vec<(f64, f64)> = s.counts.iter().map(fraction).collect();
+        for (i, (s, (colour, dash, _, _))) in self.series.iter().zip(looks).enumerate() {
+            let points: Vec<(f64, f64)> = s
+                .counts
+                .iter()
+                .map(|c| (fraction(c).0 + dodge(i), fraction(c).1))
+                .collect();
             let line = colour.stroke_width(style.ipx(LINE_PT));
             curve!(chart, points, line, dash, style);
             for c in &s.counts {
                 let (e, p) = fraction(c);
                 let h = half(c);
                 chart.draw_series(std::iter::once(plotters::prelude::PathElement::new(
-                    vec![(e, (p - h).max(y_lo)), (e, (p + h).min(y_hi))],
+                    vec![
+                        (e + dodge(i), (p - h).max(y_lo)),
+                        (e + dodge(i), (p + h).min(y_hi)),
+                    ],
                     line,
                 )))?;
             }
         }
-        for (s, (colour, _, marker, filled)) in self.series.iter().zip(looks).rev() {
-            let points: Vec<(f64, f64)> = s.counts.iter().map(fraction).collect();
+        for (i, (s, (colour, _, marker, filled))) in self.series.iter().zip(looks).enumerate().rev()
+        {
+            let points: Vec<(f64, f64)> = s
+                .counts
+                .iter()
+                .map(|c| (fraction(c).0 + dodge(i), fraction(c).1))
+                .collect();
             markers!(chart, points, colour, marker, filled, style);
         }
         Ok(())
