@@ -50,7 +50,7 @@ fn simulated_case(curves: &[(f64, f64)], ims: &[f64], seed: u64) -> CaseData {
         }
         case.trials.push(Trial {
             record: case.records.len(),
-            pga: x,
+            level: x,
             im: x,
             overturned: exceeded >> (curves.len() - 1) & 1 == 1,
             exceeded,

@@ -27,6 +27,9 @@ use crate::table::{Row, Table};
 /// the pelicun component of the exports, and `risk.csv`'s); `limit_state` names the
 /// limit state; `n_overturned` counts the analyses that overturned,
 /// `n_exceeded` those that exceeded the limit state (what was fitted);
+/// `n_stripes` counts the study's intensity levels (stripes) with an
+/// analysis, whatever IM the curve is fitted against (a PGV-level or
+/// record-pair study's analyses each have their own measured PGA);
 /// `beta_model` is `separate` (fitted alone) or `common` (one β shared with
 /// the case's other fitted limit states, because the separate curves
 /// crossed; empty when not fitted). `median`, `median_lo`, `median_hi`,
@@ -600,7 +603,7 @@ mod tests {
             .flat_map(|s| {
                 (0..10).map(move |r| Trial {
                     record: r,
-                    pga: 0.3 * (s + 1) as f64,
+                    level: 0.3 * (s + 1) as f64,
                     im: 0.3 * (s + 1) as f64,
                     overturned: r < 2 + 2 * s,
                     exceeded: u64::from(r < 2 + 2 * s),
