@@ -817,3 +817,76 @@ fn stripes_count_the_levels_not_the_measured_peaks() {
         .expect("the PGV study's small block overturns at some levels");
     assert!(m.hi > m.lo, "a within-stripe bootstrap must vary: {m:?}");
 }
+
+/// Issue 37: a median above the strongest stripe (or below the weakest) was
+/// extrapolated without a word. Fitted curves whose median lies outside the
+/// stripes are `extrapolated-above` / `extrapolated-below` in
+/// fragility.csv, keep their numbers (`fit()`: risk and the exports use
+/// them), and the console and summary.md say so. Synthetic: θ = 0.5 g on
+/// stripes 0.1–1.05 g is `ok`; the same data cut to the stripes below
+/// 0.45 g put the median above the strongest, cut to those above 0.6 g
+/// below the weakest. End to end: the default study's H/B 2, e = 0.3 block
+/// (θ 1.206 g, stripes to 1.2 g).
+#[test]
+fn a_median_outside_the_stripes_is_flagged() {
+    use rockfrag::fragility::{Caveat, FragilityRow};
+    let full = fixture::independent_case(THETA, BETA, 200, 23);
+    let cut = |keep: &dyn Fn(f64) -> bool| {
+        let mut c = full.clone();
+        c.trials.retain(|t| keep(t.im));
+        c
+    };
+    let opts = FragilityOptions {
+        bootstrap: 0,
+        ..FragilityOptions::default()
+    };
+    for (case, want) in [
+        (full.clone(), None),
+        (cut(&|x| x < 0.45), Some(Caveat::ExtrapolatedAbove)),
+        (cut(&|x| x > 0.6), Some(Caveat::ExtrapolatedBelow)),
+    ] {
+        let f = &fit_case(&case, &opts)[0];
+        let m = f.fit.as_ref().unwrap().median();
+        assert_eq!(f.caveat, want, "θ = {m}, stripes {:?}", f.im_range);
+        let row = FragilityRow::from_fit(f);
+        assert_eq!(row.status, want.map_or("ok", Caveat::status));
+        assert_eq!(row.fit().map(|p| p.0), Some(m));
+    }
+
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("default");
+    let o = common::rockfrag(&["run", "--out", out.to_str().unwrap()]);
+    let err = common::stderr(&o);
+    assert!(o.status.success(), "{err}");
+    let rows = rockfrag::fragility::read_fragility_csv(&out.join("fragility.csv")).unwrap();
+    let mut flagged = 0;
+    for r in &rows {
+        let (m, _) = r.fit().unwrap();
+        let (lo, hi) = r.im_range.unwrap();
+        let want = if m > hi {
+            "extrapolated-above"
+        } else if m < lo {
+            "extrapolated-below"
+        } else {
+            "ok"
+        };
+        assert_eq!(r.status, want, "{r:?}");
+        flagged += usize::from(want != "ok");
+    }
+    assert!(flagged > 0);
+    assert!(
+        err.contains(
+            "note: a2_w0p5_e0p3_inf overturning: median above the strongest stripe (1.20 g)"
+        ),
+        "{err}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    let line = summary
+        .lines()
+        .find(|l| l.starts_with("| `a2_w0p5_e0p3_inf`"))
+        .unwrap();
+    assert!(
+        line.contains("**median above the strongest stripe (1.20 g)"),
+        "{line}"
+    );
+}
