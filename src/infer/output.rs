@@ -193,11 +193,10 @@ pub fn report_text(inf: &Inference) -> String {
     let (x0, x1) = (inf.grid.x[0], inf.grid.x[n - 1]);
     let pct = |i: usize| format!("{:.0} %", 100.0 * relative_likelihood(&inf.joint_ln_l, i));
     match inf.joint.bounds {
-        Bounds::Both => format!(
-            "the joint result (every object felt the same motion; its 90 % interval is \
-             calibrated, docs/infer.md); the naive one treats each object as if it had its own \
-             earthquake, is overconfident, and is shown for comparison only"
-        ),
+        Bounds::Both => "the joint result (every object felt the same motion; its 90 % interval \
+                         is calibrated, docs/infer.md); the naive one treats each object as if it \
+                         had its own earthquake, is overconfident, and is shown for comparison only"
+            .to_string(),
         Bounds::LowerOnly => format!(
             "{name} ≥ {} {unit} (the joint 5 % bound): the data bound the {name} from below \
              only. The likelihood at the highest level, {} {unit}, is still {} of its \

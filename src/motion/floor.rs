@@ -132,7 +132,8 @@ impl Floor {
         for (i, m) in self.modes.iter().enumerate() {
             check_period(|| format!("floor[{i}].period"), m.period)?;
             check_damping(|| format!("floor[{i}].damping"), m.damping)?;
-            if !(m.participation.abs() <= MAX_PARTICIPATION) {
+            // NaN is refused too: it is not within the bound.
+            if m.participation.is_nan() || m.participation.abs() > MAX_PARTICIPATION {
                 return Err(Error::invalid(
                     &format!("floor[{i}].participation"),
                     m.participation,

@@ -288,11 +288,11 @@ pub fn read_at2(path: impl AsRef<Path>, g: f64) -> Result<Record> {
         ),
         _ => format!("check the units the header states (line {line})"),
     };
+    let (vel, disp) = integrate_linear(at2.dt, &acc, 0.0, 0.0);
+    check_integrated(path, at2.dt, &vel, &disp, |k| at2_value_line(&text, k))?;
     super::units::check_max_peak(path, &acc, units.label(), &fix, |k| {
         at2_value_line(&text, k)
     })?;
-    let (vel, disp) = integrate_linear(at2.dt, &acc, 0.0, 0.0);
-    check_integrated(path, at2.dt, &vel, &disp, |k| at2_value_line(&text, k))?;
     Record::new(file_label(path), at2.dt, acc, vel, disp)
 }
 
@@ -639,6 +639,13 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
     let times: Vec<&str> = text_times(&text, &lines);
     let dt = uniform_step(path, &t, &times, &lines)?;
     let name = file_label(path);
+    let (vel, disp) = if ncol == 4 {
+        (vel, disp)
+    } else {
+        let (vel, disp) = integrate_linear(dt, &acc, 0.0, 0.0);
+        check_integrated(path, dt, &vel, &disp, |k| lines[k])?;
+        (vel, disp)
+    };
     super::units::check_max_peak(
         path,
         &acc,
@@ -647,14 +654,9 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
         |k| lines[k],
     )?;
     super::units::check_min_peak_csv(path, &acc, header_line)?;
-    let (vel, disp) = if ncol == 4 {
+    if ncol == 4 {
         super::units::check_integrals(path, header_line, dt, &acc, &vel, &disp)?;
-        (vel, disp)
-    } else {
-        let (vel, disp) = integrate_linear(dt, &acc, 0.0, 0.0);
-        check_integrated(path, dt, &vel, &disp, |k| lines[k])?;
-        (vel, disp)
-    };
+    }
     Record::new(name, dt, acc, vel, disp)
 }
 

@@ -182,7 +182,9 @@ mod tests {
     #[test]
     fn ratios_of_integrals() {
         let dt = 0.01;
-        let x: Vec<f64> = (0..1000).map(|k| (k as f64 * 0.05).sin() + 0.3).collect();
+        let x: Vec<f64> = (0..1000)
+            .map(|k| crate::detmath::sin(k as f64 * 0.05) + 0.3)
+            .collect();
         let mut y = vec![0.0];
         for k in 0..x.len() - 1 {
             let next = y[k] + 0.5 * dt * (x[k] + x[k + 1]);
