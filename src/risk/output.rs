@@ -18,7 +18,8 @@ use crate::io_util::{number, sig3, write_atomic};
 /// where the rate's density over ln im peaks; `share_below`, `share_above`
 /// the fractions of λ_LS from beyond the hazard curve's lowest and highest
 /// levels; `boot_fitted` the replicates behind the band; `status` the fit's
-/// (`ok`, or why there is no curve and the numbers are empty).
+/// (`ok`; a fitted curve's caveat, e.g. `extrapolated-above`, see
+/// `fragility.csv`; or why there is no curve and the numbers are empty).
 pub const RISK_HEADER: &str = "case_id,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
 im_unit,median,beta,annual_rate,annual_rate_lo,annual_rate_hi,return_period,years,poe,peak_im,\
 share_below,share_above,boot_fitted,status";
