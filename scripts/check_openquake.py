@@ -168,7 +168,7 @@ def main(argv=None):
             p = sum(states[s] for s in ls_names[k:])
             rate = -math.log1p(-p) / T_r
             r = rows.get(ls)
-            if r is not None and r.get("annual_rate", "") == "" and r.get("status", "ok") != "ok":
+            if r is not None and r.get("annual_rate", "") == "" and r.get("status", "ok") not in rio.EXPORTED:
                 # A limit state rockfrag could not fit: the model carries its observed
                 # fractions (a discrete function); there is no rockfrag rate to compare with.
                 lines.append("%-48s %-12s %12s %12.5e %9s" % (

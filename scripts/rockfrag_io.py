@@ -63,13 +63,20 @@ def risk_rows(study):
     return read_rows(os.path.join(study, "risk.csv"))
 
 
+# `status` of a fitted curve the exports carry: `ok`, or a median outside the stripes
+# (the curve is extrapolated there, and flagged). `out-of-order` (a more severe limit state
+# more likely than a milder one) is fitted too, but left out of fragility.xml and the exports.
+EXPORTED = ("ok", "extrapolated-above", "extrapolated-below")
+
+
 def fitted(row):
-    """(θ, β) of a fragility.csv / risk.csv row, or None when the row has no fit."""
+    """(θ, β) of a fragility.csv / risk.csv row as the exports carry it, or None when the row
+    has no fit or is left out of them (status out-of-order)."""
     try:
         m, b = float(row["median"]), float(row["beta"])
     except (KeyError, ValueError):
         return None
-    if row.get("status", "ok") != "ok" or not (m > 0 and b > 0):
+    if row.get("status", "ok") not in EXPORTED or not (m > 0 and b > 0):
         return None
     return m, b
 

@@ -240,15 +240,87 @@ fn truncation(field: &str, min: Option<f64>, max: Option<f64>) -> Result<()> {
 /// A standard normal z truncated to `[lo, hi]` at cumulative probability `u`
 /// of the truncated distribution: Φ⁻¹(Φ(lo) + u·(Φ(hi) − Φ(lo))). Works on
 /// the upper tail's mirror when both bounds are above 0, so that far-tail
-/// truncations keep their digits.
+/// truncations keep their digits; where the tail beyond the nearer bound
+/// holds less than [`FAR_TAIL`] (about 37 standard deviations out, where
+/// Φ underflows and every draw became the far bound), it inverts the
+/// truncated CDF in log-survival space instead ([`far_tail_z`]).
 fn truncated_z(u: f64, lo: f64, hi: f64) -> f64 {
     if lo > 0.0 {
         // Mirror: z = −Φ⁻¹(Φ(−lo) − u (Φ(−lo) − Φ(−hi))).
         let (a, b) = (dm::norm_cdf(-lo), dm::norm_cdf(-hi));
+        if a < FAR_TAIL {
+            return far_tail_z(u, lo, hi);
+        }
         return -dm::norm_inv_cdf((a - u * (a - b)).clamp(0.0, 1.0));
     }
     let (a, b) = (dm::norm_cdf(lo), dm::norm_cdf(hi));
+    if b < FAR_TAIL {
+        // Both bounds far in the lower tail: the mirror of the upper one.
+        return -far_tail_z(1.0 - u, -hi, -lo);
+    }
     dm::norm_inv_cdf((a + u * (b - a)).clamp(0.0, 1.0))
+}
+
+/// Tail mass below which [`truncated_z`] leaves Φ and Φ⁻¹ for
+/// [`far_tail_z`]: Φ(−37.5) ≈ 5·10⁻³⁰⁸ is where Φ leaves the normal range
+/// of `f64`, and AS 241's Φ⁻¹ is accurate down to about 10⁻³⁰⁰. Every
+/// truncation with more mass beyond its nearer bound keeps its draws bit
+/// for bit.
+const FAR_TAIL: f64 = 1e-300;
+
+/// z·Q(z)/φ(z) for z ≥ 1 (Q = 1 − Φ, φ the density): Laplace's continued
+/// fraction Q(z)/φ(z) = 1/(z + 1/(z + 2/(z + 3/(z + …)))), 60 terms from
+/// the back (exact to rounding from z ≈ 5 up; it tends to 1 − 1/z²).
+fn mills_z(z: f64) -> f64 {
+    let mut t = z;
+    for k in (1..=60).rev() {
+        t = z + k as f64 / t;
+    }
+    z / t
+}
+
+/// ln Q(lo + t) − ln Q(lo) for t ≥ 0, lo ≥ 1, without forming Q:
+/// −t (lo + t/2) − ln(1 + t/lo) + ln r(lo + t) − ln r(lo), r = [`mills_z`]
+/// (ln Q(z) = −z²/2 − ln √(2π) − ln z + ln r(z)).
+fn ln_survival_drop(lo: f64, t: f64) -> f64 {
+    -t * (lo + 0.5 * t) - dm::ln_1p(t / lo) + dm::ln(mills_z(lo + t)) - dm::ln(mills_z(lo))
+}
+
+/// The z ∈ [lo, hi] (lo ≥ 1) at cumulative probability `u` of a standard
+/// normal truncated there, from its log-survival function: Q(z)/Q(lo) =
+/// 1 − u (1 − Q(hi)/Q(lo)), i.e. D(t) = ln(1 + u·expm1(D(hi − lo))) with
+/// D(t) = ln Q(lo + t) − ln Q(lo) ([`ln_survival_drop`]), solved for
+/// t = z − lo by Newton's method (D is concave and decreasing, D′(t) =
+/// −z/r(z): from its first step on, the iterates fall monotonically to the
+/// root). Good for any lo whose tail Φ cannot hold: the draws spread over
+/// the bound's exponential tail, of scale ≈ 1/lo, as they should.
+fn far_tail_z(u: f64, lo: f64, hi: f64) -> f64 {
+    let span = hi - lo;
+    let drop_hi = if span.is_finite() {
+        ln_survival_drop(lo, span)
+    } else {
+        f64::NEG_INFINITY
+    };
+    let target = dm::ln_1p(u * dm::exp_m1(drop_hi));
+    if target == f64::NEG_INFINITY {
+        return hi;
+    }
+    if target == 0.0 {
+        return lo;
+    }
+    // The exponential tail's answer, Newton's first step from t = 0.
+    let mut t = (-target * mills_z(lo) / lo).min(span);
+    for _ in 0..100 {
+        let z = lo + t;
+        let slope = -z / mills_z(z);
+        let next = (t - (ln_survival_drop(lo, t) - target) / slope).clamp(0.0, span);
+        let done = (next - t).abs() <= 4.0 * f64::EPSILON * next;
+        t = next;
+        if done {
+            break;
+        }
+    }
+    lo + t
 }
 
 /// A block property that `[uncertainty]` can draw.
@@ -423,6 +495,19 @@ fn splitmix64(x: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// The largest uniform number [`uniforms`] gives, 1 − 2⁻⁵³ (53 random bits
+/// times 2⁻⁵³): the upper end of the values a draw can take is the
+/// quantile here, finite for an unbounded distribution (a lognormal's is
+/// about median·e^(8.2β)), not the quantile at 1 (+∞).
+///
+/// ```
+/// use rockfrag::uncertainty::{Distribution, U_MAX};
+/// let mu_s = Distribution::Lognormal { median: 0.5, beta: 0.15, min: None, max: None };
+/// assert_eq!(mu_s.quantile(1.0), f64::INFINITY);
+/// assert!(mu_s.quantile(U_MAX) < 2.0);
+/// ```
+pub const U_MAX: f64 = 1.0 - f64::EPSILON / 2.0;
+
 /// One uniform number in [0, 1) per parameter of [`Property::ALL`], for the
 /// analysis seeded by `seed` (see [`analysis_seed`]).
 pub fn uniforms(seed: u64) -> [f64; 5] {
@@ -487,6 +572,17 @@ mod tests {
         x.sort_by(f64::total_cmp);
         let med = x[n as usize / 2];
         assert!((med / 0.6 - 1.0).abs() < 0.02, "{med}");
+    }
+
+    /// [`U_MAX`] is what the generator gives for a stream of all ones in
+    /// its 53 top bits, and every uniform is below 1.
+    #[test]
+    fn u_max_is_the_largest_uniform() {
+        assert_eq!(U_MAX, ((1u64 << 53) - 1) as f64 / (1u64 << 53) as f64);
+        const { assert!(U_MAX < 1.0) };
+        for s in 0..1000 {
+            assert!(uniforms(s).iter().all(|&u| (0.0..=U_MAX).contains(&u)));
+        }
     }
 
     #[test]

@@ -53,7 +53,7 @@ mod fixture {
                 let overturned = rng.random::<f64>() < p;
                 case.trials.push(Trial {
                     record: case.records.len(),
-                    pga: x,
+                    level: x,
                     im: x,
                     overturned,
                     exceeded: u64::from(overturned),
@@ -69,7 +69,7 @@ mod fixture {
         levels()
             .into_iter()
             .map(|x| {
-                let at: Vec<_> = case.trials.iter().filter(|a| a.pga == x).collect();
+                let at: Vec<_> = case.trials.iter().filter(|a| a.level == x).collect();
                 Observation {
                     im: x,
                     trials: at.len() as u64,
@@ -342,7 +342,7 @@ fn unfittable_bootstrap_replicates_are_counted() {
         for (r, &c) in capacity.iter().enumerate() {
             case.trials.push(Trial {
                 record: r,
-                pga,
+                level: pga,
                 im: pga,
                 overturned: pga >= c,
                 exceeded: u64::from(pga >= c),
@@ -754,4 +754,139 @@ fn cli_fits_a_generated_study() {
     let missing = rockfrag(&["fragility", other.path().join("nope").to_str().unwrap()]);
     assert_eq!(missing.status.code(), Some(1));
     assert!(stderr(&missing).contains("outcomes.csv"));
+}
+
+/// Issue 37: `n_stripes` counted the distinct *measured* PGAs, so a study
+/// on PGV levels (each scaled record has its own PGA) or of record pairs
+/// (the `pga` column is the pair's H1 peak) reported one stripe per
+/// analysis (100 for 5 PGV levels). A stripe is a level of the spec: 5 PGV
+/// levels and 4 RotD50 PGA levels of pairs give 5 and 4, in fragility.csv
+/// and in the summary's `stripes` column, whatever IM the curve is fitted
+/// against; and a bootstrap that resamples analyses within a stripe
+/// (`--bootstrap-unit analyses`) then varies between replicates.
+#[test]
+fn stripes_count_the_levels_not_the_measured_peaks() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (name, grid, extra, levels) in [
+        ("pgv", "pgv = [0.2, 0.4, 0.6, 0.8, 1.0]", "", 5),
+        ("pairs", "pga = [0.2, 0.4, 0.7, 1.0]", "components = 2\n", 4),
+    ] {
+        let spec = tmp.path().join(format!("{name}.toml"));
+        std::fs::write(
+            &spec,
+            format!(
+                "name = \"{name}\"\nseed = 3\nrecords = 6\n{extra}[motion]\nduration = 6.0\n\
+                 [grid]\nwidth = [0.2]\naspect = [4]\nrestitution = [0.5]\n{grid}\n\
+                 [fragility]\nbootstrap = 0\n"
+            ),
+        )
+        .unwrap();
+        let out = tmp.path().join(name);
+        let o = common::rockfrag(&[
+            "run",
+            spec.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", common::stderr(&o));
+        let rows = rockfrag::fragility::read_fragility_csv(&out.join("fragility.csv")).unwrap();
+        assert!(!rows.is_empty());
+        for r in &rows {
+            assert_eq!(r.n_stripes, levels, "{name}: {r:?}");
+        }
+        let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+        let row = summary
+            .lines()
+            .find(|l| l.contains("H/B=4") && l.contains("| overturning |"))
+            .unwrap_or_else(|| panic!("{summary}"));
+        assert!(
+            row.contains(&format!("| {levels} |")),
+            "{name}: the summary's stripes: {row}"
+        );
+    }
+    // Within-stripe resampling on the PGV study: the stripes hold their
+    // records' analyses, so replicates differ.
+    let outcomes =
+        read_outcomes(&tmp.path().join("pgv/outcomes.csv"), IntensityMeasure::Pga).unwrap();
+    let case = &outcomes.cases[0];
+    assert_eq!(case.n_stripes(), 5);
+    let grid: Vec<f64> = (1..20).map(|i| 0.1 * i as f64).collect();
+    let b = bootstrap(case, &grid, 50, BootstrapUnit::Analyses, 1, 0.9);
+    let m = b
+        .median
+        .expect("the PGV study's small block overturns at some levels");
+    assert!(m.hi > m.lo, "a within-stripe bootstrap must vary: {m:?}");
+}
+
+/// Issue 37: a median above the strongest stripe (or below the weakest) was
+/// extrapolated without a word. Fitted curves whose median lies outside the
+/// stripes are `extrapolated-above` / `extrapolated-below` in
+/// fragility.csv, keep their numbers (`fit()`: risk and the exports use
+/// them), and the console and summary.md say so. Synthetic: θ = 0.5 g on
+/// stripes 0.1–1.05 g is `ok`; the same data cut to the stripes below
+/// 0.45 g put the median above the strongest, cut to those above 0.6 g
+/// below the weakest. End to end: the default study's H/B 2, e = 0.3 block
+/// (θ 1.206 g, stripes to 1.2 g).
+#[test]
+fn a_median_outside_the_stripes_is_flagged() {
+    use rockfrag::fragility::{Caveat, FragilityRow};
+    let full = fixture::independent_case(THETA, BETA, 200, 23);
+    let cut = |keep: &dyn Fn(f64) -> bool| {
+        let mut c = full.clone();
+        c.trials.retain(|t| keep(t.im));
+        c
+    };
+    let opts = FragilityOptions {
+        bootstrap: 0,
+        ..FragilityOptions::default()
+    };
+    for (case, want) in [
+        (full.clone(), None),
+        (cut(&|x| x < 0.45), Some(Caveat::ExtrapolatedAbove)),
+        (cut(&|x| x > 0.6), Some(Caveat::ExtrapolatedBelow)),
+    ] {
+        let f = &fit_case(&case, &opts)[0];
+        let m = f.fit.as_ref().unwrap().median();
+        assert_eq!(f.caveat, want, "θ = {m}, stripes {:?}", f.im_range);
+        let row = FragilityRow::from_fit(f);
+        assert_eq!(row.status, want.map_or("ok", Caveat::status));
+        assert_eq!(row.fit().map(|p| p.0), Some(m));
+    }
+
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("default");
+    let o = common::rockfrag(&["run", "--out", out.to_str().unwrap()]);
+    let err = common::stderr(&o);
+    assert!(o.status.success(), "{err}");
+    let rows = rockfrag::fragility::read_fragility_csv(&out.join("fragility.csv")).unwrap();
+    let mut flagged = 0;
+    for r in &rows {
+        let (m, _) = r.fit().unwrap();
+        let (lo, hi) = r.im_range.unwrap();
+        let want = if m > hi {
+            "extrapolated-above"
+        } else if m < lo {
+            "extrapolated-below"
+        } else {
+            "ok"
+        };
+        assert_eq!(r.status, want, "{r:?}");
+        flagged += usize::from(want != "ok");
+    }
+    assert!(flagged > 0);
+    assert!(
+        err.contains(
+            "note: a2_w0p5_e0p3_inf overturning: median above the strongest stripe (1.20 g)"
+        ),
+        "{err}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    let line = summary
+        .lines()
+        .find(|l| l.starts_with("| `a2_w0p5_e0p3_inf`"))
+        .unwrap();
+    assert!(
+        line.contains("**median above the strongest stripe (1.20 g)"),
+        "{line}"
+    );
 }

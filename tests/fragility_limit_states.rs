@@ -9,8 +9,8 @@ use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rockfrag::case::Case;
 use rockfrag::fragility::{
-    BetaModel, CaseData, CaseFit, FragilityOptions, LimitState, LognormalFit, Trial, curves_cross,
-    fit_case, fit_common_beta, fit_lognormal, read_outcomes_for,
+    BetaModel, CaseData, CaseFit, Caveat, FragilityOptions, FragilityRow, LimitState, LognormalFit,
+    Trial, curves_cross, fit_case, fit_common_beta, fit_lognormal, nrml_string, read_outcomes_for,
 };
 use rockfrag::solver::Friction;
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -50,7 +50,7 @@ fn simulated_case(curves: &[(f64, f64)], ims: &[f64], seed: u64) -> CaseData {
         }
         case.trials.push(Trial {
             record: case.records.len(),
-            pga: x,
+            level: x,
             im: x,
             overturned: exceeded >> (curves.len() - 1) & 1 == 1,
             exceeded,
@@ -140,7 +140,7 @@ fn crossing_curves_are_refitted_with_one_beta() {
     let (o0, o1) = (case.observations(0), case.observations(1));
     let (s0, s1) = (fit_lognormal(&o0).unwrap(), fit_lognormal(&o1).unwrap());
     assert!(
-        curves_cross(&s0, &s1, 1.0),
+        curves_cross(&s0, &s1, (0.05, 1.0)),
         "the premise: separate fits cross"
     );
 
@@ -164,7 +164,7 @@ fn crossing_curves_are_refitted_with_one_beta() {
     assert!(fits.iter().all(|f| f.beta_model == BetaModel::Common));
     assert_eq!(f[0].b, f[1].b);
     assert!(f[0].median() < f[1].median());
-    assert!(!curves_cross(f[0], f[1], 1.0));
+    assert!(!curves_cross(f[0], f[1], (0.05, 1.0)));
     let (c0, c1) = (
         fits[0].curve.as_ref().unwrap(),
         fits[1].curve.as_ref().unwrap(),
@@ -225,7 +225,8 @@ fn common_beta_fit_of_one_limit_state_is_the_ordinary_fit() {
 
 /// `rockfrag run` on a small spec with three limit states (rocking beyond
 /// 0.2 θc, sliding beyond 5 cm, overturning): one fragility.csv row per limit
-/// state, in the spec's order, all fitted, with the fitted medians rising
+/// state, in the spec's order, all fitted (status `ok`, or
+/// `extrapolated-above` for a median above the strongest stripe), with the fitted medians rising
 /// with severity and the exceedance counts falling; each count is what
 /// outcomes.csv gives (overturned, or the measure above its threshold); the
 /// curves file has 101 points per limit state; fragility.xml holds the
@@ -251,8 +252,14 @@ fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
     assert_eq!(names, ["rocks-20pc", "slides-5cm", "overturning"]);
     let mut last = (0.0, usize::MAX);
     for r in &rows {
-        assert_eq!(&r[col("status")], "ok", "{r:?}");
         let median: f64 = r[col("median")].parse().unwrap();
+        // Fitted; a median above the strongest stripe (1.2 g) is flagged.
+        let want = if median > 1.2 {
+            "extrapolated-above"
+        } else {
+            "ok"
+        };
+        assert_eq!(&r[col("status")], want, "{r:?}");
         let exceeded: usize = r[col("n_exceeded")].parse().unwrap();
         eprintln!(
             "{}: θ = {median:.3} g, {exceeded} exceeded",
@@ -337,4 +344,157 @@ fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
         err.contains("no `t_rock` column") && err.contains("rocks-1s"),
         "{err}"
     );
+}
+
+/// A lognormal fit with median θ and dispersion β (probit a = −ln θ/β,
+/// b = 1/β).
+fn lognormal(theta: f64, beta: f64) -> LognormalFit {
+    LognormalFit {
+        a: -theta.ln() / beta,
+        b: 1.0 / beta,
+        cov: [[0.0; 2]; 2],
+        loglik: 0.0,
+        iterations: 0,
+    }
+}
+
+/// Issue 37: curves that cross inside the stripes' range at probabilities
+/// below the 10⁻³ tolerance were let pass, and went to OpenQuake and
+/// pelicun, whose damage state P(LS₁) − P(LS₂) is then negative there.
+/// θ, β = 0.5 g, 0.2 and 0.8 g, 0.3 meet at u* = (0.3 ln 0.5 − 0.2 ln 0.8)/0.1,
+/// 0.195 g, where P ≈ 1.3·10⁻⁶: inside stripes from 0.1 g it counts; below
+/// stripes from 0.25 g (extrapolated, P below the tolerance) it does not;
+/// and the meeting of the issue's 0.3/0.3 and 0.4/0.8 g (P ≈ 0.28) counts
+/// wherever the stripes start.
+#[test]
+fn a_crossing_within_the_stripes_counts_however_small_the_probabilities() {
+    let (mild, severe) = (lognormal(0.5, 0.2), lognormal(0.8, 0.3));
+    let u_star: f64 = (0.3 * 0.5f64.ln() - 0.2 * 0.8f64.ln()) / 0.1;
+    let p = mild.probability(u_star.exp());
+    assert!(
+        (u_star.exp() - 0.195).abs() < 1e-3 && p < 1e-5,
+        "{} {p}",
+        u_star.exp()
+    );
+    assert!(curves_cross(&mild, &severe, (0.1, 1.0)));
+    assert!(!curves_cross(&mild, &severe, (0.25, 1.0)));
+    assert!(curves_cross(
+        &lognormal(0.3, 0.3),
+        &lognormal(0.4, 0.8),
+        (0.3, 1.0)
+    ));
+}
+
+/// Simulated exceedances of two nested limit states whose true curves
+/// cross in the lower tail inside the stripes (0.5 g, 0.2 and 0.8 g, 0.3,
+/// 3,000 analyses on stripes from 0.05 g): the separate fits cross there,
+/// so the case is refitted with one β, and its curves are then in order
+/// (no caveat). Limit states whose data are in the reverse order (the
+/// "severe" one, θ 0.5 g, exceeded more often than the "mild" one, θ
+/// 0.8 g) are flagged `out-of-order` on the severe one: fragility.csv says
+/// so, the row keeps its numbers (`fit()`), and fragility.xml leaves the
+/// case out with a comment naming both limit states.
+#[test]
+fn curves_out_of_order_within_the_stripes_are_flagged_and_left_out_of_the_model() {
+    let opts = FragilityOptions {
+        bootstrap: 0,
+        limit_state: limit_states()[..2].to_vec(),
+        ..FragilityOptions::default()
+    };
+    let case = simulated_case(&[(0.5, 0.2), (0.8, 0.3)], &stripes(150), 17);
+    let (s0, s1) = (
+        fit_lognormal(&case.observations(0)).unwrap(),
+        fit_lognormal(&case.observations(1)).unwrap(),
+    );
+    assert!(
+        curves_cross(&s0, &s1, (0.05, 1.0)),
+        "the premise: separate fits cross within the stripes"
+    );
+    let fits = fit_case(&case, &opts);
+    assert!(fits.iter().all(|f| f.beta_model == BetaModel::Common));
+    assert!(fits.iter().all(|f| f.caveat.is_none()), "{fits:?}");
+
+    // The reverse: "slides-5cm" (listed as the more severe) at θ 0.5 g is
+    // exceeded more often than "uplift" at θ 0.8 g.
+    let case = simulated_case(&[(0.8, 0.3), (0.5, 0.3)], &stripes(150), 19);
+    let fits = fit_case(&case, &opts);
+    assert_eq!(fits[0].caveat, None);
+    assert_eq!(fits[1].caveat, Some(Caveat::OutOfOrder));
+    let rows: Vec<FragilityRow> = fits.iter().map(FragilityRow::from_fit).collect();
+    assert_eq!(rows[1].status, "out-of-order");
+    let (m, _) = rows[1]
+        .fit()
+        .expect("an out-of-order curve keeps its numbers");
+    assert!((m / 0.5 - 1.0).abs() < 0.1, "{m}");
+    let note = rockfrag::fragility::caveat_note(&fits, 1).unwrap();
+    assert!(
+        note.contains("more likely than uplift (listed as milder)"),
+        "{note}"
+    );
+    let xml = nrml_string(&fits);
+    assert!(
+        xml.contains(
+            "left out: its limit states are out of order: slides-5cm is more likely than uplift"
+        ) && !xml.contains("<fragilityFunction"),
+        "{xml}"
+    );
+}
+
+/// The fixture `limit-states-out-of-order.toml` through the command line:
+/// a slender block on firm friction rocks past half its overturning angle
+/// long before it slides 5 cm, yet lists sliding first. fragility.csv marks
+/// rocks-half `out-of-order`, the console and summary.md say which milder
+/// limit state it is more likely than and what to do, fragility.xml leaves
+/// the case out, and both exports refuse a model with nothing left in it,
+/// naming the case and why.
+#[test]
+fn limit_states_out_of_order_are_said_and_not_exported() {
+    let spec = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/specs/limit-states-out-of-order.toml"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = common::rockfrag(&["run", spec, "--out", out.to_str().unwrap()]);
+    let err = common::stderr(&o);
+    assert!(o.status.success(), "{err}");
+    let rows = rockfrag::fragility::read_fragility_csv(&out.join("fragility.csv")).unwrap();
+    let severe = rows.iter().find(|r| r.limit_state == "rocks-half").unwrap();
+    assert_eq!(severe.status, "out-of-order");
+    let want = "rocks-half: out of order: more likely than slides-5cm (listed as milder)";
+    assert!(err.contains(want), "{err}");
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(
+        summary.contains("**out of order: more likely than slides-5cm (listed as milder)"),
+        "{summary}"
+    );
+    let xml = std::fs::read_to_string(out.join("fragility.xml")).unwrap();
+    assert!(
+        xml.contains("left out: its limit states are out of order"),
+        "{xml}"
+    );
+    let hazard = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/hazard/hazard_curve-mean-PGA_example.csv"
+    );
+    for args in [
+        vec!["export", "pelicun", out.to_str().unwrap()],
+        vec![
+            "export",
+            "openquake",
+            out.to_str().unwrap(),
+            "--hazard",
+            hazard,
+            "--site",
+            "0",
+        ],
+    ] {
+        let dest = tmp.path().join(format!("x-{}", args[1]));
+        let mut args = args.clone();
+        args.extend(["--out", dest.to_str().unwrap()]);
+        let o = common::rockfrag(&args);
+        let err = common::stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(err.contains("out-of-order"), "{err}");
+    }
 }

@@ -14,7 +14,7 @@
 //! far less.
 
 mod common;
-use common::{rockfrag, stderr};
+use common::{rockfrag, stderr, stdout};
 
 use std::path::{Path, PathBuf};
 
@@ -439,6 +439,130 @@ fn bad_surveys_are_refused_naming_file_line_and_column() {
         err.contains("drawn.toml") && err.contains("uncertainty.width"),
         "{err}"
     );
+}
+
+/// Runs `rockfrag infer` on `survey_text` with `spec` into a fresh folder.
+fn infer_cli(dir: &Path, name: &str, survey_text: &str, spec: &Path) -> std::process::Output {
+    let survey = write(dir, &format!("{name}.csv"), survey_text);
+    let out = dir.join(format!("out-{name}"));
+    rockfrag(&[
+        "infer",
+        survey.to_str().unwrap(),
+        "--study",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
+/// Issue 37: a survey the model cannot produce (a 20 m slab typed for
+/// 20 cm: some fell, but none of its simulations at any level overturned)
+/// had a constant likelihood, and `infer` printed the prior as the answer.
+/// It is refused (exit 1, nothing written) naming the survey's line, the
+/// kind and what to check; a survey equally likely at every intensity (the
+/// same slab, none fallen) is refused too.
+#[test]
+fn a_survey_the_model_cannot_produce_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = write(tmp.path(), "spec.toml", SMALL);
+    let header = "name,width,aspect,count,overturned\n";
+    let o = infer_cli(
+        tmp.path(),
+        "impossible",
+        &format!("{header}slab,20,5,10,3\n"),
+        &spec,
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    for want in [
+        "impossible.csv:2:",
+        "kind \"slab\" (2B = 20 m, H/B = 5)",
+        "3 of 10 overturned",
+        "none of its simulations on 4 records at 5 levels from 0.150 to 1.00 g",
+        "check its width",
+        "the answer would be the prior",
+    ] {
+        assert!(err.contains(want), "no {want:?} in {err}");
+    }
+    assert!(!tmp.path().join("out-impossible/posterior.csv").exists());
+    let o = infer_cli(
+        tmp.path(),
+        "flat",
+        &format!("{header}slab,20,5,10,0\n"),
+        &spec,
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("flat.csv")
+            && err.contains("equally likely at every intensity from 0.150 to 1.00 g")
+            && err.contains("slab 0 of 10 overturned"),
+        "{err}"
+    );
+    assert!(!tmp.path().join("out-flat/summary.md").exists());
+}
+
+/// Everything overturned: the likelihood is still at its peak at the
+/// highest level, so the data give a lower bound only. The console and
+/// summary say so and what to report (the 5 % bound), `inference.json`
+/// marks the joint result `lower-only`.
+#[test]
+fn a_one_sided_answer_says_it_is_a_bound() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec_file = write(tmp.path(), "spec.toml", SMALL);
+    let header = "name,width,aspect,count,overturned\n";
+    let s = survey(&format!("{header}slender,0.2,6,12,12\n"));
+    let inf = inference(&spec(SMALL), &s).unwrap();
+    let n = inf.grid.len();
+    let top = inf
+        .joint_ln_l
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        inf.joint_ln_l[n - 1] - top > (0.05f64).ln(),
+        "the likelihood must still be high at the top level: {:?}",
+        inf.joint_ln_l
+    );
+    assert_eq!(inf.joint.bounds, rockfrag::infer::Bounds::LowerOnly);
+    let o = infer_cli(
+        tmp.path(),
+        "all",
+        &format!("{header}slender,0.2,6,12,12\n"),
+        &spec_file,
+    );
+    let out = stdout(&o);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let want = format!(
+        "to report: PGA ≥ {} g",
+        rockfrag::io_util::sig3(inf.joint.summary.p05)
+    );
+    assert!(
+        out.contains(&want) && out.contains("from below only"),
+        "{out}"
+    );
+    let summary = std::fs::read_to_string(tmp.path().join("out-all/summary.md")).unwrap();
+    assert!(summary.contains("**To report:** PGA ≥"), "{summary}");
+    let json = std::fs::read_to_string(tmp.path().join("out-all/inference.json")).unwrap();
+    assert!(json.contains("\"bounds\": \"lower-only\""), "{json}");
+}
+
+/// Issue 37: the vase example's own `[uncertainty] mu_s`, an unbounded
+/// lognormal, made `infer` refuse every kind (`invalid mu_s = inf`: the
+/// check took the distribution's quantile at 1, which no draw reaches).
+/// The kinds' models build, their largest μs is the quantile at the
+/// largest uniform the draws use, finite.
+#[test]
+fn an_unbounded_lognormal_friction_is_taken() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let study = Study::load(&root.join("studies/vase.toml")).unwrap();
+    let s = survey("name,width,aspect,count,overturned\nvase,0.2,4,10,3\n");
+    let models = kinds::models(&s, &study, &settings(&study), Path::new("vase.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mu_s = models[0].uncertainty.as_ref().unwrap().mu_s.unwrap();
+    let top = mu_s.at(rockfrag::uncertainty::U_MAX);
+    // median 0.5, β 0.15: the quantile at 1 − 2⁻⁵³ is 0.5·e^(0.15·8.21) ≈ 1.7.
+    assert!(top.is_finite() && (top / 1.70 - 1.0).abs() < 0.02, "{top}");
 }
 
 /// Calibration (seeded, small enough for CI: a few seconds): 100 synthetic

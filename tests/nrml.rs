@@ -56,7 +56,7 @@ fn case(aspect: f64, theta: f64, beta: f64, n: usize, scale: f64) -> CaseData {
         for j in 0..n {
             c.trials.push(Trial {
                 record: c.records.len(),
-                pga: x,
+                level: x,
                 im: x * scale,
                 overturned: j < k,
                 exceeded: (j < k) as u64,

@@ -640,3 +640,73 @@ fn risk_prints_the_probability_of_still_standing() {
     let row = format!("| H/B=5 2B=0.8 e=0 inf | {:.4} [", want[0]);
     assert!(summary.contains(&row), "{row}\n{summary}");
 }
+
+/// Issue 37: a flat hazard segment (no shaking between its levels) gave a
+/// rate of `0 [0, 0]` and a return period of −∞ (a −0 slope made the sum
+/// −0). Hand-computed answers, λ_LS = E[λ(X)] for the capacity X ~ LN(θ, β):
+/// (1) levels 0.1, 0.2, 0.4, 0.8 g at 10⁻², 10⁻³, 10⁻³, 10⁻⁴ /yr (flat from
+/// 0.2 to 0.4 g) and a sharp fragility at θ = 0.3 g (β = 0.01, 40 σ inside
+/// the flat segment): λ_LS = λ(0.3) = 10⁻³; at θ = 0.15 g (inside the
+/// first, power-law segment of slope k = log₂ 10): k₀θ^(−k)e^(k²β²/2)
+/// with λ(0.15) = 10⁻²·1.5^(−k). (2) A flat curve (10⁻³/yr at 0.1 and
+/// 0.2 g): the 10⁻³/yr of shaking it puts above 0.2 g is counted at 0.2 g,
+/// λ_LS = 10⁻³ Φ(ln(0.2/0.15)/0.1), a lower bound, said in the warning.
+/// (3) On that curve a fragility at θ = 100 g has a rate of exactly 0: its
+/// return period is +∞, `never` in tables and `inf` in risk.csv, not −∞.
+#[test]
+fn flat_hazard_segments_contribute_nothing_and_a_zero_rate_is_never() {
+    use rockfrag::case::Case;
+    use rockfrag::risk::{FittedCurve, RiskRow, write_risk_csv};
+    use rockfrag::solver::Friction;
+    let p = Path::new("flat.csv");
+    let h = HazardCurve::from_rates(p, &[0.1, 0.2, 0.4, 0.8], &[1e-2, 1e-3, 1e-3, 1e-4]).unwrap();
+    let r = risk_integral(&h, 0.3, 0.01);
+    assert!((r.rate / 1e-3 - 1.0).abs() < 1e-8, "{}", r.rate);
+    assert_eq!(r.flat_top, 0.0);
+    let k = 10f64.log2();
+    let want = 1e-2 * 1.5f64.powf(-k) * (k * k * 0.01 * 0.01 / 2.0).exp();
+    let r = risk_integral(&h, 0.15, 0.01);
+    assert!((r.rate / want - 1.0).abs() < 1e-8, "{} {want}", r.rate);
+
+    let flat = HazardCurve::from_rates(p, &[0.1, 0.2], &[1e-3, 1e-3]).unwrap();
+    let r = risk_integral(&flat, 0.15, 0.1);
+    let want = 1e-3 * Normal::standard().cdf((0.2f64 / 0.15).ln() / 0.1);
+    assert!((r.rate / want - 1.0).abs() < 1e-12, "{} {want}", r.rate);
+    assert_eq!((r.flat_top, r.above, r.peak_im), (r.rate, r.rate, 0.2));
+    let row = |median: f64| {
+        let curve = FittedCurve {
+            key: Case::fixed(4.0, 0.5, 0.0, Friction::Infinite),
+            limit_state: "overturning".into(),
+            im: "pga".into(),
+            im_unit: "g".into(),
+            fit: Some((median, 0.1)),
+            status: "ok".into(),
+            replicates: Vec::new(),
+            replicates_unfit: 0,
+        };
+        RiskRow {
+            integral: Some(risk_integral(&flat, median, 0.1)),
+            curve,
+            band: None,
+        }
+    };
+    let warning = row(0.15).tail_warning(0.01).unwrap();
+    assert!(
+        warning.contains("flat last segment") && warning.contains("lower bound"),
+        "{warning}"
+    );
+    let never = row(100.0);
+    assert_eq!(never.rate(), Some(0.0));
+    assert!(never.rate().unwrap().is_sign_positive());
+    assert_eq!(never.return_period(), Some(f64::INFINITY));
+    assert_eq!(never.return_period_text().as_deref(), Some("never"));
+    assert_eq!(never.poe(50.0), Some(0.0));
+    let tmp = tempfile::tempdir().unwrap();
+    let csv = tmp.path().join("risk.csv");
+    write_risk_csv(&csv, &[never], &RiskOptions::default()).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = RISK_HEADER.split(',').collect();
+    let line: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    let at = |name: &str| line[header.iter().position(|h| *h == name).unwrap()];
+    assert_eq!((at("annual_rate"), at("return_period")), ("0", "inf"));
+}

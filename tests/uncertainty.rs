@@ -322,3 +322,104 @@ fn fragility_command_pools_drawn_parameters_and_takes_limit_states() {
         common::stderr(&o)
     );
 }
+
+/// The exact CDF of a standard normal truncated to [lo, hi] with lo ≥ 1 (or
+/// its mirror), at z, by Simpson's rule on the density relative to the
+/// bound's, exp(−s (lo + s/2)) for s = z − lo (40 e-folds of its scale 1/lo
+/// on 4,000 intervals: relative error ~1e-10), independent of the sampler's
+/// continued fraction and Newton iteration.
+fn far_tail_cdf(z: f64, lo: f64, hi: f64) -> f64 {
+    let mass = |t: f64| {
+        let t = t.min(40.0 / lo);
+        let n = 4_000;
+        let h = t / n as f64;
+        let f = |s: f64| (-s * (lo + 0.5 * s)).exp();
+        let inner: f64 = (1..n)
+            .map(|i| if i % 2 == 1 { 4.0 } else { 2.0 } * f(i as f64 * h))
+            .sum();
+        h / 3.0 * (f(0.0) + inner + f(t))
+    };
+    mass(z - lo) / mass(hi - lo)
+}
+
+/// A truncation far in a tail (issue 37: `mean = 0.5, sd = 0.01, min = 0.9,
+/// max = 1.0`, bounds 40σ and 50σ out, drew 1.0 every time): the draws
+/// follow the truncated distribution, piled against the near bound with the
+/// tail's exponential scale σ/40. For a normal in the upper tail, a
+/// lognormal with no upper bound, and a normal in the lower tail: the
+/// quantile at u is the exact truncated CDF's to 1e-9 (F(x(u)) = u), and
+/// 4,000 draws of the analyses' uniforms pass a Kolmogorov–Smirnov test
+/// against it at the 1 % level (D < 1.63/√n).
+#[test]
+fn far_tail_truncations_follow_the_truncated_distribution() {
+    use rockfrag::uncertainty::{Distribution, analysis_seed, uniforms};
+    type ToZ = Box<dyn Fn(f64) -> f64>;
+    // (distribution, z of a value, bounds in z, sign: −1 for the lower
+    // tail, whose mirror the CDF is computed on)
+    let cases: Vec<(Distribution, ToZ, f64, f64, f64)> = vec![
+        (
+            Distribution::Normal {
+                mean: 0.5,
+                sd: 0.01,
+                min: Some(0.9),
+                max: Some(1.0),
+            },
+            Box::new(|x| (x - 0.5) / 0.01),
+            40.0,
+            50.0,
+            1.0,
+        ),
+        (
+            Distribution::Lognormal {
+                median: 0.5,
+                beta: 0.01,
+                min: Some(0.9),
+                max: None,
+            },
+            Box::new(|x: f64| (x / 0.5).ln() / 0.01),
+            (0.9f64 / 0.5).ln() / 0.01,
+            f64::INFINITY,
+            1.0,
+        ),
+        (
+            Distribution::Normal {
+                mean: 0.5,
+                sd: 0.01,
+                min: Some(0.0),
+                max: Some(0.1),
+            },
+            Box::new(|x| (x - 0.5) / 0.01),
+            -50.0,
+            -40.0,
+            -1.0,
+        ),
+    ];
+    for (d, to_z, lo, hi, sign) in &cases {
+        // CDF of the value in the distribution's own direction.
+        let cdf = |x: f64| {
+            let z = to_z(x);
+            if *sign > 0.0 {
+                far_tail_cdf(z, *lo, *hi)
+            } else {
+                1.0 - far_tail_cdf(-z, -hi, -lo)
+            }
+        };
+        for i in 1..100 {
+            let u = i as f64 / 100.0;
+            let x = d.quantile(u);
+            let f = cdf(x);
+            assert!((f - u).abs() < 1e-9, "{d:?}: u = {u}: x = {x}, F(x) = {f}");
+        }
+        let n = 4_000;
+        let mut f: Vec<f64> = (0..n)
+            .map(|i| cdf(d.quantile(uniforms(analysis_seed(5, i, 0, 0))[2])))
+            .collect();
+        f.sort_by(f64::total_cmp);
+        let ks = f
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| (v - i as f64 / n as f64).max((i + 1) as f64 / n as f64 - v))
+            .fold(0.0, f64::max);
+        assert!(ks < 1.63 / (n as f64).sqrt(), "{d:?}: KS distance {ks}");
+    }
+}

@@ -698,8 +698,10 @@ def fit(im, overturned, trials=None):
     Returns
     -------
     dict
-        ``status`` ("ok", or why no lognormal can be fitted: "separated",
-        "none-overturned", …, with ``message``), ``median`` θ (IM unit),
+        ``status`` ("ok"; "extrapolated-above" or "extrapolated-below" when
+        the fitted median lies above the strongest intensity or below the
+        weakest, as in ``fragility.csv``; or why no lognormal can be fitted:
+        "separated", "none-overturned", …, with ``message``), ``median`` θ (IM unit),
         ``beta`` β, their standard errors ``se_median``, ``se_beta``,
         ``se_ln_median``, the probit coefficients ``a``, ``b`` with ``cov``,
         ``loglik`` and ``iterations``. Numbers are NaN when not fitted,

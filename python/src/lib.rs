@@ -706,7 +706,17 @@ fn fit<'py>(
     let d = PyDict::new(py);
     match fit_lognormal(&obs) {
         Ok(f) => {
-            d.set_item("status", "ok")?;
+            // As fragility.csv's status: a median beyond the stripes is flagged.
+            let range = obs
+                .iter()
+                .filter(|o| o.trials > 0)
+                .map(|o| o.im)
+                .fold(None, |r: Option<(f64, f64)>, x| {
+                    Some(r.map_or((x, x), |(a, b)| (a.min(x), b.max(x))))
+                });
+            let status = rockfrag::fragility::Caveat::of_median(f.median(), range)
+                .map_or("ok", |c| c.status());
+            d.set_item("status", status)?;
             d.set_item("median", f.median())?;
             d.set_item("beta", f.beta())?;
             d.set_item("se_median", f.se_median())?;

@@ -173,9 +173,9 @@ fn table(rows: &[RiskRow], options: &RiskOptions) -> String {
                     c.key.to_string(),
                     c.limit_state.clone(),
                     format!("{}{band}", sig3(i.rate)),
-                    sig3(1.0 / i.rate),
+                    r.return_period_text().unwrap_or_default(),
                     sig3(r.poe(options.years).unwrap_or(f64::NAN)),
-                    sig3(i.peak_im),
+                    r.peak_text(),
                     format!("{:.2}%/{:.2}%", 100.0 * below, 100.0 * above),
                 ]
             }

@@ -35,7 +35,7 @@ use std::path::{Path, PathBuf};
 
 use crate::detmath as dm;
 use crate::error::{Error, Result};
-use crate::fragility::{FragilityRow, IML_SIGMAS, IntensityMeasure, read_fragility_csv};
+use crate::fragility::{Caveat, FragilityRow, IML_SIGMAS, IntensityMeasure, read_fragility_csv};
 use crate::io_util::{number, sig3, write_atomic};
 use crate::risk::{HazardCurve, HazardSource, read_hazard, risk_integral};
 
@@ -125,9 +125,25 @@ pub fn export_openquake(
     for r in &rows {
         let id = r.case.id();
         if !ids.contains(&id) && !seen.contains(&id) {
-            omitted.push(format!("{id} ({})", r.status));
+            // Why: out of order, else the case's first status other than `ok`.
+            let mine = || rows.iter().filter(|o| o.case == r.case);
+            let status = mine()
+                .find(|o| o.caveat() == Some(Caveat::OutOfOrder))
+                .or_else(|| mine().find(|o| o.status != "ok"))
+                .map_or(r.status.as_str(), |o| o.status.as_str());
+            omitted.push(format!("{id} ({status})"));
             seen.push(id);
         }
+    }
+    if ids.is_empty() {
+        return Err(Error::Conflict {
+            path: xml_path.clone(),
+            message: format!(
+                "has no fragility function to export: every case is left out ({}; the XML \
+                 comments say why)",
+                omitted.join(", ")
+            ),
+        });
     }
 
     let curve = read_hazard(hazard, site)?.in_unit_of(im.name())?;

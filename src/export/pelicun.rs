@@ -24,7 +24,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::fragility::{FragilityRow, IntensityMeasure, LimitState, read_fragility_csv};
+use crate::fragility::{Caveat, FragilityRow, IntensityMeasure, LimitState, read_fragility_csv};
 use crate::io_util::write_atomic;
 
 /// What [`export_pelicun`] wrote.
@@ -116,6 +116,18 @@ pub fn export_pelicun(
                     .and_then(|r| r.fit())
             })
             .collect();
+        // A case whose limit states are out of order: pelicun's damage
+        // state k (LSₖ exceeded, LSₖ₊₁ not) would have a negative probability.
+        if let Some(r) = case_rows
+            .iter()
+            .find(|r| r.caveat() == Some(Caveat::OutOfOrder))
+        {
+            omitted.push(format!(
+                "{id} ({}: out-of-order, more likely than a milder limit state)",
+                r.limit_state
+            ));
+            continue;
+        }
         if fits.iter().any(Option::is_none) {
             let missing: Vec<String> = names
                 .iter()

@@ -214,7 +214,7 @@ struct Plan {
     levels: Vec<f64>,
     /// Analyses of each record that has any.
     by_record: Vec<Vec<(usize, bool)>>,
-    /// Analyses of each stripe (PGA level).
+    /// Analyses of each stripe (intensity level).
     by_stripe: Vec<Vec<(usize, bool)>>,
 }
 
@@ -223,14 +223,14 @@ impl Plan {
         let mut levels: Vec<f64> = case.trials.iter().map(|a| a.im).collect();
         levels.sort_by(f64::total_cmp);
         levels.dedup();
-        let mut stripes: Vec<f64> = case.trials.iter().map(|a| a.pga).collect();
+        let mut stripes: Vec<f64> = case.trials.iter().map(|a| a.level).collect();
         stripes.sort_by(f64::total_cmp);
         stripes.dedup();
         let mut by_record = vec![Vec::new(); case.records.len()];
         let mut by_stripe = vec![Vec::new(); stripes.len()];
         for a in &case.trials {
             let g = levels.partition_point(|&x| x < a.im);
-            let s = stripes.partition_point(|&x| x < a.pga);
+            let s = stripes.partition_point(|&x| x < a.level);
             by_record[a.record].push((g, a.exceeds(limit_state)));
             by_stripe[s].push((g, a.exceeds(limit_state)));
         }

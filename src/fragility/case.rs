@@ -10,7 +10,9 @@ use super::data::{CaseData, Outcomes, read_outcomes_for};
 use super::fit::{LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal};
 use super::options::{FragilityOptions, IntensityMeasure};
 use crate::case::Case;
+use crate::detmath as dm;
 use crate::error::{Error, Result};
+use crate::io_util::sig3;
 
 /// A fitted curve sampled on a grid.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,6 +41,153 @@ impl BetaModel {
             BetaModel::Common => "common",
         }
     }
+}
+
+/// What a fitted curve is to be read with: the `status` of a fitted row of
+/// `fragility.csv` other than `ok` (the numbers are written all the same).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Caveat {
+    /// The median lies above the strongest stripe: the data hold only the
+    /// curve's lower part, the rest is extrapolated.
+    ExtrapolatedAbove,
+    /// The median lies below the weakest stripe: the data hold only the
+    /// curve's upper part.
+    ExtrapolatedBelow,
+    /// More likely than a milder limit state of its case (listed before
+    /// it) somewhere within the stripes, by more than [`ORDER_TOLERANCE`]:
+    /// the limit states are not in order of severity for this case, and
+    /// OpenQuake and pelicun would give the milder one's damage state a
+    /// negative probability. Left out of `fragility.xml` and the exports.
+    OutOfOrder,
+}
+
+impl Caveat {
+    /// Every caveat, in order of precedence (a curve out of order and
+    /// extrapolated is written `out-of-order`).
+    pub const ALL: [Caveat; 3] = [
+        Caveat::OutOfOrder,
+        Caveat::ExtrapolatedAbove,
+        Caveat::ExtrapolatedBelow,
+    ];
+
+    /// Its keyword in `fragility.csv`'s `status` column.
+    pub fn status(self) -> &'static str {
+        match self {
+            Caveat::ExtrapolatedAbove => "extrapolated-above",
+            Caveat::ExtrapolatedBelow => "extrapolated-below",
+            Caveat::OutOfOrder => "out-of-order",
+        }
+    }
+
+    /// The caveat of a `status` keyword, `None` for `ok` or an unfit one.
+    pub fn from_status(status: &str) -> Option<Caveat> {
+        Caveat::ALL.into_iter().find(|c| c.status() == status)
+    }
+
+    /// The caveat of a fit with median `median` over stripes spanning
+    /// `im_range`, when its median lies outside them.
+    pub fn of_median(median: f64, im_range: Option<(f64, f64)>) -> Option<Caveat> {
+        let (lo, hi) = im_range?;
+        if median > hi {
+            Some(Caveat::ExtrapolatedAbove)
+        } else if median < lo {
+            Some(Caveat::ExtrapolatedBelow)
+        } else {
+            None
+        }
+    }
+}
+
+/// The caveat of a fitted curve in words, for the console and the summary:
+/// `im_range` its stripes' span, `inversion` (for [`Caveat::OutOfOrder`])
+/// the milder limit state it is more likely than, where and by how much
+/// ([`first_inversion`]), `unit` the IM's.
+pub fn caveat_words(
+    caveat: Caveat,
+    im_range: Option<(f64, f64)>,
+    inversion: Option<(&str, f64, f64)>,
+    unit: &str,
+) -> String {
+    let unit = if unit == "1" {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    let at = |i: usize| {
+        im_range.map_or(String::new(), |r| {
+            format!(" ({}{unit})", sig3(if i == 0 { r.0 } else { r.1 }))
+        })
+    };
+    match caveat {
+        Caveat::ExtrapolatedAbove => format!(
+            "median above the strongest stripe{}: the curve is extrapolated from its lower \
+             part; run stripes up to and beyond the median",
+            at(1)
+        ),
+        Caveat::ExtrapolatedBelow => format!(
+            "median below the weakest stripe{}: the curve is extrapolated from its upper \
+             part; run stripes down to and below the median",
+            at(0)
+        ),
+        Caveat::OutOfOrder => {
+            let what = inversion.map_or(" a milder limit state".to_string(), |(name, x, d)| {
+                format!(
+                    " {name} (listed as milder) at {}{unit}, by {}",
+                    sig3(x),
+                    sig3(d)
+                )
+            });
+            format!(
+                "out of order: more likely than{what}, so OpenQuake and pelicun would give a \
+                 damage state a negative probability; left out of fragility.xml and the \
+                 exports. List the limit states in the order this case exceeds them, or \
+                 define them so that a more severe one implies the milder"
+            )
+        }
+    }
+}
+
+/// How much more likely than a milder limit state a more severe one may be
+/// somewhere within the stripes before it is [`Caveat::OutOfOrder`] (below
+/// this, a damage state's negative probability is rounding).
+pub const ORDER_TOLERANCE: f64 = 1e-6;
+
+/// Points (log-spaced over the stripes' range) at which [`out_of_order`]
+/// compares two curves.
+const ORDER_POINTS: usize = 400;
+
+/// Where within `im_range` the lognormal curve `severe` (θ, β) is most
+/// above `milder`, and by how much, when by more than [`ORDER_TOLERANCE`].
+pub fn out_of_order(
+    milder: (f64, f64),
+    severe: (f64, f64),
+    im_range: (f64, f64),
+) -> Option<(f64, f64)> {
+    // P = Φ(ln(x/θ)/β), the lognormal fragility.
+    let p = |(theta, beta): (f64, f64), x: f64| dm::norm_cdf(dm::ln(x / theta) / beta);
+    let (lo, hi) = (dm::ln(im_range.0), dm::ln(im_range.1));
+    (0..=ORDER_POINTS)
+        .map(|i| dm::exp(lo + (hi - lo) * i as f64 / ORDER_POINTS as f64))
+        .map(|x| (x, p(severe, x) - p(milder, x)))
+        .fold(None, |best: Option<(f64, f64)>, (x, d)| match best {
+            Some(b) if b.1 >= d => Some(b),
+            _ => Some((x, d)),
+        })
+        .filter(|&(_, d)| d > ORDER_TOLERANCE)
+}
+
+/// The first of the `milder` limit states (name, (θ, β)) of a case that
+/// the curve `severe` is more likely than within `im_range`
+/// ([`out_of_order`]): its name, where and by how much. For the notes of a
+/// [`Caveat::OutOfOrder`] curve.
+pub fn first_inversion<'a>(
+    severe: (f64, f64),
+    milder: impl IntoIterator<Item = (&'a str, (f64, f64))>,
+    im_range: (f64, f64),
+) -> Option<(&'a str, f64, f64)> {
+    milder
+        .into_iter()
+        .find_map(|(name, fit)| out_of_order(fit, severe, im_range).map(|(x, d)| (name, x, d)))
 }
 
 /// Everything known about one case's fragility for one limit state.
@@ -74,6 +223,8 @@ pub struct CaseFit {
     pub bootstrap: Option<BootstrapSummary>,
     /// The fitted curve (only for a fitted case).
     pub curve: Option<Curve>,
+    /// What the fitted curve is to be read with, if anything.
+    pub caveat: Option<Caveat>,
 }
 
 /// Fits one case, one fit per limit state of `options` (bit k of
@@ -90,16 +241,17 @@ pub fn fit_case(case: &CaseData, options: &FragilityOptions) -> Vec<CaseFit> {
         .enumerate()
         .map(|(k, ls)| separate(case, k, &ls.name, options))
         .collect();
-    let Some(im_max) = fits.first().and_then(|f| f.im_range).map(|r| r.1) else {
+    let Some(im_range) = fits.first().and_then(|f| f.im_range) else {
         return fits;
     };
+    let im_max = im_range.1;
     let grid = grid(im_max, options.grid_points);
     let fitted: Vec<usize> = (0..fits.len()).filter(|&k| fits[k].fit.is_ok()).collect();
     let ok = |k: usize| fits[k].fit.as_ref().expect("fitted");
     let cross = fitted.iter().enumerate().any(|(i, &k)| {
         fitted[i + 1..]
             .iter()
-            .any(|&l| curves_cross(ok(k), ok(l), im_max))
+            .any(|&l| curves_cross(ok(k), ok(l), im_range))
     });
     let common = if cross {
         let sets: Vec<&[Observation]> = fitted
@@ -138,7 +290,52 @@ pub fn fit_case(case: &CaseData, options: &FragilityOptions) -> Vec<CaseFit> {
         }
         None => {}
     }
+    set_caveats(&mut fits, &fitted, im_range);
     fits
+}
+
+/// The caveat of `fits[i]` in words ([`caveat_words`]), naming the milder
+/// limit state of its case it is more likely than; `None` without one.
+/// `fits` are a fit's curves, a case's limit states together in order.
+pub fn caveat_note(fits: &[CaseFit], i: usize) -> Option<String> {
+    let f = &fits[i];
+    let caveat = f.caveat?;
+    let pair = |g: &CaseFit| g.fit.as_ref().ok().map(|x| (x.median(), x.beta()));
+    let inversion = match (caveat, pair(f), f.im_range) {
+        (Caveat::OutOfOrder, Some(severe), Some(range)) => first_inversion(
+            severe,
+            fits[..i]
+                .iter()
+                .filter(|g| g.key == f.key)
+                .filter_map(|g| pair(g).map(|p| (g.limit_state.as_str(), p))),
+            range,
+        ),
+        _ => None,
+    };
+    Some(caveat_words(caveat, f.im_range, inversion, f.im.unit()))
+}
+
+/// Each fitted curve's [`Caveat`]: out of order when it is more likely than
+/// a milder fitted limit state of the case somewhere within the stripes
+/// (with one β the medians inverted; else curves that still cross there),
+/// else extrapolated when its median lies outside the stripes.
+fn set_caveats(fits: &mut [CaseFit], fitted: &[usize], im_range: (f64, f64)) {
+    for (i, &l) in fitted.iter().enumerate() {
+        let pair = |k: usize| {
+            let f = fits[k].fit.as_ref().expect("fitted");
+            (f.median(), f.beta())
+        };
+        let severe = pair(l);
+        let inverted = fitted[..i]
+            .iter()
+            .any(|&k| out_of_order(pair(k), severe, im_range).is_some());
+        let median = severe.0;
+        fits[l].caveat = if inverted {
+            Some(Caveat::OutOfOrder)
+        } else {
+            Caveat::of_median(median, fits[l].im_range)
+        };
+    }
 }
 
 /// Limit state `k` of `case` fitted alone, without the bootstrap.
@@ -169,6 +366,7 @@ fn separate(case: &CaseData, k: usize, name: &str, options: &FragilityOptions) -
         fit,
         bootstrap: None,
         curve,
+        caveat: None,
     }
 }
 

@@ -16,8 +16,10 @@ use crate::outcomes_csv::{Column, MeasureKind, OutcomesFile};
 pub struct Trial {
     /// The record, as an index into [`CaseData::records`].
     pub record: usize,
-    /// The stripe's PGA (g): analyses with the same PGA form a stripe.
-    pub pga: f64,
+    /// The intensity level the analysis was run at, in the levels' own
+    /// measure (PGA or PGV, a pair's RotD50, or a scale factor): analyses
+    /// with the same level form a stripe ([`level_column`]).
+    pub level: f64,
     /// The intensity measure of this analysis (> 0, in the IM's unit).
     pub im: f64,
     /// Whether the block overturned.
@@ -81,9 +83,10 @@ impl CaseData {
         observations
     }
 
-    /// Number of stripes (distinct PGA levels) with at least one successful analysis.
+    /// Number of stripes (distinct intensity levels, [`Trial::level`]) with
+    /// at least one successful analysis.
     pub fn n_stripes(&self) -> usize {
-        let mut levels: Vec<u64> = self.trials.iter().map(|a| a.pga.to_bits()).collect();
+        let mut levels: Vec<u64> = self.trials.iter().map(|a| a.level.to_bits()).collect();
         levels.sort_unstable();
         levels.dedup();
         levels.len()
@@ -168,6 +171,10 @@ fn read_outcomes_with(
         limit_states: limit_states.to_vec(),
         cases: Vec::new(),
     };
+    // Each trial's candidates for its level (see `level_column`), kept
+    // beside the trials until the column is known.
+    let candidates = level_candidates(&table);
+    let mut levels: Vec<Vec<[Option<f64>; 2]>> = Vec::new();
     let mut case_index: HashMap<Case, usize> = HashMap::new();
     let mut record_index: Vec<HashMap<String, usize>> = Vec::new();
     while let Some((line, row)) = table.next_row()? {
@@ -182,6 +189,7 @@ fn read_outcomes_with(
                 failed: 0,
             });
             record_index.push(HashMap::new());
+            levels.push(Vec::new());
             out.cases.len() - 1
         });
         let case = &mut out.cases[c];
@@ -222,11 +230,58 @@ fn read_outcomes_with(
         });
         case.trials.push(Trial {
             record,
-            pga,
+            level: pga,
             im: value,
             overturned: outcome.overturned,
             exceeded,
         });
+        levels[c].push(candidates.map(|col| col.and_then(|col| row.intensity(col))));
+    }
+    let pick = level_column(&levels);
+    for (case, levels) in out.cases.iter_mut().zip(&levels) {
+        for (trial, l) in case.trials.iter_mut().zip(levels) {
+            if let Some(v) = l[pick] {
+                trial.level = v;
+            }
+        }
     }
     Ok(out)
+}
+
+/// The columns an outcomes file's levels can be in: `scale` alone in a
+/// scale-factor study; else `pga` and `pgv` (`pga_rotd50` and `pgv_rotd50`
+/// for record pairs), one of which holds the level exactly while the other
+/// is each scaled record's own measured peak.
+fn level_candidates(table: &OutcomesFile) -> [Option<Column>; 2] {
+    if table.has(Column::Scale) {
+        [Some(Column::Scale), None]
+    } else if table.has(Column::PgaRotd50) {
+        [Some(Column::PgaRotd50), Some(Column::PgvRotd50)]
+    } else {
+        [Some(Column::Pga), Some(Column::Pgv)]
+    }
+}
+
+/// Which of the candidates (`levels[case][trial]`) is the levels' column:
+/// the one with fewer distinct values over the file (the level is written
+/// exactly, the same for every record of a stripe; a measured peak differs
+/// per record, if only in its last bits), the first on a tie or when the
+/// second is missing. An outcomes.csv holds nothing else that names the
+/// study's levels' measure (issue 37: stripes were counted by the measured
+/// PGA, 440 for 11 levels of record pairs, 100 for 5 PGV levels).
+fn level_column(levels: &[Vec<[Option<f64>; 2]>]) -> usize {
+    let distinct = |k: usize| -> Option<usize> {
+        let mut bits = Vec::new();
+        for l in levels.iter().flatten() {
+            bits.push(l[k]?.to_bits());
+        }
+        bits.sort_unstable();
+        bits.dedup();
+        Some(bits.len())
+    };
+    match (distinct(0), distinct(1)) {
+        (Some(a), Some(b)) if b < a => 1,
+        (None, Some(_)) => 1,
+        _ => 0,
+    }
 }

@@ -13,7 +13,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::case::CaseFit;
+use super::case::{CaseFit, Caveat};
 use super::nrml;
 use super::options::IntensityMeasure;
 use crate::case::Case;
@@ -27,12 +27,20 @@ use crate::table::{Row, Table};
 /// the pelicun component of the exports, and `risk.csv`'s); `limit_state` names the
 /// limit state; `n_overturned` counts the analyses that overturned,
 /// `n_exceeded` those that exceeded the limit state (what was fitted);
+/// `n_stripes` counts the study's intensity levels (stripes) with an
+/// analysis, whatever IM the curve is fitted against (a PGV-level or
+/// record-pair study's analyses each have their own measured PGA);
 /// `beta_model` is `separate` (fitted alone) or `common` (one β shared with
 /// the case's other fitted limit states, because the separate curves
 /// crossed; empty when not fitted). `median`, `median_lo`, `median_hi`,
 /// `se_median`, `boot_sd_median`, `im_min`, `im_max` are in the unit of `im`
 /// (`im_unit`); `loglik` includes the binomial coefficients; `status` is `ok`
-/// or an [`Unfit`](super::Unfit) keyword; `boot_unfit` counts the replicates
+/// for a fitted curve, `extrapolated-above` or `extrapolated-below` for a
+/// fitted curve whose median lies above the strongest stripe (below the
+/// weakest), `out-of-order` for one more likely than a milder limit state
+/// of its case within the stripes (a [`Caveat`]; the numbers are written
+/// all the same), or an [`Unfit`](super::Unfit) keyword when there is no
+/// curve; `boot_unfit` counts the replicates
 /// that could not be fitted, `boot_unfit_reasons` lists them as `reason=count`
 /// separated by spaces.
 /// A case column is empty when the parameter was drawn per analysis (the
@@ -134,9 +142,10 @@ impl FragilityRow {
             loglik: fit.map(|x| x.loglik),
             se_median: fit.map(|x| x.se_median()),
             se_beta: fit.map(|x| x.se_beta()),
-            status: match &f.fit {
-                Ok(_) => "ok".to_string(),
-                Err(reason) => reason.status().to_string(),
+            status: match (&f.fit, f.caveat) {
+                (Ok(_), None) => "ok".to_string(),
+                (Ok(_), Some(c)) => c.status().to_string(),
+                (Err(reason), _) => reason.status().to_string(),
             },
             n_analyses: f.n_analyses,
             n_overturned: f.n_overturned,
@@ -160,12 +169,24 @@ impl FragilityRow {
         }
     }
 
-    /// The fitted (θ, β), `None` when the case could not be fitted.
+    /// The fitted (θ, β), `None` when the case could not be fitted (a
+    /// curve with a [`Caveat`] is fitted: `status` says what to read it
+    /// with).
     pub fn fit(&self) -> Option<(f64, f64)> {
-        match (self.status.as_str(), self.median, self.beta) {
-            ("ok", Some(m), Some(b)) => Some((m, b)),
+        match (self.is_fitted(), self.median, self.beta) {
+            (true, Some(m), Some(b)) => Some((m, b)),
             _ => None,
         }
+    }
+
+    /// Whether `status` is a fitted curve's: `ok` or a [`Caveat`].
+    pub fn is_fitted(&self) -> bool {
+        self.status == "ok" || self.caveat().is_some()
+    }
+
+    /// The caveat `status` names, if any.
+    pub fn caveat(&self) -> Option<Caveat> {
+        Caveat::from_status(&self.status)
     }
 
     /// The row's line, without its newline (columns of [`FRAGILITY_HEADER`]).
@@ -256,7 +277,7 @@ impl FragilityRow {
             beta_model: text(26).to_string(),
             n_exceeded: count(27)?.unwrap_or(0),
         };
-        if out.status == "ok" {
+        if out.is_fitted() {
             // A fitted row has its curve: positive θ and β.
             for i in [2, 3] {
                 row.positive(required(i))?;
@@ -604,7 +625,7 @@ mod tests {
             .flat_map(|s| {
                 (0..10).map(move |r| Trial {
                     record: r,
-                    pga: 0.3 * (s + 1) as f64,
+                    level: 0.3 * (s + 1) as f64,
                     im: 0.3 * (s + 1) as f64,
                     overturned: r < 2 + 2 * s,
                     exceeded: u64::from(r < 2 + 2 * s),

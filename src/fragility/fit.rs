@@ -491,13 +491,17 @@ pub fn fit_common_beta(sets: &[&[Observation]]) -> Result<Vec<LognormalFit>, Unf
 /// a crossing there does not count ([`curves_cross`]).
 pub(crate) const CROSSING_TOLERANCE: f64 = 1e-3;
 
-/// Whether two fitted curves cross at an intensity in (0, `im_max`] where
-/// their common probability is in (10⁻³, 1 − 10⁻³): two
-/// lognormal curves with β₁ ≠ β₂ meet once, where
-/// (u − ln θ₁)/β₁ = (u − ln θ₂)/β₂, i.e. u* = (β₂ ln θ₁ − β₁ ln θ₂)/(β₂ − β₁);
-/// curves with equal β never cross. A meeting in a tail (both near 0 or 1)
-/// changes no probability by more than the tolerance, so it is let pass.
-pub fn curves_cross(first: &LognormalFit, second: &LognormalFit, im_max: f64) -> bool {
+/// Whether two fitted curves cross where it matters: two lognormal curves
+/// with β₁ ≠ β₂ meet once, where (u − ln θ₁)/β₁ = (u − ln θ₂)/β₂, i.e.
+/// u* = (β₂ ln θ₁ − β₁ ln θ₂)/(β₂ − β₁); curves with equal β never cross.
+/// A meeting within the stripes' range `im_range` (weakest to strongest)
+/// always counts, however small the probabilities there: the data are
+/// there, and OpenQuake and pelicun, which take P(DSₖ) = P(LSₖ) − P(LSₖ₊₁),
+/// would give a damage state a negative probability. Below the weakest
+/// stripe (where the curves are extrapolated) a meeting counts when the
+/// common probability is in (10⁻³, 1 − 10⁻³); above the strongest it does
+/// not (nothing is fitted there).
+pub fn curves_cross(first: &LognormalFit, second: &LognormalFit, im_range: (f64, f64)) -> bool {
     let (b1, b2) = (first.beta(), second.beta());
     if b1 == b2 {
         return false;
@@ -506,9 +510,9 @@ pub fn curves_cross(first: &LognormalFit, second: &LognormalFit, im_max: f64) ->
     let u_star = (b2 * m1 - b1 * m2) / (b2 - b1);
     let p = first.probability(dm::exp(u_star));
     u_star.is_finite()
-        && u_star <= dm::ln(im_max)
-        && p > CROSSING_TOLERANCE
-        && p < 1.0 - CROSSING_TOLERANCE
+        && u_star <= dm::ln(im_range.1)
+        && (u_star >= dm::ln(im_range.0)
+            || (p > CROSSING_TOLERANCE && p < 1.0 - CROSSING_TOLERANCE))
 }
 
 /// Lower-triangular Cholesky factor of a symmetric positive-definite matrix.

@@ -85,7 +85,10 @@ mod report;
 mod set;
 
 pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile};
-pub use case::{BetaModel, CaseFit, Curve, fit_case, fit_cases, fit_outcomes};
+pub use case::{
+    BetaModel, CaseFit, Caveat, Curve, ORDER_TOLERANCE, caveat_note, caveat_words, first_inversion,
+    fit_case, fit_cases, fit_outcomes, out_of_order,
+};
 pub use data::{CaseData, Outcomes, Trial, read_outcomes, read_outcomes_for};
 pub use files::{
     BOOTSTRAP_HEADER, BootstrapRow, CURVES_HEADER, CurveRow, FRAGILITY_HEADER, FragilityRow,

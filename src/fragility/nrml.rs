@@ -47,12 +47,15 @@
 //! beyond the highest), each limit state no more likely than the milder
 //! one before it. An XML comment before the function says which limit
 //! state is observed, not fitted, and why. A case with no fitted limit
-//! state is left out, with a comment saying why.
+//! state is left out, with a comment saying why; so is a case whose limit
+//! states are out of order (a more severe one more likely than a milder
+//! one within the stripes, [`Caveat::OutOfOrder`]), for which OpenQuake
+//! would compute a negative damage-state probability.
 
 use crate::detmath as dm;
 use std::path::Path;
 
-use super::case::CaseFit;
+use super::case::{CaseFit, Caveat, first_inversion};
 use super::options::{IntensityMeasure, is_nrml_name};
 use crate::case::Case;
 use crate::error::{Error, Result};
@@ -232,6 +235,9 @@ fn case_entry(case: &[&CaseFit], limit_states: &[&str], range: (f64, f64)) -> Op
         return Some(NrmlEntry::Omitted { id, reason });
     };
     first.im_range?;
+    if let Some(reason) = out_of_order_reason(case) {
+        return Some(NrmlEntry::Omitted { id, reason });
+    }
     let fits: Vec<Option<&CaseFit>> = limit_states
         .iter()
         .map(|ls| case.iter().copied().find(|f| f.limit_state == *ls))
@@ -317,6 +323,39 @@ fn case_entry(case: &[&CaseFit], limit_states: &[&str], range: (f64, f64)) -> Op
             ),
         },
     }))
+}
+
+/// How the reason of a case left out for [`Caveat::OutOfOrder`] begins.
+const OUT_OF_ORDER: &str = "its limit states are out of order";
+
+/// Why a case whose limit states are out of order ([`Caveat::OutOfOrder`])
+/// is left out: OpenQuake's damage state k is P(LSₖ) − P(LSₖ₊₁), negative
+/// where a more severe curve lies above a milder one.
+fn out_of_order_reason(case: &[&CaseFit]) -> Option<String> {
+    let i = case
+        .iter()
+        .position(|f| f.caveat == Some(Caveat::OutOfOrder))?;
+    let pair = |f: &CaseFit| f.fit.as_ref().ok().map(|x| (x.median(), x.beta()));
+    let inversion = first_inversion(
+        pair(case[i])?,
+        case[..i]
+            .iter()
+            .filter_map(|g| pair(g).map(|p| (g.limit_state.as_str(), p))),
+        case[i].im_range?,
+    );
+    Some(match inversion {
+        Some((milder, x, d)) => format!(
+            "{OUT_OF_ORDER}: {} is more likely than {milder} (listed as milder) at {} by {}, \
+             where OpenQuake would give a damage state a negative probability",
+            case[i].limit_state,
+            number(x),
+            crate::io_util::sig3(d)
+        ),
+        None => format!(
+            "{OUT_OF_ORDER}: {} is more likely than a milder one",
+            case[i].limit_state
+        ),
+    })
 }
 
 /// Observed exceedance fractions at `levels` (OpenQuake's unit, the data's
@@ -408,7 +447,12 @@ pub fn nrml_model_string(
             NrmlEntry::Function(f) => f,
             NrmlEntry::Omitted { id, reason } => {
                 let why = reason.replace("--", "- -");
-                s.push_str(&format!("  <!-- {id} not fitted ({why}) -->\n"));
+                if why.starts_with(OUT_OF_ORDER) {
+                    // Fitted, but not a model OpenQuake can use.
+                    s.push_str(&format!("  <!-- {id} left out: {why} -->\n"));
+                } else {
+                    s.push_str(&format!("  <!-- {id} not fitted ({why}) -->\n"));
+                }
                 continue;
             }
         };

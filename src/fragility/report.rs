@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::bootstrap::Interval;
-use super::case::{BetaModel, CaseFit, fit_cases};
+use super::case::{BetaModel, CaseFit, caveat_note, fit_cases};
 use super::data::read_outcomes_for;
 use super::files::write_outputs;
 use super::fit::{unfit_advice, unfit_words};
@@ -26,6 +26,9 @@ pub struct FitReport {
     /// One line per curve that could not be fitted: which, why and what to
     /// try (empty when every curve was fitted).
     pub unfitted: Vec<String>,
+    /// One line per fitted curve with a caveat (median outside the
+    /// stripes, limit states out of order): which and what it means.
+    pub caveats: Vec<String>,
     /// A note on failed analyses skipped, or empty.
     pub failed_note: String,
     /// `wrote …` (one line).
@@ -46,6 +49,7 @@ impl FitReport {
     /// the note on failed analyses.
     pub fn notes(&self, verbose: bool) -> String {
         let mut text = self.unfitted.concat();
+        text.push_str(&self.caveats.concat());
         if verbose {
             text.push_str(&self.case_notes.concat());
         } else {
@@ -98,6 +102,16 @@ pub fn fit_and_write(dir: &Path, out: &Path, options: &FragilityOptions) -> Resu
         case_notes: case_notes(&fits),
         bootstrap_line: bootstrap_line(&fits, &paths.fragility, options.confidence),
         unfitted: unfitted_notes(&fits),
+        caveats: (0..fits.len())
+            .filter_map(|i| {
+                let note = caveat_note(&fits, i)?;
+                Some(format!(
+                    "note: {} {}: {note}\n",
+                    fits[i].key.id(),
+                    fits[i].limit_state
+                ))
+            })
+            .collect(),
         failed_note,
         wrote: format!(
             "wrote {}, {}, {}, {}\n",
@@ -244,9 +258,13 @@ fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
                     band(boot.and_then(|b| b.median))
                 ),
                 format!("{}{}", sig3(fit.beta()), band(boot.and_then(|b| b.beta))),
-                match f.beta_model {
-                    BetaModel::Separate => "ok".to_string(),
-                    BetaModel::Common => "ok (β common to the case's limit states)".to_string(),
+                match (f.caveat, f.beta_model) {
+                    (Some(c), BetaModel::Separate) => c.status().to_string(),
+                    (Some(c), BetaModel::Common) => format!("{} (common β)", c.status()),
+                    (None, BetaModel::Separate) => "ok".to_string(),
+                    (None, BetaModel::Common) => {
+                        "ok (β common to the case's limit states)".to_string()
+                    }
                 },
             ),
             Err(reason) => ("-".into(), "-".into(), format!("not fitted: {reason}")),

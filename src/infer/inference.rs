@@ -116,8 +116,12 @@ pub struct Inference {
 /// `settings.bootstrap` replicates (seed `seed`) for the Monte Carlo error.
 /// A pure function of its inputs.
 ///
-/// Errors: [`Error::Conflict`] naming the survey when its counts are
-/// impossible at every intensity of the grid; as [`Grid::new`].
+/// Errors: [`Error::Parse`] naming the survey's line of a kind whose
+/// observed outcome (some overturned, some standing, some slid) none of its
+/// simulations gives at any level ([`check_reproduced`]);
+/// [`Error::Conflict`] naming the survey when its counts are impossible at
+/// every intensity of the grid, or equally likely at every one (the answer
+/// would be the prior); as [`Grid::new`].
 pub fn infer(
     table: &Table,
     survey: &Survey,
@@ -129,8 +133,10 @@ pub fn infer(
 ) -> Result<Inference> {
     let bootstrap = settings.bootstrap;
     let grid = Grid::new(table, exact, settings.refine)?;
+    check_reproduced(table, survey, &grid, im)?;
     let prior_u = prior.density_u(&grid);
     let joint_ln_l = likelihood::joint(table, survey, &grid);
+    check_informative(&joint_ln_l, survey, &grid, im)?;
     let joint = Posterior::new(&grid, &prior_u, &joint_ln_l).ok_or_else(|| Error::Conflict {
         path: survey.path.clone(),
         message: format!(
@@ -165,4 +171,123 @@ pub fn infer(
         naive_mc,
         joint_band,
     })
+}
+
+/// `lo` to `hi` with the IM's unit, for messages.
+fn span(grid: &Grid, im: Im) -> String {
+    format!(
+        "from {} to {} {}",
+        crate::io_util::sig3(grid.x[0]),
+        crate::io_util::sig3(grid.x[grid.len() - 1]),
+        im.unit()
+    )
+}
+
+/// Refuses a kind whose observed outcome none of its simulations gives at
+/// any level: some overturned where none of its draws on any record at any
+/// level did (a 20 m slab typed for 20 cm), some standing where every draw
+/// overturned, some slid where none did. Its likelihood is then the same at
+/// every intensity (with drawn properties the beta-binomial's prior keeps
+/// it above 0), and the posterior would be the prior presented as an
+/// answer.
+///
+/// Errors: [`Error::Parse`] naming the survey, the kind's line, what was
+/// observed, what the simulations gave and what to check.
+pub fn check_reproduced(table: &Table, survey: &Survey, grid: &Grid, im: Im) -> Result<()> {
+    let nl = table.levels.len();
+    for (j, kind) in survey.kinds.iter().enumerate() {
+        let cells =
+            || (0..nl).flat_map(move |l| (0..table.records).map(move |r| table.cell(j, l, r)));
+        let any = |f: &dyn Fn(&super::simulate::Cell) -> bool| cells().any(|c| f(&c));
+        let slid = kind.slid.unwrap_or(0);
+        let standing = kind.count - kind.overturned - slid;
+        // Standing: neither overturned nor (when slides are counted) slid.
+        let counts_slides = kind.slid.is_some();
+        let stood = |c: &super::simulate::Cell| {
+            c.valid() > c.overturned + if counts_slides { c.slid } else { 0 }
+        };
+        let what = format!(
+            "its simulations on {} records at {} levels {}",
+            table.records,
+            nl,
+            span(grid, im)
+        );
+        let problem = if kind.overturned > 0 && !any(&|c| c.overturned > 0) {
+            Some(format!(
+                "{} of {} overturned, but none of {what} overturned; check its width \
+                 (2B, in m) and aspect (H/B), its restitution and friction, or add stronger \
+                 levels",
+                kind.overturned, kind.count
+            ))
+        } else if standing > 0 && !any(&stood) {
+            Some(format!(
+                "{standing} of {} stood{}, but every one of {what} {}; check its width \
+                 (2B, in m) and aspect (H/B), its restitution and friction, or add weaker \
+                 levels",
+                kind.count,
+                if counts_slides {
+                    " without sliding"
+                } else {
+                    ""
+                },
+                if counts_slides {
+                    "overturned or slid"
+                } else {
+                    "overturned"
+                }
+            ))
+        } else if slid > 0 && !any(&|c| c.slid > 0) {
+            Some(format!(
+                "{slid} of {} slid beyond the sliding limit state, but none of {what} did \
+                 (standing); check its friction, the limit state's threshold, or add \
+                 stronger levels",
+                kind.count
+            ))
+        } else {
+            None
+        };
+        if let Some(problem) = problem {
+            return Err(Error::Parse {
+                path: survey.path.clone(),
+                line: kind.line,
+                message: format!(
+                    "kind \"{}\" (2B = {} m, H/B = {}): {problem}. The model cannot produce \
+                     what was observed, so the survey's likelihood would not depend on the \
+                     intensity and the answer would be the prior",
+                    kind.name, kind.width, kind.aspect
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a survey whose joint likelihood is the same at every grid point
+/// (within 10⁻⁹ in ln L): every kind shows what every level and record
+/// give it (all standing where nothing overturns them, say), so the data
+/// say nothing about the intensity and the posterior is the prior.
+fn check_informative(ln_l: &[f64], survey: &Survey, grid: &Grid, im: Im) -> Result<()> {
+    let finite = || ln_l.iter().copied().filter(|l| l.is_finite());
+    let (lo, hi) = finite().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), l| {
+        (a.min(l), b.max(l))
+    });
+    if finite().count() == ln_l.len() && hi - lo <= 1e-9 {
+        return Err(Error::Conflict {
+            path: survey.path.clone(),
+            message: format!(
+                "the survey is equally likely at every intensity {}: under every record and \
+                 level the kinds do what was observed ({}), so the data say nothing about the \
+                 intensity and the answer would be the prior. Add kinds that overturn within \
+                 the levels, or levels where these kinds overturn",
+                span(grid, im),
+                survey
+                    .kinds
+                    .iter()
+                    .map(|k| format!("{} {} of {} overturned", k.name, k.overturned, k.count))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        });
+    }
+    Ok(())
 }

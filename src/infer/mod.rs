@@ -59,7 +59,7 @@ pub mod survey;
 
 pub use inference::{Inference, PriorChoice, infer};
 pub use likelihood::{Grid, KindCurve};
-pub use posterior::{McBand, McError, Posterior, Prior, Summary};
+pub use posterior::{Bounds, McBand, McError, OPEN_EDGE, Posterior, Prior, Summary};
 pub use run::{InferOptions, InferReport, default_out, run, settings};
 pub use simulate::{Cell, Im, Table};
 pub use survey::{Kind, KindModel, SlideRule, Survey};

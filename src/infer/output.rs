@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::inference::{Inference, PriorChoice};
-use super::posterior::{McError, Posterior, Summary};
+use super::posterior::{Bounds, McError, Posterior, Summary};
 use super::survey::{KindModel, SlideRule, Survey};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
@@ -158,6 +158,7 @@ struct MethodJson {
     p95: f64,
     mode: f64,
     mc_error: Option<McError>,
+    bounds: Bounds,
 }
 
 fn method(p: &Posterior, mc: Option<McError>) -> MethodJson {
@@ -168,6 +169,64 @@ fn method(p: &Posterior, mc: Option<McError>) -> MethodJson {
         p95: s.p95,
         mode: s.mode,
         mc_error: mc,
+        bounds: p.bounds,
+    }
+}
+
+/// The likelihood at grid point i relative to its peak.
+fn relative_likelihood(ln_l: &[f64], i: usize) -> f64 {
+    let top = ln_l
+        .iter()
+        .copied()
+        .filter(|l| l.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    dm::exp(ln_l[i] - top)
+}
+
+/// What to report, in words (after "to report: "): the joint result, or
+/// the one bound the data give and why (console, summary and
+/// `inference.json` alike).
+pub fn report_text(inf: &Inference) -> String {
+    let (unit, name) = (inf.im.unit(), inf.im.name().to_uppercase());
+    let s = inf.joint.summary;
+    let n = inf.grid.len();
+    let (x0, x1) = (inf.grid.x[0], inf.grid.x[n - 1]);
+    let pct = |i: usize| format!("{:.0} %", 100.0 * relative_likelihood(&inf.joint_ln_l, i));
+    match inf.joint.bounds {
+        Bounds::Both => "the joint result (every object felt the same motion; its 90 % interval \
+                         is calibrated, docs/infer.md); the naive one treats each object as if it \
+                         had its own earthquake, is overconfident, and is shown for comparison only"
+            .to_string(),
+        Bounds::LowerOnly => format!(
+            "{name} ≥ {} {unit} (the joint 5 % bound): the data bound the {name} from below \
+             only. The likelihood at the highest level, {} {unit}, is still {} of its \
+             peak, so the median and the 95 % bound are set by where the levels end and by the \
+             prior, not by the data; add levels above {} {unit} to bound it from above",
+            sig3(s.p05),
+            sig3(x1),
+            pct(n - 1),
+            sig3(x1)
+        ),
+        Bounds::UpperOnly => format!(
+            "{name} ≤ {} {unit} (the joint 95 % bound): the data bound the {name} from above \
+             only. The likelihood at the lowest level, {} {unit}, is still {} of its \
+             peak, so the median and the 5 % bound are set by where the levels end and by the \
+             prior, not by the data; add levels below {} {unit} to bound it from below",
+            sig3(s.p95),
+            sig3(x0),
+            pct(0),
+            sig3(x0)
+        ),
+        Bounds::Neither => format!(
+            "no bound: the data bound the {name} on neither side within the levels (the \
+             likelihood at {} {unit} and at {} {unit} is still {} and {} of its peak), so the \
+             interval is mostly the prior's; add kinds that overturn within the levels, or \
+             widen them",
+            sig3(x0),
+            sig3(x1),
+            pct(0),
+            pct(n - 1)
+        ),
     }
 }
 
@@ -207,6 +266,7 @@ struct InferenceJson {
     analyses: u64,
     bootstrap: usize,
     slide_limit_state: Option<String>,
+    report: String,
     joint: MethodJson,
     naive: Option<MethodJson>,
     kinds: Vec<KindJson>,
@@ -254,6 +314,7 @@ fn summary_json(inf: &Inference, c: &Context) -> InferenceJson {
         analyses: c.analyses,
         bootstrap: c.bootstrap,
         slide_limit_state: c.slide.map(|s| s.name.clone()),
+        report: report_text(inf),
         joint: method(&inf.joint, inf.joint_mc),
         naive: inf.naive.as_ref().map(|p| method(p, inf.naive_mc)),
         kinds,
@@ -313,6 +374,7 @@ pub fn section(inf: &Inference, c: &Context) -> String {
         }
         None => s.push_str("| naive | its likelihood vanishes on the grid | | | |\n"),
     }
+    s.push_str(&format!("\n**To report:** {}.\n", report_text(inf)));
     s.push_str(&format!(
         "\n| kind | 2B (m) | H/B | e | friction | overturned / count | draws | fragility θ ({unit}), β |\n\
          |---|---|---|---|---|---|---|---|\n"
@@ -385,5 +447,6 @@ pub fn console(inf: &Inference) -> String {
          error)\n",
         sig3(inf.effective_records)
     ));
+    text.push_str(&format!("to report: {}\n", report_text(inf)));
     text
 }

@@ -74,6 +74,62 @@ pub struct Posterior {
     pub cdf: Vec<f64>,
     /// The bounds and the mode.
     pub summary: Summary,
+    /// Which sides of the intensity the likelihood bounds within the grid.
+    pub bounds: Bounds,
+}
+
+/// The likelihood at an end of the grid, relative to its peak, at or above
+/// which the data do not bound the intensity on that side: there the
+/// posterior is cut by the grid's end (the lowest or highest level), not
+/// by the data, and the interval's bound on that side is the grid's.
+pub const OPEN_EDGE: f64 = 0.05;
+
+/// Which sides of the intensity the data bound: whether the likelihood has
+/// fallen below [`OPEN_EDGE`] of its peak at the lowest and at the highest
+/// grid point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Bounds {
+    /// Both: the interval is the data's.
+    Both,
+    /// Only from below (e.g. everything overturned): the intensity was at
+    /// least the 5 % bound; the median and the 95 % bound are set by the
+    /// highest level and the prior.
+    LowerOnly,
+    /// Only from above (e.g. nothing overturned): the intensity was at most
+    /// the 95 % bound; the median and the 5 % bound are set by the lowest
+    /// level and the prior.
+    UpperOnly,
+    /// Neither: the posterior is mostly the prior over the grid.
+    Neither,
+}
+
+impl Bounds {
+    /// From ln L at the grid points.
+    pub fn of(ln_l: &[f64]) -> Bounds {
+        let top = ln_l
+            .iter()
+            .copied()
+            .filter(|l| l.is_finite())
+            .fold(f64::NEG_INFINITY, f64::max);
+        let open = |l: f64| l.is_finite() && l - top >= dm::ln(OPEN_EDGE);
+        match (open(ln_l[0]), open(ln_l[ln_l.len() - 1])) {
+            (false, false) => Bounds::Both,
+            (false, true) => Bounds::LowerOnly,
+            (true, false) => Bounds::UpperOnly,
+            (true, true) => Bounds::Neither,
+        }
+    }
+
+    /// Its keyword (`both`, `lower-only`, `upper-only`, `neither`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Bounds::Both => "both",
+            Bounds::LowerOnly => "lower-only",
+            Bounds::UpperOnly => "upper-only",
+            Bounds::Neither => "neither",
+        }
+    }
 }
 
 /// What an inference reports of a posterior (IM unit).
@@ -132,6 +188,7 @@ impl Posterior {
             },
             density,
             cdf,
+            bounds: Bounds::of(ln_l),
         })
     }
 }
@@ -404,6 +461,19 @@ mod tests {
             assert!((got / want - 1.0).abs() < 1e-12, "{q}: {got} {want}");
         }
         assert!((p.cdf[4] - 1.0).abs() < 1e-15);
+    }
+
+    /// The likelihood's ends against its peak: below 5 % at both ends is
+    /// bounded; a likelihood still at its peak at the highest level (all
+    /// overturned) bounds the intensity from below only, and the mirror
+    /// from above only.
+    #[test]
+    fn bounds_follow_the_likelihood_at_the_grid_ends() {
+        let ln = |v: &[f64]| v.iter().map(|&x| dm::ln(x)).collect::<Vec<_>>();
+        assert_eq!(Bounds::of(&ln(&[0.01, 1.0, 0.04])), Bounds::Both);
+        assert_eq!(Bounds::of(&ln(&[0.0, 0.5, 1.0])), Bounds::LowerOnly);
+        assert_eq!(Bounds::of(&ln(&[1.0, 0.3, 0.06])), Bounds::Neither);
+        assert_eq!(Bounds::of(&ln(&[0.9, 1.0, 0.049])), Bounds::UpperOnly);
     }
 
     /// A likelihood that is 0 below a level and 1 from it: the posterior is

@@ -523,8 +523,10 @@ fn model(
         seating_seed: seed ^ SEATING_TAG,
     };
     // Every draw must make a valid block: check the fixed values, and the
-    // drawn ones at the ends of their ranges.
-    for u in [0.0, 0.5, 1.0] {
+    // drawn ones at the ends of the range a draw can reach (the uniforms
+    // are in [0, U_MAX]: an unbounded lognormal's quantile at 1 is +∞,
+    // which no draw gives).
+    for u in [0.0, 0.5, crate::uncertainty::U_MAX] {
         let c = match &model.uncertainty {
             None => model.case,
             Some(d) => at_quantile(d, &model.case, u),

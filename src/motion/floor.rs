@@ -123,24 +123,60 @@ impl Floor {
         self.modes.iter().all(|m| m.participation == 0.0)
     }
 
-    /// Checks every mode: 0 < T < ∞, 0 ≤ ζ < 1, Γφ finite. Errors name the
+    /// Checks every mode: 0 < T < ∞, 0 ≤ ζ < 1, |Γφ| ≤ [`MAX_PARTICIPATION`],
+    /// and T within [`MIN_PERIOD`]–[`MAX_PERIOD`] s for a mode that takes
+    /// part (Γφ ≠ 0). Errors name the
     /// mode as `floor[i].period`, `floor[i].damping` or
     /// `floor[i].participation` (0-based i).
     pub fn validate(&self) -> Result<()> {
         for (i, m) in self.modes.iter().enumerate() {
             check_period(|| format!("floor[{i}].period"), m.period)?;
             check_damping(|| format!("floor[{i}].damping"), m.damping)?;
-            if !m.participation.is_finite() {
+            // NaN is refused too: it is not within the bound.
+            if m.participation.is_nan() || m.participation.abs() > MAX_PARTICIPATION {
                 return Err(Error::invalid(
                     &format!("floor[{i}].participation"),
                     m.participation,
-                    "a finite participation factor Γφ (0 leaves the mode out)",
+                    &format!(
+                        "a participation Γφ from −{MAX_PARTICIPATION} to {MAX_PARTICIPATION} (0 \
+                         leaves the mode out): the participation factor times the mode shape's \
+                         ordinate at the floor, whatever the shape's normalisation, about 1.3 \
+                         at the roof of a regular building (4/π for a uniform shear building, \
+                         1.57 for a cantilever), smaller for higher modes; a larger value \
+                         multiplies the floor's acceleration (10⁵ gave 3·10⁴ g)"
+                    ),
+                ));
+            }
+            if m.participation != 0.0 && !(MIN_PERIOD..=MAX_PERIOD).contains(&m.period) {
+                return Err(Error::invalid(
+                    &format!("floor[{i}].period"),
+                    m.period,
+                    &format!(
+                        "a building's natural period from {MIN_PERIOD} to {MAX_PERIOD} s \
+                         (0.05–10 s for real buildings)"
+                    ),
                 ));
             }
         }
         Ok(())
     }
 }
+
+/// Largest |Γφ| a mode may have at a floor: the first mode's is about 1.3
+/// at the roof of a regular building and at most about 1.6 (a flexural
+/// cantilever), the higher modes' smaller; 3 leaves room for odd buildings
+/// and refuses a factor typed for a shape or a mass (10⁵ made the floor
+/// accelerate at 3·10⁴ g).
+pub const MAX_PARTICIPATION: f64 = 3.0;
+
+/// Shortest natural period of a floor mode (s): stiffer than any building
+/// (0.05 s is a stiff low-rise); at 10⁻³⁰⁰ s ω² overflowed and the floor
+/// stood still.
+pub const MIN_PERIOD: f64 = 1e-3;
+
+/// Longest natural period of a floor mode (s): longer than any building
+/// (about 10 s for a supertall one, 3–5 s base-isolated).
+pub const MAX_PERIOD: f64 = 100.0;
 
 // The field names are built only on error: validation runs for every floor
 // record and must not allocate.

@@ -340,8 +340,18 @@ pub fn read_at2(path: impl AsRef<Path>, g: f64) -> Result<Record> {
         ));
     }
     let acc: Vec<f64> = at2.acc_g.iter().map(|a| a * g).collect();
+    let fix = match units {
+        At2Units::G => format!(
+            "if the values are in cm/s² or m/s², say so in the header's third line \
+             (… IN UNITS OF CM/SEC/SEC, or M/S/S; line {line})"
+        ),
+        _ => format!("check the units the header states (line {line})"),
+    };
     let (vel, disp) = integrate_linear(at2.dt, &acc, 0.0, 0.0);
     check_integrated(path, at2.dt, &vel, &disp, |k| at2_value_line(&text, k))?;
+    super::units::check_max_peak(path, &acc, units.label(), &fix, |k| {
+        at2_value_line(&text, k)
+    })?;
     Record::new(file_label(path), at2.dt, acc, vel, disp)
 }
 
@@ -713,6 +723,17 @@ pub fn read_csv(path: impl AsRef<Path>) -> Result<Record> {
         check_integrated(path, dt, &vel, &disp, |k| lines[k])?;
         (vel, disp)
     };
+    super::units::check_max_peak(
+        path,
+        &acc,
+        "m/s²",
+        "a CSV record's acc is in m/s²; if these values are in cm/s², divide them by 100",
+        |k| lines[k],
+    )?;
+    super::units::check_min_peak_csv(path, &acc, header_line)?;
+    if ncol == 4 {
+        super::units::check_integrals(path, header_line, dt, &acc, &vel, &disp)?;
+    }
     Record::new(name, dt, acc, vel, disp)
 }
 

@@ -27,6 +27,7 @@ mod orientation;
 mod psd;
 mod record;
 mod synth;
+pub mod units;
 
 pub use baseline::Baseline;
 pub use envelope::Envelope;

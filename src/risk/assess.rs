@@ -72,9 +72,29 @@ impl RiskRow {
         self.integral.map(|i| i.rate)
     }
 
-    /// Return period 1/λ_LS (years).
+    /// Return period 1/λ_LS (years): +∞ for a rate of 0 (never).
     pub fn return_period(&self) -> Option<f64> {
-        self.rate().map(|r| 1.0 / r)
+        self.rate()
+            .map(|r| if r > 0.0 { 1.0 / r } else { f64::INFINITY })
+    }
+
+    /// The peak IM as tables print it: `-` for a rate of 0 (nothing drives it).
+    pub fn peak_text(&self) -> String {
+        match self.integral {
+            Some(i) if i.rate > 0.0 => crate::io_util::sig3(i.peak_im),
+            _ => "-".to_string(),
+        }
+    }
+
+    /// The return period as tables print it: `never` for a rate of 0.
+    pub fn return_period_text(&self) -> Option<String> {
+        self.return_period().map(|t| {
+            if t.is_finite() {
+                crate::io_util::sig3(t)
+            } else {
+                "never".to_string()
+            }
+        })
     }
 
     /// Probability of exceeding the limit state at least once in `years`,
@@ -125,7 +145,15 @@ impl RiskRow {
                 pct(below)
             ));
         }
-        if above > limit {
+        let flat_top = self.integral.map_or(0.0, |i| i.flat_top);
+        if above > limit && flat_top > 0.0 {
+            parts.push(format!(
+                "{} comes from the shaking above the hazard curve's highest level, which \
+                 its flat last segment does not distribute: counted at that level, a lower \
+                 bound (give the curve levels where its rate falls)",
+                pct(above)
+            ));
+        } else if above > limit {
             parts.push(format!(
                 "{} comes from above its highest level (extrapolated as the last \
                  segment's power law; give the curve higher levels)",

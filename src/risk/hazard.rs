@@ -81,6 +81,7 @@ impl HazardCurve {
     /// when they differ.
     pub fn in_unit_of(mut self, im: &str) -> Result<HazardCurve> {
         let HazardSource::OpenQuake { imt, .. } = &self.source else {
+            self.check_plain_unit(im)?;
             return Ok(self);
         };
         let scale = match (imt.as_str(), im) {
@@ -103,6 +104,47 @@ impl HazardCurve {
         };
         self.iml.iter_mut().for_each(|x| *x *= scale);
         Ok(self)
+    }
+}
+
+/// A plain hazard file's levels are taken in the fit's unit (g for PGA,
+/// m/s for PGV): one whose lowest level is at or above this, or whose
+/// highest is above [`PLAIN_MAX_LEVEL`], is refused as being in another
+/// unit (cm/s² or m/s², cm/s): a hazard curve in g starts well below 1 g
+/// (OpenQuake's default levels from 0.005 g), one in m/s well below 1 m/s.
+pub const PLAIN_MIN_LEVEL: f64 = 2.0;
+
+/// See [`PLAIN_MIN_LEVEL`]: no hazard curve needs levels above 20 g (the
+/// largest recorded PGA is about 4.4 g) or 20 m/s.
+pub const PLAIN_MAX_LEVEL: f64 = 20.0;
+
+impl HazardCurve {
+    /// Refuses a plain file whose levels cannot be in the unit of a fit
+    /// against `im` ([`PLAIN_MIN_LEVEL`], [`PLAIN_MAX_LEVEL`]), naming the
+    /// levels and the likely unit; PGA/(g tan θc) is not checked.
+    fn check_plain_unit(&self, im: &str) -> Result<()> {
+        let (unit, likely) = match im {
+            "pga" | "pga-rotd50" | "pfa" => (
+                "g",
+                "cm/s² (gal; divide by 981 for g) or m/s² (divide by 9.81)",
+            ),
+            "pgv" | "pgv-rotd50" | "pfv" => ("m/s", "cm/s (divide by 100 for m/s)"),
+            _ => return Ok(()),
+        };
+        let (lo, hi) = (self.iml[0], self.iml[self.iml.len() - 1]);
+        if lo < PLAIN_MIN_LEVEL && hi <= PLAIN_MAX_LEVEL {
+            return Ok(());
+        }
+        Err(Error::Parse {
+            path: self.path.clone(),
+            line: 0,
+            message: format!(
+                "levels from {lo} to {hi}: a plain iml,annual_rate file is taken in the fit's \
+                 unit, {unit} ({im}), and a hazard curve in {unit} starts below \
+                 {PLAIN_MIN_LEVEL} and ends at most at {PLAIN_MAX_LEVEL} {unit}; these levels \
+                 look like {likely}: convert them"
+            ),
+        })
     }
 }
 

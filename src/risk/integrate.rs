@@ -42,6 +42,11 @@ pub struct RiskIntegral {
     pub peak_im: f64,
     /// The quadrature's error estimate (1/yr).
     pub error: f64,
+    /// Of `above`, the shaking above the highest level that a flat last
+    /// segment leaves without a distribution (the rate of exceeding the
+    /// highest level), counted at that level: λ_top·P(LS | im_top), a lower
+    /// bound on its contribution (1/yr; 0 when the last segment falls).
+    pub flat_top: f64,
 }
 
 impl RiskIntegral {
@@ -80,6 +85,9 @@ enum Part {
 struct Integrand<'a> {
     ln_median: f64,
     beta: f64,
+    /// λ_top·P(LS | im_top) when the last segment is flat (see
+    /// [`RiskIntegral::flat_top`]), else 0.
+    top_atom: f64,
     pieces: Vec<(Part, Piece)>,
     /// Midpoints (in u) of the hazard's segments and their log-slopes.
     midpoints: Vec<(f64, f64)>,
@@ -92,12 +100,14 @@ impl<'a> Integrand<'a> {
         let u: Vec<f64> = hazard.iml.iter().map(|&x| dm::ln(x)).collect();
         let l: Vec<f64> = hazard.rate.iter().map(|&r| dm::ln(r)).collect();
         let n = u.len();
+        // k = −d ln λ/du of a segment: +0 (not −0) on a flat one, whose
+        // integrand is then +0 (a −0 sum gave the return period −∞).
         let segment = |i: usize| Piece {
             a: u[i],
             b: u[i + 1],
             u_ref: u[i],
             l_ref: l[i],
-            k: -(l[i + 1] - l[i]) / (u[i + 1] - u[i]),
+            k: (l[i] - l[i + 1]) / (u[i + 1] - u[i]),
         };
         let ln_median = dm::ln(median);
         let mut pieces = Vec::with_capacity(n + 1);
@@ -116,8 +126,15 @@ impl<'a> Integrand<'a> {
             ));
         }
         pieces.extend((0..n - 1).map(|i| (Part::Inside, segment(i))));
-        // Above: the last segment's power law; a flat last segment adds nothing.
+        // Above: the last segment's power law. A flat last segment says that
+        // λ_top of shaking exceeds the highest level, not by how much: it
+        // is counted at that level (`top_atom`), a lower bound.
         let last = segment(n - 2);
+        let top_atom = if last.k > 0.0 {
+            0.0
+        } else {
+            hazard.rate[n - 1] * dm::norm_cdf((u[n - 1] - ln_median) / beta)
+        };
         if last.k > 0.0 {
             pieces.push((
                 Part::Above,
@@ -131,6 +148,7 @@ impl<'a> Integrand<'a> {
         Integrand {
             ln_median,
             beta,
+            top_atom,
             pieces,
             midpoints: (0..n - 1)
                 .map(|i| ((u[i] + u[i + 1]) / 2.0, segment(i).k))
@@ -234,18 +252,27 @@ fn kronrod(f: impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
 pub fn risk_integral(hazard: &HazardCurve, median: f64, beta: f64) -> RiskIntegral {
     let f = Integrand::new(hazard, median, beta);
     let (rate, below, above, error) = quadrature(&f);
+    // With nothing but shaking counted at a flat curve's highest level,
+    // that level drives the rate.
+    let peak_im = if rate == 0.0 && f.top_atom > 0.0 {
+        hazard.iml[hazard.iml.len() - 1]
+    } else {
+        dm::exp(peak(&f))
+    };
     RiskIntegral {
-        rate,
+        rate: rate + f.top_atom,
         below,
-        above,
-        peak_im: dm::exp(peak(&f)),
+        above: above + f.top_atom,
+        peak_im,
         error,
+        flat_top: f.top_atom,
     }
 }
 
 /// λ_LS alone (no peak): for the bootstrap replicates.
 pub fn annual_rate(hazard: &HazardCurve, median: f64, beta: f64) -> f64 {
-    quadrature(&Integrand::new(hazard, median, beta)).0
+    let f = Integrand::new(hazard, median, beta);
+    quadrature(&f).0 + f.top_atom
 }
 
 /// The integrand P(LS | im)·(−dλ/d ln im) at each of `ims` (1/yr per unit

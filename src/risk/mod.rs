@@ -61,6 +61,13 @@
 //! power-law extension overstates the hazard, so `share_above` is then an
 //! upper bound on what that end contributes.
 //!
+//! A flat segment (equal rates at two levels: no shaking with an intensity
+//! between them) contributes 0. A flat *last* segment has no power law to
+//! extend: it says that λ_top of shaking exceeds the highest level, not how
+//! far, so that shaking is counted at the highest level, λ_top·P(LS | im_top)
+//! ([`RiskIntegral::flat_top`]), a lower bound, and warned about. A rate of
+//! 0 has an infinite return period (`never`).
+//!
 //! ## Uncertainty
 //!
 //! `rockfrag fragility` writes each bootstrap replicate's (θ, β) to

@@ -12,12 +12,14 @@ use crate::io_util::{number, sig3, write_atomic};
 /// `case_id`, case columns and `limit_state`, same order). `median`, `beta` are the fit's
 /// (unit of `im`, `im_unit`); `annual_rate` is λ_LS (1/yr) and
 /// `annual_rate_lo`, `annual_rate_hi` its bootstrap percentile band (empty
-/// without `fragility_bootstrap.csv`); `return_period` = 1/λ_LS (years);
+/// without `fragility_bootstrap.csv`); `return_period` = 1/λ_LS (years;
+/// `inf` for a rate of 0);
 /// `poe` = 1 − exp(−λ_LS·`years`); `peak_im` the intensity (unit of `im`)
 /// where the rate's density over ln im peaks; `share_below`, `share_above`
 /// the fractions of λ_LS from beyond the hazard curve's lowest and highest
 /// levels; `boot_fitted` the replicates behind the band; `status` the fit's
-/// (`ok`, or why there is no curve and the numbers are empty).
+/// (`ok`; a fitted curve's caveat, e.g. `extrapolated-above`, see
+/// `fragility.csv`; or why there is no curve and the numbers are empty).
 pub const RISK_HEADER: &str = "case_id,aspect,width,restitution,friction,mu_s,mu_k,limit_state,im,\
 im_unit,median,beta,annual_rate,annual_rate_lo,annual_rate_hi,return_period,years,poe,peak_im,\
 share_below,share_above,boot_fitted,status";
@@ -41,7 +43,8 @@ pub fn write_risk_csv(path: &Path, rows: &[RiskRow], options: &RiskOptions) -> R
                 opt(r.rate()),
                 opt(r.band.map(|b| b.lo)),
                 opt(r.band.map(|b| b.hi)),
-                opt(r.return_period()),
+                // +∞ (a rate of 0) as `inf`: never.
+                r.return_period().map_or(String::new(), number),
                 number(options.years),
                 opt(r.poe(options.years)),
                 opt(r.integral.map(|i| i.peak_im)),
@@ -155,9 +158,9 @@ pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOpt
             c.key,
             c.limit_state,
             sig3(rate),
-            sig3(1.0 / rate),
+            r.return_period_text().unwrap_or_default(),
             sig3(r.poe(options.years).unwrap_or(f64::NAN)),
-            sig3(r.integral.map_or(f64::NAN, |i| i.peak_im)),
+            r.peak_text(),
         ));
     }
     s.push_str(&format!(

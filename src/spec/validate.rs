@@ -384,15 +384,17 @@ enum Recorded {
 }
 
 /// `record_files`: every entry a file, or every entry a pair of files
-/// ([`record_file`] for each file), no file listed twice.
+/// ([`record_file`] for each file), no file listed twice (compared as the
+/// file they name, not as written).
 fn record_files(spec: &Origin, given: &[RecordEntry], check_files: bool) -> Result<Recorded> {
     let pairs = matches!(given.first(), Some(RecordEntry::Pair(_)));
     let mut files: Vec<RecordFile> = Vec::with_capacity(given.len() * 2);
+    let mut seen = Seen::default();
     for (i, entry) in given.iter().enumerate() {
         let field = format!("record_files[{i}]");
         match (entry, pairs) {
             (RecordEntry::One(name), false) => {
-                files.push(record_file(spec, &field, name, &files, check_files)?);
+                files.push(record_file(spec, &field, name, &mut seen, check_files)?);
             }
             (RecordEntry::Pair([h1, h2]), true) => {
                 let base = spec.origin.parent().unwrap_or(Path::new(""));
@@ -404,7 +406,8 @@ fn record_files(spec: &Origin, given: &[RecordEntry], check_files: bool) -> Resu
                     ));
                 }
                 for (j, name) in [h1, h2].into_iter().enumerate() {
-                    let f = record_file(spec, &format!("{field}[{j}]"), name, &files, check_files)?;
+                    let field = format!("{field}[{j}]");
+                    let f = record_file(spec, &field, name, &mut seen, check_files)?;
                     files.push(f);
                 }
             }
@@ -499,14 +502,40 @@ fn orientation(
     }
 }
 
+/// The files of `record_files` listed so far: the file each names (its
+/// canonical path when it exists, else its path with `.` and `..` resolved
+/// as written) and the entry that named it.
+#[derive(Default)]
+struct Seen(std::collections::HashMap<std::path::PathBuf, (String, String)>);
+
+/// `path` with `.` components dropped and `..` resolved against the one
+/// before it, without looking at the file system.
+fn lexical(path: &Path) -> std::path::PathBuf {
+    use std::path::Component;
+    let mut out = std::path::PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
 /// One file of `record_files` at `field`: a `.AT2` or `.csv` path relative
-/// to the spec file, not among `files` already listed and, when
+/// to the spec file, not a file `seen` already lists (`"good.AT2"` and
+/// `"./good.AT2"` are one file, and one record counted twice) and, when
 /// `check_files` is set, existing.
 fn record_file(
     spec: &Origin,
     field: &str,
     given: &str,
-    files: &[RecordFile],
+    seen: &mut Seen,
     check_files: bool,
 ) -> Result<RecordFile> {
     let base = spec.origin.parent().unwrap_or(Path::new(""));
@@ -537,9 +566,18 @@ fn record_file(
             ),
         ));
     }
-    if files.iter().any(|f: &RecordFile| f.given == *given) {
-        return Err(spec.bad(field, &format!("\"{given}\""), "no file listed twice"));
+    let key = std::fs::canonicalize(&path).unwrap_or_else(|_| lexical(&path));
+    if let Some((first, named)) = seen.0.get(&key) {
+        return Err(spec.bad(
+            field,
+            &format!("\"{given}\""),
+            &format!(
+                "no file listed twice: it is {first} (\"{named}\") again, which would count \
+                 one record twice"
+            ),
+        ));
     }
+    seen.0.insert(key, (field.to_string(), given.to_string()));
     Ok(RecordFile {
         given: given.to_string(),
         path,
@@ -675,21 +713,51 @@ fn intensity(spec: &Origin, pga: Option<Vec<f64>>, pgv: Option<Vec<f64>>) -> Res
                 "to be left out when grid.pga is given (one intensity measure per study)",
             ));
         }
-        (None, Some(pgv)) => Intensity::Pgv(grid_list(
+        (None, Some(pgv)) => Intensity::Pgv(increasing(
             spec,
             "pgv",
-            &pgv,
-            |v| v > 0.0 && v <= MAX_PGV,
-            &format!("a peak ground velocity in (0, {MAX_PGV}] m/s"),
+            grid_list(
+                spec,
+                "pgv",
+                &pgv,
+                |v| v > 0.0 && v <= MAX_PGV,
+                &format!("a peak ground velocity in (0, {MAX_PGV}] m/s"),
+            )?,
         )?),
-        (pga, None) => Intensity::Pga(grid_list(
+        (pga, None) => Intensity::Pga(increasing(
             spec,
             "pga",
-            &pga.unwrap_or_else(|| vec![0.3, 0.6, 0.9, 1.2]),
-            |v| v > 0.0 && v <= MAX_PGA_G,
-            &format!("a peak ground acceleration in (0, {MAX_PGA_G}] g"),
+            grid_list(
+                spec,
+                "pga",
+                &pga.unwrap_or_else(|| vec![0.3, 0.6, 0.9, 1.2]),
+                |v| v > 0.0 && v <= MAX_PGA_G,
+                &format!("a peak ground acceleration in (0, {MAX_PGA_G}] g"),
+            )?,
         )?),
     })
+}
+
+/// The intensity levels `grid.<name>` (checked by [`grid_list`]) in
+/// increasing order, or an error at the first out of order: a level's
+/// number keys its analyses' `[uncertainty]` draws (and its place in
+/// `outcomes.csv`), so the same levels in another order would be other
+/// analyses (the results of `[0.6, 0.3]` differed from `[0.3, 0.6]`'s);
+/// one order, the increasing one, keeps a set of levels one study.
+fn increasing(spec: &Origin, name: &str, values: Vec<f64>) -> Result<Vec<f64>> {
+    if let Some(i) = (1..values.len()).find(|&i| values[i] < values[i - 1]) {
+        return Err(spec.bad(
+            &format!("grid.{name}[{i}]"),
+            &values[i],
+            &format!(
+                "a level above the one before it, {} (the levels in increasing order: a \
+                 level's number keys its analyses' draws, so another order would be other \
+                 analyses)",
+                values[i - 1]
+            ),
+        ));
+    }
+    Ok(values)
 }
 
 /// Largest scale factor accepted (a record made 100 times stronger is a
@@ -723,12 +791,16 @@ fn scale_factors(
              made at a PGA or PGV level)",
         ));
     }
-    Ok(Intensity::Scale(grid_list(
+    Ok(Intensity::Scale(increasing(
         spec,
         "scale_factors",
-        factors,
-        |v| v > 0.0 && v <= MAX_SCALE,
-        &format!("a scale factor in (0, {MAX_SCALE}]"),
+        grid_list(
+            spec,
+            "scale_factors",
+            factors,
+            |v| v > 0.0 && v <= MAX_SCALE,
+            &format!("a scale factor in (0, {MAX_SCALE}]"),
+        )?,
     )?))
 }
 

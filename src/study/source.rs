@@ -21,8 +21,9 @@ use crate::motion::{
     MeasuredPair, Natural, Pair, Record, Synthesizer, floor_record, read_record,
     second_component_seed,
 };
-use crate::spec::{Intensity, Motions, Orientation, Study};
+use crate::spec::{Intensity, Motions, Orientation, RecordFile, Study};
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// The most memory the natural parts of a run's synthetic members may take
@@ -89,6 +90,37 @@ pub enum Source {
     Pairs(Arc<(Vec<MeasuredPair>, Orientation)>),
 }
 
+/// Refuses two record files with the same motion (time step and every
+/// acceleration, bit for bit: a copy under another name), naming both as
+/// the spec gives them: the study would count one record twice.
+fn distinct<'a>(records: impl Iterator<Item = (&'a RecordFile, &'a Record)>) -> Result<()> {
+    let mut seen: HashMap<u64, Vec<(&RecordFile, &Record)>> = HashMap::new();
+    for (file, record) in records {
+        // FNV-1a over Δt's and the accelerations' bits.
+        let key = std::iter::once(record.dt)
+            .chain(record.acc.iter().copied())
+            .fold(0xcbf2_9ce4_8422_2325_u64, |h, x| {
+                (h ^ x.to_bits()).wrapping_mul(0x0100_0000_01b3)
+            });
+        let same = seen.entry(key).or_default();
+        if let Some((first, _)) = same
+            .iter()
+            .find(|(_, r)| r.dt == record.dt && r.acc == record.acc)
+        {
+            return Err(Error::Conflict {
+                path: file.path.clone(),
+                message: format!(
+                    "record_files lists \"{}\" and \"{}\", which hold the same motion (the same \
+                     time step and accelerations): one record would count twice; list it once",
+                    first.given, file.given
+                ),
+            });
+        }
+        same.push((file, record));
+    }
+    Ok(())
+}
+
 impl Source {
     /// Builds the source of `study`: the generator, or every record file read
     /// once (an unreadable file is an error here, before any analysis runs).
@@ -119,17 +151,25 @@ impl Source {
                     .iter()
                     .map(|f| read_record(&f.path, study.g))
                     .collect::<Result<Vec<_>>>()?;
+                distinct(files.iter().zip(&records))?;
                 Ok(Source::Files(Arc::new(records)))
             }
             Motions::Pairs { pairs, orientation } => {
-                let pairs = pairs
+                let read = pairs
                     .iter()
                     .map(|[h1, h2]| {
-                        let pair = Pair::new(
+                        Ok([
                             read_record(&h1.path, study.g)?,
                             read_record(&h2.path, study.g)?,
-                        )
-                        .map_err(|e| Error::InvalidRecord {
+                        ])
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                distinct(pairs.iter().flatten().zip(read.iter().flatten()))?;
+                let pairs = pairs
+                    .iter()
+                    .zip(read)
+                    .map(|([h1, h2], [r1, r2])| {
+                        let pair = Pair::new(r1, r2).map_err(|e| Error::InvalidRecord {
                             name: format!("record pair {} + {}", h1.given, h2.given),
                             message: e.to_string(),
                         })?;

@@ -25,7 +25,9 @@ use super::manifest::Manifest;
 use super::plan::{self, Shard};
 use super::tally::{Cell, Tally};
 use crate::case::Case;
-use crate::fragility::{FragilityRow, unfit_advice, unfit_words};
+use crate::fragility::{
+    Caveat, FragilityRow, caveat_words, first_inversion, unfit_advice, unfit_words,
+};
 use crate::io_util::sig3;
 use crate::spec::{Intensity, Motions, Orientation, Study, Uncertainty};
 use crate::uncertainty::{Distribution, Property, Value};
@@ -332,12 +334,12 @@ pub fn fragility_section(fits: &[FragilityRow]) -> String {
     };
     let mut unfitted = Vec::new();
     let mut explain = Vec::new();
-    for f in fits {
+    for (i, f) in fits.iter().enumerate() {
         let (median, beta, notes) = match f.fit() {
             Some((m, b)) => (
                 format!("{}{}", sig3(m), band(f.median_band)),
                 format!("{}{}", sig3(b), band(f.beta_band)),
-                fit_notes(f, &mut explain),
+                fit_notes(fits, i, &mut explain),
             ),
             None => {
                 unfitted.push(f);
@@ -384,15 +386,38 @@ pub fn fragility_section(fits: &[FragilityRow]) -> String {
     s
 }
 
-/// The notes of a fitted curve, short; what they mean is added to
+/// The caveat of row `i` of `rows` in words ([`caveat_words`]), naming
+/// the milder limit state of its case it is more likely than.
+fn caveat_text(rows: &[FragilityRow], i: usize) -> Option<String> {
+    let f = &rows[i];
+    let caveat = f.caveat()?;
+    let inversion = match (caveat, f.fit(), f.im_range) {
+        (Caveat::OutOfOrder, Some(severe), Some(range)) => first_inversion(
+            severe,
+            rows[..i]
+                .iter()
+                .filter(|g| g.case == f.case)
+                .filter_map(|g| g.fit().map(|p| (g.limit_state.as_str(), p))),
+            range,
+        ),
+        _ => None,
+    };
+    Some(caveat_words(caveat, f.im_range, inversion, f.im.unit()))
+}
+
+/// The notes of fitted curve `rows[i]`, short; what they mean is added to
 /// `explain` once.
-fn fit_notes(f: &FragilityRow, explain: &mut Vec<String>) -> String {
+fn fit_notes(rows: &[FragilityRow], i: usize, explain: &mut Vec<String>) -> String {
+    let f = &rows[i];
     let mut add = |text: &str| {
         if !explain.iter().any(|e| e == text) {
             explain.push(text.to_string());
         }
     };
     let mut notes = Vec::new();
+    if let Some(text) = caveat_text(rows, i) {
+        notes.push(format!("**{text}**"));
+    }
     if f.beta_model == "common" {
         notes.push("common β".to_string());
         add(

@@ -80,7 +80,7 @@ fn case_data(group: &CaseGroup, outcomes: &[Option<Outcome>], records: usize) ->
         .filter_map(|&(i, record, pga)| {
             outcomes[i].as_ref().map(|o| Trial {
                 record,
-                pga,
+                level: pga,
                 im: pga,
                 overturned: o.overturned,
                 exceeded: u64::from(o.overturned),
