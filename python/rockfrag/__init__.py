@@ -730,7 +730,12 @@ def fit(im, overturned, trials=None):
     result = _rockfrag.fit(
         [float(x) for x in im], [int(x) for x in n], [int(x) for x in z]
     )
-    if result["status"] != "ok":
+    if result["status"].startswith("extrapolated"):
+        # fitted, but the median lies beyond the intensities given
+        _warnings.warn(
+            "fitted, but %s (%s)" % (result["message"], result["status"]), FitWarning, stacklevel=2
+        )
+    elif result["status"] != "ok":
         _warnings.warn(
             "not fitted (%s): %s" % (result["status"], result["message"]), FitWarning, stacklevel=2
         )

@@ -714,9 +714,8 @@ fn fit<'py>(
                 .fold(None, |r: Option<(f64, f64)>, x| {
                     Some(r.map_or((x, x), |(a, b)| (a.min(x), b.max(x))))
                 });
-            let status = rockfrag::fragility::Caveat::of_median(f.median(), range)
-                .map_or("ok", |c| c.status());
-            d.set_item("status", status)?;
+            let caveat = rockfrag::fragility::Caveat::of_median(f.median(), range);
+            d.set_item("status", caveat.map_or("ok", |c| c.status()))?;
             d.set_item("median", f.median())?;
             d.set_item("beta", f.beta())?;
             d.set_item("se_median", f.se_median())?;
@@ -727,7 +726,12 @@ fn fit<'py>(
             d.set_item("cov", f.cov.to_vec())?;
             d.set_item("loglik", f.loglik)?;
             d.set_item("iterations", f.iterations)?;
-            d.set_item("message", "")?;
+            // the caveat in the words the console and the summary use (the
+            // intensities' unit is the caller's, so none is named)
+            let message = caveat.map_or(String::new(), |c| {
+                rockfrag::fragility::caveat_words(c, range, None, "1")
+            });
+            d.set_item("message", message)?;
         }
         Err(u) => {
             d.set_item("status", u.status())?;
