@@ -484,3 +484,39 @@ fn every_outcomes_column_is_documented() {
         );
     }
 }
+
+/// A floor given by flags is refused naming the flag the user typed
+/// (`--floor-period`, `--period (value 2)`), not the spec's field
+/// `floor[0].period` that the check shares with studies.
+#[test]
+fn floor_flags_are_named_as_typed() {
+    let o = rockfrag(&[
+        "simulate",
+        "--seed",
+        "1",
+        "--pga",
+        "0.3",
+        "--floor-period",
+        "1e300",
+        "--floor-damping",
+        "0.05",
+    ]);
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert!(err.contains("invalid --floor-period = 1e300"), "{err}");
+    assert!(!err.contains("floor[0]"), "{err}");
+    let tmp = tempfile::tempdir().unwrap();
+    let rec = record(tmp.path(), "r.csv");
+    let o = rockfrag(&[
+        "floor",
+        s(&rec),
+        "--period",
+        "1",
+        "--period",
+        "1e-9",
+        "--damping",
+        "0.05",
+    ]);
+    let err = stderr(&o);
+    assert!(err.contains("invalid --period (value 2) = 1e-9"), "{err}");
+}

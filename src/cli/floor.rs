@@ -52,7 +52,24 @@ pub fn floor_of(
             })
             .collect(),
     };
-    floor.validate()?;
+    // the spec's field names (`floor[0].period`) as the flags typed here
+    floor.validate().map_err(|e| {
+        let mut text = e.to_string();
+        for i in 0..n {
+            for what in ["period", "damping", "participation"] {
+                let which = if n > 1 {
+                    format!(" (value {})", i + 1)
+                } else {
+                    String::new()
+                };
+                text = text.replace(
+                    &format!("floor[{i}].{what}"),
+                    &format!("--{prefix}{what}{which}"),
+                );
+            }
+        }
+        anyhow::anyhow!(text)
+    })?;
     Ok(floor)
 }
 
