@@ -127,6 +127,24 @@ pub fn write_atomic(
     })
 }
 
+/// Moves a finished file `from` (a temporary or partial file of ours) to
+/// `to`, keeping [`write_atomic_path`]'s promise: a plain rename when `to`
+/// is a regular file or absent, but a symbolic link at `to` is written
+/// through (its target replaced atomically, the link kept) and a device or
+/// pipe is written into, `from` then removed.
+pub fn move_into(from: &Path, to: &Path) -> std::io::Result<()> {
+    let plain = match std::fs::symlink_metadata(to) {
+        Ok(m) => m.file_type().is_file(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => true,
+        Err(e) => return Err(e),
+    };
+    if plain {
+        return std::fs::rename(from, to);
+    }
+    write_atomic_path(to, |tmp| std::fs::copy(from, tmp).map(|_| ()))?;
+    std::fs::remove_file(from)
+}
+
 /// The folder of `path` (`.` for a bare file name).
 fn parent(path: &Path) -> &Path {
     match path.parent() {

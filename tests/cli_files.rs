@@ -504,3 +504,35 @@ fn files_of_two_fits_are_never_combined() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("overturning"), "{}", stdout(&o));
 }
+
+/// `outcomes.csv` named by a symbolic link in the study folder (a user
+/// keeping the big file on another disk) is written through: its target
+/// gets the rows, the link stays. Before, the finished partial file was
+/// renamed over the link (the last clobbering case of issue 37's notes).
+#[test]
+fn outcomes_through_a_link_keep_the_link() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("study");
+    let big = tmp.path().join("big");
+    std::fs::create_dir_all(&study).unwrap();
+    std::fs::create_dir_all(&big).unwrap();
+    let link = study.join("outcomes.csv");
+    std::os::unix::fs::symlink("../big/outcomes.csv", &link).unwrap();
+    let o = rockfrag(&["run", SMALL, "--out", s(&study)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        is_link(&link),
+        "outcomes.csv was replaced by a regular file"
+    );
+    let rows = std::fs::read_to_string(big.join("outcomes.csv")).unwrap();
+    // small.toml: 24 analyses, one header line
+    assert_eq!(rows.lines().count(), 25, "{rows}");
+    // the same study into a plain folder gives the same bytes
+    let plain = tmp.path().join("plain");
+    let o = rockfrag(&["run", SMALL, "--out", s(&plain)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        rows,
+        std::fs::read_to_string(plain.join("outcomes.csv")).unwrap()
+    );
+}

@@ -383,7 +383,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     manifest.counts = tally.counts();
     manifest.write(&dir.join(files::MANIFEST))?;
     let out = dir.join(files::OUTCOMES);
-    std::fs::rename(&partial_path, &out).map_err(Error::io(&out))?;
+    crate::io_util::move_into(&partial_path, &out).map_err(Error::io(&out))?;
     // (a shard with no units never wrote a checkpoint)
     match std::fs::remove_file(&ckpt_path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
@@ -644,7 +644,14 @@ fn resume(dir: &Path, ckpt: &Checkpoint, partial: &Path) -> Result<Option<std::f
         if len != Some(ckpt.bytes) {
             return Ok(None);
         }
-        std::fs::rename(&done, partial).map_err(Error::io(partial))?;
+        // a link at outcomes.csv is kept (its target is rewritten when the
+        // run finishes): its content is copied back, not the link moved
+        let link = std::fs::symlink_metadata(&done).is_ok_and(|m| m.file_type().is_symlink());
+        if link {
+            std::fs::copy(&done, partial).map_err(Error::io(partial))?;
+        } else {
+            std::fs::rename(&done, partial).map_err(Error::io(partial))?;
+        }
     }
     let mut file = std::fs::OpenOptions::new()
         .write(true)
