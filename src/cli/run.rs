@@ -106,7 +106,30 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let c = run.counts;
-    if run.already_finished {
+    if let Some(adaptive) = &report.adaptive {
+        eprintln!(
+            "study {} (adaptive): {} analyses ({} overturned, {} failed) in {} rounds; {} run in \
+             {:.1} s on {} thread{}; wrote {}",
+            study.name,
+            c.analyses,
+            c.overturned,
+            c.failed,
+            adaptive.rounds,
+            run.analyses_run,
+            run.wall_seconds,
+            run.threads,
+            if run.threads == 1 { "" } else { "s" },
+            out.display()
+        );
+        for case in &adaptive.cases {
+            eprintln!(
+                "{}",
+                rockfrag::study::adaptive::progress_line(adaptive.rounds, case, &adaptive.adaptive)
+                    .split_once(": ")
+                    .map_or("", |(_, rest)| rest)
+            );
+        }
+    } else if run.already_finished {
         eprintln!(
             "study {}: already finished in {} ({} analyses: {} overturned, {} uplifted, {} failed); \
              kept its outcomes.csv and redid what follows it; pass --force to run the analyses again",

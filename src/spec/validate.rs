@@ -6,11 +6,11 @@
 
 use super::locate::Origin;
 use super::raw::{
-    FrictionEntry, GridFile, MotionFile, OutputFile, RecordEntry, SpecFile, SupportFile,
-    UncertaintyFile,
+    FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
+    SupportFile, UncertaintyFile,
 };
 use super::study::{
-    Intensity, Motions, Orientation, RecordFile, Study, Uncertainty, friction_label,
+    Adaptive, Intensity, Motions, Orientation, RecordFile, Study, Uncertainty, friction_label,
 };
 use super::uncertainty::uncertainty;
 use crate::case::Param;
@@ -24,6 +24,9 @@ use crate::solver::{
 use crate::uncertainty::{Property, Value};
 use std::path::Path;
 
+/// The most records at one level of an adaptive run unless `records` says
+/// otherwise (a synthetic ensemble has as many as asked).
+const ADAPTIVE_RECORDS: usize = 1000;
 /// Largest ensemble size accepted.
 const MAX_RECORDS: usize = 10_000_000;
 /// Largest PGA accepted, g: above any recorded motion (about 4 g), so a
@@ -57,7 +60,11 @@ impl SpecFile {
             uncertainty_file = None;
         }
         let motions = if self.record_files.is_empty() {
-            let mut motions = synthetic(&spec, self.motion, self.seed, self.records, g)?;
+            // an adaptive run adds records as it needs them: `records` caps
+            // those of one level
+            let range = matches!(grid_file.pga, Some(Levels::Range(_)));
+            let records = self.records.or(range.then_some(ADAPTIVE_RECORDS));
+            let mut motions = synthetic(&spec, self.motion, self.seed, records, g)?;
             match self.components {
                 None | Some(1) => no_orientation(&spec, &grid_orientation, &drawn_orientation)?,
                 Some(2) => {
@@ -115,6 +122,7 @@ impl SpecFile {
         let grid = grid(&spec, grid_file, g, recorded, uncertainty.as_ref())?;
         solver(&spec, &self.solver)?;
         fragility(&spec, self.fragility.as_ref(), &self.output)?;
+        let adaptive = adaptive(&spec, grid.range, self.fragility.as_ref())?;
         let mut fragility_options = self.fragility;
         // A study of record pairs is fitted against the pair's RotD50 PGA
         // (what hazard models give) unless the spec names a measure.
@@ -148,6 +156,7 @@ impl SpecFile {
             output: self.output,
             fragility: fragility_options,
             infer: self.infer,
+            adaptive,
         })
     }
 }
@@ -593,6 +602,8 @@ struct Grid {
     restitutions: Vec<Param<f64>>,
     intensity: Intensity,
     frictions: Vec<Param<Friction>>,
+    /// `grid.pga` given as a range (an adaptive run).
+    range: Option<LevelRange>,
 }
 
 /// `[grid]`: the block lists (every width–aspect pair must make a valid
@@ -648,9 +659,18 @@ fn grid(
             Block::new(w, a, g).map_err(|e| spec.nested("grid.", e))?;
         }
     }
-    let intensity = match grid.scale_factors {
-        None => intensity(spec, grid.pga, grid.pgv)?,
-        Some(factors) => scale_factors(spec, &factors, &grid.pga, &grid.pgv, recorded)?,
+    let (pga, range) = match grid.pga {
+        Some(Levels::List(v)) => (Some(v), None),
+        Some(Levels::Range(r)) => (None, Some(r)),
+        None => (None, None),
+    };
+    let intensity = match (grid.scale_factors, range) {
+        (Some(factors), _) => {
+            let given = pga.or(range.map(|_| Vec::new()));
+            scale_factors(spec, &factors, &given, &grid.pgv, recorded)?
+        }
+        (None, Some(r)) => pga_range(spec, r, grid.pgv.is_some())?,
+        (None, None) => intensity(spec, pga, grid.pgv)?,
     };
     let frictions = match (grid.friction, uncertain.and_then(|u| u.get(Property::MuS))) {
         (Some(entries), _) => frictions(spec, &entries)?
@@ -676,7 +696,117 @@ fn grid(
         restitutions,
         intensity,
         frictions,
+        range,
     })
+}
+
+/// `grid.pga = { min, max }`: 0 < min < max ≤ [`MAX_PGA_G`], without
+/// `grid.pgv`; the levels are the lattice an adaptive run chooses from.
+fn pga_range(spec: &Origin, r: LevelRange, pgv: bool) -> Result<Intensity> {
+    if pgv {
+        return Err(spec.bad(
+            "grid.pgv",
+            &"(given)",
+            "to be left out when grid.pga is given (one intensity measure per study)",
+        ));
+    }
+    let ok = |v: f64| v.is_finite() && v > 0.0 && v <= MAX_PGA_G;
+    if !ok(r.min) {
+        return Err(spec.bad(
+            "grid.pga.min",
+            &r.min,
+            &format!("a peak ground acceleration in (0, {MAX_PGA_G}] g"),
+        ));
+    }
+    if !(ok(r.max) && r.max >= 1.5 * r.min) {
+        return Err(spec.bad(
+            "grid.pga.max",
+            &r.max,
+            &format!(
+                "a peak ground acceleration in (0, {MAX_PGA_G}] g at least 1.5 times grid.pga.min                  ({}): the range an adaptive run places its levels in",
+                r.min
+            ),
+        ));
+    }
+    Ok(Intensity::Pga(crate::fragility::lattice(r.min, r.max)))
+}
+
+/// The adaptive part of a spec: a PGA range needs `[fragility] precision`
+/// and the precision needs a range; `max_analyses` needs both. The run
+/// judges its band by the bootstrap of the fit, so one is required.
+fn adaptive(
+    spec: &Origin,
+    range: Option<LevelRange>,
+    fragility: Option<&FragilityOptions>,
+) -> Result<Option<Adaptive>> {
+    let precision = fragility.and_then(|f| f.precision);
+    let max_analyses = fragility.and_then(|f| f.max_analyses);
+    let Some(range) = range else {
+        if let Some(p) = precision {
+            return Err(spec.bad(
+                "fragility.precision",
+                &format!("{{ median = {}, beta = {} }}", p.median, p.beta),
+                "a PGA range in [grid] (pga = { min = …, max = … }) for the run to place its                  levels in; a list of levels is a fixed grid",
+            ));
+        }
+        if let Some(n) = max_analyses {
+            return Err(spec.bad(
+                "fragility.max_analyses",
+                &n,
+                "to be left out without an adaptive run (grid.pga = { min = …, max = … } and                  [fragility] precision)",
+            ));
+        }
+        return Ok(None);
+    };
+    let shown = format!("{{ min = {}, max = {} }}", range.min, range.max);
+    let Some(options) = fragility else {
+        return Err(spec.bad(
+            "grid.pga",
+            &shown,
+            "a list of levels, or with a range a [fragility] table with precision = { median =              …, beta = … }: the run places levels until the fit's band is that narrow",
+        ));
+    };
+    let Some(precision) = precision else {
+        return Err(spec.bad(
+            "grid.pga",
+            &shown,
+            "a list of levels, or with a range [fragility] precision = { median = …, beta = … }:              the run places levels until the fit's band is that narrow",
+        ));
+    };
+    precision.validate().map_err(|e| spec.nested("", e))?;
+    let max_analyses = max_analyses.unwrap_or(crate::fragility::DEFAULT_MAX_ANALYSES);
+    if !(crate::fragility::MIN_ANALYSES..=MAX_RECORDS).contains(&max_analyses) {
+        return Err(spec.bad(
+            "fragility.max_analyses",
+            &max_analyses,
+            &format!(
+                "a number of analyses per case from {} (an adaptive run's least) to {MAX_RECORDS}",
+                crate::fragility::MIN_ANALYSES
+            ),
+        ));
+    }
+    if options.bootstrap < 200 {
+        return Err(spec.bad(
+            "fragility.bootstrap",
+            &options.bootstrap,
+            "at least 200 replicates: an adaptive run judges its band by the bootstrap",
+        ));
+    }
+    if !matches!(
+        options.im,
+        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50
+    ) {
+        return Err(spec.bad(
+            "fragility.im",
+            &format!("\"{}\"", options.im.name()),
+            "\"pga\" (an adaptive run places PGA levels and judges the fit on them)",
+        ));
+    }
+    Ok(Some(Adaptive {
+        range,
+        precision,
+        max_analyses,
+    }))
 }
 
 /// A list `grid.<name>`: non-empty, every value finite, `ok` and not repeated.
