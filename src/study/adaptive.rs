@@ -51,7 +51,9 @@ pub const MIN_ROUNDS: usize = 3;
 /// A case stops when its bands are below this share of the targets: the
 /// margin that keeps a stopping rule that looks at the band after every
 /// round from stopping on a band that is narrow by chance (docs/adaptive.md).
-pub const STOP_MARGIN: f64 = 0.9;
+pub const STOP_MARGIN: f64 = 0.95;
+/// A round adds at most 1/`GROWTH_DIVISOR` of a case's analyses so far.
+pub const GROWTH_DIVISOR: usize = 2;
 /// Most bootstrap replicates that may fail to fit for a band to count.
 pub const MAX_UNFIT_SHARE: f64 = 0.02;
 
@@ -71,6 +73,9 @@ pub enum Stop {
     MaxAnalyses,
     /// A limit state's median lies outside the range: the message says which.
     Outside(String),
+    /// Every level that would narrow the band has used all its records
+    /// (`records`, the most per level).
+    RecordsExhausted,
 }
 
 impl Stop {
@@ -81,6 +86,7 @@ impl Stop {
             Stop::Met => "met",
             Stop::MaxAnalyses => "max_analyses",
             Stop::Outside(_) => "outside_range",
+            Stop::RecordsExhausted => "records_exhausted",
         }
     }
 }
@@ -482,14 +488,15 @@ fn decide(
         return none;
     }
     // how much more: the band narrows as 1/√n, so (ratio² − 1)·n more,
-    // at least ROUND_MIN, at most doubling
+    // at least ROUND_MIN, at most half as many again (the band estimate is
+    // noisy: a smaller step overshoots less)
     let worst = s
         .bands
         .iter()
         .map(|(_, b)| b.as_ref().map_or(2.0, |b| ratio(b).powi(2)))
         .fold(0.0, f64::max);
-    let mut more = ((worst - 1.0) * 1.1 * n as f64).ceil().max(0.0) as usize;
-    more = more.clamp(ROUND_MIN, n.max(ROUND_MIN));
+    let mut more = ((worst - 1.0) * n as f64).ceil().max(0.0) as usize;
+    more = more.clamp(ROUND_MIN, (n / GROWTH_DIVISOR).max(ROUND_MIN));
     if n + more < MIN_ANALYSES {
         more = MIN_ANALYSES - n;
     }
@@ -508,11 +515,15 @@ fn decide(
                 ),
                 None => (true, true),
             };
+            // bootstrap replicates that cannot be fitted (separated
+            // resamples) are cured by analyses on both sides of the
+            // median, where β is learnt: β's target stays on until then
+            let separated = b.as_ref().is_some_and(|b| b.unfit_share > MAX_UNFIT_SHARE);
             Some(Design {
                 a: fit.a,
                 b: fit.b,
                 se_ln_median: m.then_some(target.median * STOP_MARGIN / z),
-                se_beta: bt.then_some(target.beta * STOP_MARGIN / z),
+                se_beta: (bt || separated).then_some(target.beta * STOP_MARGIN / z),
             })
         })
         .collect();
@@ -538,7 +549,11 @@ fn decide(
         let i = levels.partition_point(|&x| x < theta).min(levels.len() - 1);
         add[i] = batches * BATCH;
     }
-    capped(add, &s.counts, cap)
+    let add = capped(add, &s.counts, cap);
+    if add.iter().all(|&a| a == 0) {
+        s.stop = Stop::RecordsExhausted;
+    }
+    add
 }
 
 /// `add` with no level past `cap` records.
@@ -595,6 +610,11 @@ pub fn progress_line(round: usize, s: &CaseState, adaptive: &Adaptive) -> String
         Stop::Met => "; target met".to_string(),
         Stop::MaxAnalyses => format!("; stopped at max_analyses = {}", adaptive.max_analyses),
         Stop::Outside(m) => format!("; {m}"),
+        Stop::RecordsExhausted => {
+            "; stopped: the levels that would narrow the band have used all their records \
+             (raise `records`, the most per level)"
+                .to_string()
+        }
     };
     format!(
         "round {round}: case {}: {} analyses; {}{stop}",
