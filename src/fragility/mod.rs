@@ -108,7 +108,7 @@ pub use options::{
     MAX_LIMIT_STATES, bootstrap_limit,
 };
 pub use precision::{
-    Band, DEFAULT_MAX_ANALYSES, Design, MIN_ANALYSES, Precision, lattice, place,
+    Band, DEFAULT_MAX_ANALYSES, Design, MIN_ANALYSES, Precision, lattice, place, records_for,
     relative_half_width,
 };
 pub use report::{FitReport, fit_and_write};

@@ -224,9 +224,26 @@ pub fn place(
     now.iter().zip(counts).map(|(n, c)| n - c).collect()
 }
 
+/// Records per level a fixed grid needs for a band of half-width `target`
+/// (relative), from a pilot of `pilot` records per level whose band had
+/// half-width `half`: a fixed design's band narrows as 1/√n, so
+/// n = pilot · (half/target)², rounded up, and never below the pilot.
+pub fn records_for(pilot: usize, half: f64, target: f64) -> usize {
+    let n = pilot as f64 * (half / target).powi(2);
+    (n.ceil() as usize).max(pilot)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Halving a band takes four times the records.
+    #[test]
+    fn records_scale_as_the_inverse_square_of_the_band() {
+        assert_eq!(records_for(10, 0.10, 0.05), 40);
+        assert_eq!(records_for(10, 0.12, 0.05), 58); // 57.6 rounded up
+        assert_eq!(records_for(10, 0.03, 0.05), 10);
+    }
 
     #[test]
     fn lattice_is_log_spaced_with_exact_ends() {

@@ -530,12 +530,15 @@ fn decide(
     let unfitted: Vec<&CaseFit> = fits.iter().filter(|f| f.fit.is_err()).collect();
     let mut add = none.clone();
     if let Some(f) = unfitted.first() {
-        // no fit yet (the outcomes are separated): the analyses go to the
-        // levels around the change from none exceeding to all
+        // no fit yet (the outcomes are separated)
+        // levels around the change from none exceeding to all: the five
+        // nearest its log-midpoint, where the median most likely is
         let (lo, hi) = transition(f, levels);
-        let span = hi - lo + 1;
+        let mut near: Vec<usize> = (lo..=hi).collect();
+        near.sort_by_key(|&i| (2 * i).abs_diff(lo + hi));
+        near.truncate(5);
         for j in 0..batches {
-            add[lo + j % span] += BATCH;
+            add[near[j % near.len()]] += BATCH;
         }
     } else if designs
         .iter()
