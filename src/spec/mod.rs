@@ -32,6 +32,7 @@
 //! [output]
 //! summary = true
 
+mod adaptive;
 mod infer;
 mod locate;
 mod raw;

@@ -4,13 +4,14 @@
 //! `[grid]`, `[solver]`, `[fragility]`), so a spec with several faults always reports the same one
 //! first. `[output]` holds only switches and needs no check.
 
+use super::adaptive::adaptive;
 use super::locate::Origin;
 use super::raw::{
     FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
     SupportFile, UncertaintyFile,
 };
 use super::study::{
-    Adaptive, Intensity, Motions, Orientation, RecordFile, Study, Uncertainty, friction_label,
+    Intensity, Motions, Orientation, RecordFile, Study, Uncertainty, friction_label,
 };
 use super::uncertainty::uncertainty;
 use crate::case::Param;
@@ -729,84 +730,6 @@ fn pga_range(spec: &Origin, r: LevelRange, pgv: bool) -> Result<Intensity> {
         ));
     }
     Ok(Intensity::Pga(crate::fragility::lattice(r.min, r.max)))
-}
-
-/// The adaptive part of a spec: a PGA range needs `[fragility] precision`
-/// and the precision needs a range; `max_analyses` needs both. The run
-/// judges its band by the bootstrap of the fit, so one is required.
-fn adaptive(
-    spec: &Origin,
-    range: Option<LevelRange>,
-    fragility: Option<&FragilityOptions>,
-) -> Result<Option<Adaptive>> {
-    let precision = fragility.and_then(|f| f.precision);
-    let max_analyses = fragility.and_then(|f| f.max_analyses);
-    let Some(range) = range else {
-        if let Some(p) = precision {
-            return Err(spec.bad(
-                "fragility.precision",
-                &format!("{{ median = {}, beta = {} }}", p.median, p.beta),
-                "a PGA range in [grid] (pga = { min = …, max = … }) for the run to place its                  levels in; a list of levels is a fixed grid",
-            ));
-        }
-        if let Some(n) = max_analyses {
-            return Err(spec.bad(
-                "fragility.max_analyses",
-                &n,
-                "to be left out without an adaptive run (grid.pga = { min = …, max = … } and                  [fragility] precision)",
-            ));
-        }
-        return Ok(None);
-    };
-    let shown = format!("{{ min = {}, max = {} }}", range.min, range.max);
-    let Some(options) = fragility else {
-        return Err(spec.bad(
-            "grid.pga",
-            &shown,
-            "a list of levels, or with a range a [fragility] table with precision = { median =              …, beta = … }: the run places levels until the fit's band is that narrow",
-        ));
-    };
-    let Some(precision) = precision else {
-        return Err(spec.bad(
-            "grid.pga",
-            &shown,
-            "a list of levels, or with a range [fragility] precision = { median = …, beta = … }:              the run places levels until the fit's band is that narrow",
-        ));
-    };
-    precision.validate().map_err(|e| spec.nested("", e))?;
-    let max_analyses = max_analyses.unwrap_or(crate::fragility::DEFAULT_MAX_ANALYSES);
-    if !(crate::fragility::MIN_ANALYSES..=MAX_RECORDS).contains(&max_analyses) {
-        return Err(spec.bad(
-            "fragility.max_analyses",
-            &max_analyses,
-            &format!(
-                "a number of analyses per case from {} (an adaptive run's least) to {MAX_RECORDS}",
-                crate::fragility::MIN_ANALYSES
-            ),
-        ));
-    }
-    if options.bootstrap < 200 {
-        return Err(spec.bad(
-            "fragility.bootstrap",
-            &options.bootstrap,
-            "at least 200 replicates: an adaptive run judges its band by the bootstrap",
-        ));
-    }
-    if !matches!(
-        options.im,
-        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50
-    ) {
-        return Err(spec.bad(
-            "fragility.im",
-            &format!("\"{}\"", options.im.name()),
-            "\"pga\" (an adaptive run places PGA levels and judges the fit on them)",
-        ));
-    }
-    Ok(Some(Adaptive {
-        range,
-        precision,
-        max_analyses,
-    }))
 }
 
 /// A list `grid.<name>`: non-empty, every value finite, `ok` and not repeated.
