@@ -168,11 +168,11 @@ pub struct FragilityOptions {
     #[serde(skip)]
     pub pool: Vec<Field>,
     /// The precision an adaptive run stops at (with `grid.pga = { min, max }`;
-    /// [`super::Precision`], docs/adaptive.md). Default: none, a fixed grid.
+    /// [`super::precision::Precision`], docs/adaptive.md). Default: none, a fixed grid.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub precision: Option<super::Precision>,
+    pub precision: Option<super::precision::Precision>,
     /// The most analyses an adaptive run spends on one case (default with
-    /// `precision`: [`super::DEFAULT_MAX_ANALYSES`]).
+    /// `precision`: [`super::precision::DEFAULT_MAX_ANALYSES`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_analyses: Option<usize>,
 }

@@ -229,7 +229,8 @@ pub fn place(
 /// half-width `half`: a fixed design's band narrows as 1/√n, so
 /// n = pilot · (half/target)², rounded up, and never below the pilot.
 pub fn records_for(pilot: usize, half: f64, target: f64) -> usize {
-    let n = pilot as f64 * (half / target).powi(2);
+    let r = half / target;
+    let n = pilot as f64 * r * r;
     (n.ceil() as usize).max(pilot)
 }
 
@@ -265,7 +266,7 @@ mod tests {
         let levels = lattice(0.1, 1.0);
         let (theta, beta): (f64, f64) = (0.4, 0.3);
         let d = Design {
-            a: -theta.ln() / beta,
+            a: -dm::ln(theta) / beta,
             b: 1.0 / beta,
             se_ln_median: Some(0.03),
             se_beta: None,
@@ -277,10 +278,8 @@ mod tests {
         let add = place(&levels, &counts, &[d], 10, 5, 1000);
         let nearest = (0..levels.len())
             .min_by(|&i, &j| {
-                (levels[i] / theta)
-                    .ln()
-                    .abs()
-                    .total_cmp(&(levels[j] / theta).ln().abs())
+                let d = |k: usize| dm::ln(levels[k] / theta).abs();
+                d(i).total_cmp(&d(j))
             })
             .unwrap();
         let at: usize = (nearest.saturating_sub(1)..=nearest + 1)
@@ -295,7 +294,7 @@ mod tests {
         let levels = lattice(0.1, 1.0);
         let (theta, beta): (f64, f64) = (0.4, 0.3);
         let d = Design {
-            a: -theta.ln() / beta,
+            a: -dm::ln(theta) / beta,
             b: 1.0 / beta,
             se_ln_median: None,
             se_beta: Some(0.02),

@@ -493,7 +493,7 @@ fn decide(
     let worst = s
         .bands
         .iter()
-        .map(|(_, b)| b.as_ref().map_or(2.0, |b| ratio(b).powi(2)))
+        .map(|(_, b)| b.as_ref().map_or(2.0, |b| ratio(b) * ratio(b)))
         .fold(0.0, f64::max);
     let mut more = ((worst - 1.0) * n as f64).ceil().max(0.0) as usize;
     more = more.clamp(ROUND_MIN, (n / GROWTH_DIVISOR).max(ROUND_MIN));
