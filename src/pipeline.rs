@@ -30,6 +30,9 @@ pub struct StudyReport {
     /// What was made from a whole, complete study (`None` for an
     /// unfinished run or a shard).
     pub finish: Option<FinishReport>,
+    /// What an adaptive study reached, per case (`None` for a fixed grid or
+    /// an unfinished run).
+    pub adaptive: Option<study::adaptive::AdaptiveReport>,
 }
 
 impl StudyReport {
@@ -72,13 +75,31 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<StudyReport> {
     let dir = &opts.out_dir;
     crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
+    if study.adaptive.is_some() {
+        let (run, adaptive) = study::adaptive::run(study, opts)?;
+        let finish = match &adaptive {
+            Some(a) if run.complete && !study::interrupted() => {
+                Some(finish_adaptive(study, dir, a)?)
+            }
+            _ => None,
+        };
+        return Ok(StudyReport {
+            run,
+            finish,
+            adaptive,
+        });
+    }
     let run = study::run(study, opts)?;
     let finish = if run.complete && opts.shard == Shard::WHOLE && !study::interrupted() {
         Some(finish(study, dir, run.tally.as_ref())?)
     } else {
         None
     };
-    Ok(StudyReport { run, finish })
+    Ok(StudyReport {
+        run,
+        finish,
+        adaptive: None,
+    })
 }
 
 /// What a complete study folder `dir` gets when its spec asks: the
@@ -116,6 +137,55 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
     }
     if let Some(summary) = &report.summary {
         study::record_outputs(dir, &[summary])?;
+    }
+    Ok(report)
+}
+
+/// What a complete adaptive study folder gets: the fit of its
+/// `outcomes.csv` (as a fixed grid's) and a `summary.md` of the study, the
+/// precision each case reached ([`study::adaptive::summary_section`]) and
+/// the fitted curves. No figures yet: they are drawn from a fixed grid's
+/// stripes (said in the summary).
+fn finish_adaptive(
+    study: &Study,
+    dir: &Path,
+    adaptive: &study::adaptive::AdaptiveReport,
+) -> Result<FinishReport> {
+    let mut report = FinishReport::default();
+    if let Some(options) = &study.fragility {
+        report.fit = Some(fit_and_write(dir, dir, options)?);
+        record_fit(dir, dir)?;
+    }
+    if study.output.summary {
+        let mut text = format!(
+            "# Study `{}`
+
+",
+            study.name
+        );
+        if !study.description.is_empty() {
+            text.push_str(&format!(
+                "{}
+
+",
+                study.description
+            ));
+        }
+        text.push_str(&study::adaptive::summary_section(adaptive));
+        let rows = crate::fragility::read_fragility_csv(&dir.join("fragility.csv"))?;
+        text.push('\n');
+        text.push_str(&study::fragility_section(&rows));
+        if study.output.figures {
+            text.push_str(
+                "\nNo figures: `output.figures` draws a fixed grid's stripes; an adaptive \
+                 run's are not drawn yet.\n",
+            );
+        }
+        let path = dir.join(files::SUMMARY);
+        crate::io_util::write_atomic(&path, |w| std::io::Write::write_all(w, text.as_bytes()))
+            .map_err(Error::io(&path))?;
+        study::record_outputs(dir, &[&path])?;
+        report.summary = Some(path);
     }
     Ok(report)
 }

@@ -41,6 +41,12 @@ pub struct RunArgs {
     /// Print the fragility table and every note (default: one line per step).
     #[arg(long, short)]
     pub verbose: bool,
+    /// Size a fixed-grid study instead of running it: run a pilot (10
+    /// records per level, in a temporary folder) and print, per case, how
+    /// many records per level give the median a 90 % band of this
+    /// half-width (0.05: ±5 %). Writes nothing.
+    #[arg(long, value_name = "HALF_WIDTH")]
+    pub precision: Option<f64>,
 }
 
 /// Runs `rockfrag run`.
@@ -49,6 +55,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         Some(path) => (Study::load(path)?, path.display().to_string()),
         None => (Study::shenton_jones(), SHENTON_JONES_ORIGIN.to_string()),
     };
+    if let Some(target) = args.precision {
+        return super::size::size(&study, target, args.threads.unwrap_or(0));
+    }
     let out = args
         .out
         .clone()
@@ -106,7 +115,30 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let c = run.counts;
-    if run.already_finished {
+    if let Some(adaptive) = &report.adaptive {
+        eprintln!(
+            "study {} (adaptive): {} analyses ({} overturned, {} failed) in {} rounds; {} run in \
+             {:.1} s on {} thread{}; wrote {}",
+            study.name,
+            c.analyses,
+            c.overturned,
+            c.failed,
+            adaptive.rounds,
+            run.analyses_run,
+            run.wall_seconds,
+            run.threads,
+            if run.threads == 1 { "" } else { "s" },
+            out.display()
+        );
+        for case in &adaptive.cases {
+            eprintln!(
+                "{}",
+                rockfrag::study::adaptive::progress_line(adaptive.rounds, case, &adaptive.adaptive)
+                    .split_once(": ")
+                    .map_or("", |(_, rest)| rest)
+            );
+        }
+    } else if run.already_finished {
         eprintln!(
             "study {}: already finished in {} ({} analyses: {} overturned, {} uplifted, {} failed); \
              kept its outcomes.csv and redid what follows it; pass --force to run the analyses again",

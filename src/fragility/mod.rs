@@ -81,6 +81,7 @@ mod files;
 mod fit;
 mod nrml;
 mod options;
+mod precision;
 mod report;
 mod set;
 
@@ -105,6 +106,10 @@ pub use nrml::{
 pub use options::{
     BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_BOOTSTRAP, MAX_GRID_POINTS,
     MAX_LIMIT_STATES, bootstrap_limit,
+};
+pub use precision::{
+    Band, DEFAULT_MAX_ANALYSES, Design, MIN_ANALYSES, Precision, lattice, place, records_for,
+    relative_half_width,
 };
 pub use report::{FitReport, fit_and_write};
 pub use set::{SET_FILE, SET_FILES, check_set};

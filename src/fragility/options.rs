@@ -167,6 +167,14 @@ pub struct FragilityOptions {
     /// any a user chooses (`rockfrag fragility --pool`). Not a spec field.
     #[serde(skip)]
     pub pool: Vec<Field>,
+    /// The precision an adaptive run stops at (with `grid.pga = { min, max }`;
+    /// [`super::precision::Precision`], docs/adaptive.md). Default: none, a fixed grid.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub precision: Option<super::precision::Precision>,
+    /// The most analyses an adaptive run spends on one case (default with
+    /// `precision`: [`super::precision::DEFAULT_MAX_ANALYSES`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_analyses: Option<usize>,
 }
 
 impl Default for FragilityOptions {
@@ -180,6 +188,8 @@ impl Default for FragilityOptions {
             grid_points: 101,
             limit_state: Vec::new(),
             pool: Vec::new(),
+            precision: None,
+            max_analyses: None,
         }
     }
 }

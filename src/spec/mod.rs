@@ -32,6 +32,7 @@
 //! [output]
 //! summary = true
 
+mod adaptive;
 mod infer;
 mod locate;
 mod raw;
@@ -41,10 +42,11 @@ mod validate;
 
 pub use infer::InferSettings;
 pub use raw::{
-    FrictionEntry, GridFile, MotionFile, OutputFile, RecordEntry, SpecFile, UncertaintyFile,
+    FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
+    UncertaintyFile,
 };
 pub use study::{
-    Intensity, MAX_SPEC_BYTES, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN,
+    Adaptive, Intensity, MAX_SPEC_BYTES, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN,
     SHENTON_JONES_TOML, Study, Uncertainty, fnv1a64, friction_label,
 };
 pub use validate::{MAX_PGA_G, MAX_PGV};

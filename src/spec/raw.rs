@@ -97,9 +97,11 @@ pub struct GridFile {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction: Option<Vec<FrictionEntry>>,
     /// Intensity levels as PGA, g, each record scaled to it
-    /// (default: `[0.3, 0.6, 0.9, 1.2]` when `pgv` is not given).
+    /// (default: `[0.3, 0.6, 0.9, 1.2]` when `pgv` is not given); or a
+    /// range `{ min = 0.05, max = 3.0 }` within which an adaptive run
+    /// places its levels (with `[fragility] precision`, docs/adaptive.md).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub pga: Option<Vec<f64>>,
+    pub pga: Option<Levels>,
     /// Intensity levels as PGV, m/s, each record scaled to it instead of to a
     /// PGA (default: not used).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -116,6 +118,29 @@ pub struct GridFile {
     /// `record_files` (default: not used).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scale_factors: Option<Vec<f64>>,
+}
+
+/// `grid.pga` as written: a list of levels, or a range for an adaptive run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a list of levels [0.1, 0.2, …] or a range { min = …, max = … } (g)"
+)]
+pub enum Levels {
+    /// The levels, g.
+    List(Vec<f64>),
+    /// The range an adaptive run places its levels in, g.
+    Range(LevelRange),
+}
+
+/// A range of intensity levels, g: `{ min = 0.05, max = 3.0 }`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LevelRange {
+    /// Lowest level, g.
+    pub min: f64,
+    /// Highest level, g.
+    pub max: f64,
 }
 
 /// The `[support]` table: what the blocks stand on. Without it, or with

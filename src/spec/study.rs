@@ -3,8 +3,8 @@
 //! canonical spec text by [`Study::to_toml`].
 
 use super::raw::{
-    FrictionEntry, GridFile, MotionFile, OutputFile, RecordEntry, SpecFile, SupportFile,
-    UncertaintyFile,
+    FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
+    SupportFile, UncertaintyFile,
 };
 use crate::case::{Case, Field, Param};
 use crate::error::{Error, Result};
@@ -60,6 +60,23 @@ pub struct Study {
     pub fragility: Option<FragilityOptions>,
     /// `rockfrag infer`'s settings, if the spec has an `[infer]` table.
     pub infer: Option<super::infer::InferSettings>,
+    /// An adaptive run (`grid.pga = { min, max }` with `[fragility]
+    /// precision`): its range; [`Study::intensity`] then holds the lattice
+    /// of levels it chooses from ([`crate::fragility::lattice`]).
+    pub adaptive: Option<Adaptive>,
+}
+
+/// What an adaptive study asks for (docs/adaptive.md): levels placed in a
+/// range of PGA, records added, until the band of every limit state's
+/// median and β is as narrow as asked, per case.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Adaptive {
+    /// The range of PGA, g.
+    pub range: LevelRange,
+    /// The target half-widths.
+    pub precision: crate::fragility::Precision,
+    /// The most analyses per case.
+    pub max_analyses: usize,
 }
 
 /// The validated `[uncertainty]` table: what each analysis draws, per
@@ -400,7 +417,10 @@ impl Study {
             (!drawn(p)).then(|| v.iter().filter_map(|x| x.fixed()).collect())
         };
         let (pga, pgv, scale_factors) = match &self.intensity {
-            Intensity::Pga(v) => (Some(v.clone()), None, None),
+            _ if self.adaptive.is_some() => {
+                (self.adaptive.map(|a| Levels::Range(a.range)), None, None)
+            }
+            Intensity::Pga(v) => (Some(Levels::List(v.clone())), None, None),
             Intensity::Pgv(v) => (None, Some(v.clone()), None),
             Intensity::Scale(v) => (None, None, Some(v.clone())),
         };
@@ -477,7 +497,8 @@ impl Study {
         let analyses = Study {
             name: String::new(),
             description: String::new(),
-            fragility: None,
+            // an adaptive run's fit decides which analyses it runs
+            fragility: self.adaptive.and(self.fragility.clone()),
             output: OutputFile {
                 summary: defaults.summary,
                 figures: defaults.figures,

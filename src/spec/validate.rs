@@ -4,10 +4,11 @@
 //! `[grid]`, `[solver]`, `[fragility]`), so a spec with several faults always reports the same one
 //! first. `[output]` holds only switches and needs no check.
 
+use super::adaptive::adaptive;
 use super::locate::Origin;
 use super::raw::{
-    FrictionEntry, GridFile, MotionFile, OutputFile, RecordEntry, SpecFile, SupportFile,
-    UncertaintyFile,
+    FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
+    SupportFile, UncertaintyFile,
 };
 use super::study::{
     Intensity, Motions, Orientation, RecordFile, Study, Uncertainty, friction_label,
@@ -24,6 +25,9 @@ use crate::solver::{
 use crate::uncertainty::{Property, Value};
 use std::path::Path;
 
+/// The most records at one level of an adaptive run unless `records` says
+/// otherwise (a synthetic ensemble has as many as asked).
+const ADAPTIVE_RECORDS: usize = 1000;
 /// Largest ensemble size accepted.
 const MAX_RECORDS: usize = 10_000_000;
 /// Largest PGA accepted, g: above any recorded motion (about 4 g), so a
@@ -57,7 +61,11 @@ impl SpecFile {
             uncertainty_file = None;
         }
         let motions = if self.record_files.is_empty() {
-            let mut motions = synthetic(&spec, self.motion, self.seed, self.records, g)?;
+            // an adaptive run adds records as it needs them: `records` caps
+            // those of one level
+            let range = matches!(grid_file.pga, Some(Levels::Range(_)));
+            let records = self.records.or(range.then_some(ADAPTIVE_RECORDS));
+            let mut motions = synthetic(&spec, self.motion, self.seed, records, g)?;
             match self.components {
                 None | Some(1) => no_orientation(&spec, &grid_orientation, &drawn_orientation)?,
                 Some(2) => {
@@ -115,6 +123,7 @@ impl SpecFile {
         let grid = grid(&spec, grid_file, g, recorded, uncertainty.as_ref())?;
         solver(&spec, &self.solver)?;
         fragility(&spec, self.fragility.as_ref(), &self.output)?;
+        let adaptive = adaptive(&spec, grid.range, self.fragility.as_ref())?;
         let mut fragility_options = self.fragility;
         // A study of record pairs is fitted against the pair's RotD50 PGA
         // (what hazard models give) unless the spec names a measure.
@@ -148,6 +157,7 @@ impl SpecFile {
             output: self.output,
             fragility: fragility_options,
             infer: self.infer,
+            adaptive,
         })
     }
 }
@@ -593,6 +603,8 @@ struct Grid {
     restitutions: Vec<Param<f64>>,
     intensity: Intensity,
     frictions: Vec<Param<Friction>>,
+    /// `grid.pga` given as a range (an adaptive run).
+    range: Option<LevelRange>,
 }
 
 /// `[grid]`: the block lists (every width–aspect pair must make a valid
@@ -648,9 +660,18 @@ fn grid(
             Block::new(w, a, g).map_err(|e| spec.nested("grid.", e))?;
         }
     }
-    let intensity = match grid.scale_factors {
-        None => intensity(spec, grid.pga, grid.pgv)?,
-        Some(factors) => scale_factors(spec, &factors, &grid.pga, &grid.pgv, recorded)?,
+    let (pga, range) = match grid.pga {
+        Some(Levels::List(v)) => (Some(v), None),
+        Some(Levels::Range(r)) => (None, Some(r)),
+        None => (None, None),
+    };
+    let intensity = match (grid.scale_factors, range) {
+        (Some(factors), _) => {
+            let given = pga.or(range.map(|_| Vec::new()));
+            scale_factors(spec, &factors, &given, &grid.pgv, recorded)?
+        }
+        (None, Some(r)) => pga_range(spec, r, grid.pgv.is_some())?,
+        (None, None) => intensity(spec, pga, grid.pgv)?,
     };
     let frictions = match (grid.friction, uncertain.and_then(|u| u.get(Property::MuS))) {
         (Some(entries), _) => frictions(spec, &entries)?
@@ -676,7 +697,39 @@ fn grid(
         restitutions,
         intensity,
         frictions,
+        range,
     })
+}
+
+/// `grid.pga = { min, max }`: 0 < min < max ≤ [`MAX_PGA_G`], without
+/// `grid.pgv`; the levels are the lattice an adaptive run chooses from.
+fn pga_range(spec: &Origin, r: LevelRange, pgv: bool) -> Result<Intensity> {
+    if pgv {
+        return Err(spec.bad(
+            "grid.pgv",
+            &"(given)",
+            "to be left out when grid.pga is given (one intensity measure per study)",
+        ));
+    }
+    let ok = |v: f64| v.is_finite() && v > 0.0 && v <= MAX_PGA_G;
+    if !ok(r.min) {
+        return Err(spec.bad(
+            "grid.pga.min",
+            &r.min,
+            &format!("a peak ground acceleration in (0, {MAX_PGA_G}] g"),
+        ));
+    }
+    if !(ok(r.max) && r.max >= 1.5 * r.min) {
+        return Err(spec.bad(
+            "grid.pga.max",
+            &r.max,
+            &format!(
+                "a peak ground acceleration in (0, {MAX_PGA_G}] g at least 1.5 times grid.pga.min                  ({}): the range an adaptive run places its levels in",
+                r.min
+            ),
+        ));
+    }
+    Ok(Intensity::Pga(crate::fragility::lattice(r.min, r.max)))
 }
 
 /// A list `grid.<name>`: non-empty, every value finite, `ok` and not repeated.

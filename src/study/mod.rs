@@ -27,6 +27,7 @@
 //! is written with status `failed` and its message, counted in the
 //! manifest, and the run carries on; the caller decides the exit status.
 
+pub mod adaptive;
 pub mod files;
 mod lock;
 mod manifest;

@@ -1,0 +1,270 @@
+//! Adaptive studies (issue 39): `grid.pga = { min, max }` with
+//! `[fragility] precision`. The rounds are deterministic (same bytes on 1
+//! and 2 threads and after a kill and resume), a case stops when its band
+//! meets the target, a median outside the range stops its case with a
+//! message, and bad specs are refused naming the field.
+
+mod common;
+
+use rockfrag::pipeline;
+use rockfrag::spec::Study;
+use rockfrag::study::{RunOptions, Shard};
+use std::path::Path;
+
+/// The vase of studies/vase.toml at H/B 4 (drawn e and μ), overturning
+/// only, ±10 % on the median so that a test run stays small.
+const VASE: &str = r#"
+name = "vase-adaptive"
+seed = 2024
+
+[grid]
+width = [0.2]
+aspect = [4]
+pga = { min = 0.05, max = 3.0 }
+
+[uncertainty]
+restitution = { dist = "uniform", min = 0.2, max = 0.6 }
+mu_s = { dist = "lognormal", median = 0.5, beta = 0.15 }
+mu_k_over_mu_s = { dist = "uniform", min = 0.75, max = 0.95 }
+
+[fragility]
+bootstrap = 300
+precision = { median = 0.10, beta = 0.3 }
+"#;
+
+fn study(text: &str) -> Study {
+    Study::from_toml(text, Path::new("vase-adaptive.toml")).unwrap()
+}
+
+fn opts(dir: &Path, threads: usize) -> RunOptions {
+    RunOptions {
+        threads,
+        ..RunOptions::new(dir)
+    }
+}
+
+fn read(dir: &Path, name: &str) -> Vec<u8> {
+    std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+const OUTPUTS: [&str; 3] = ["outcomes.csv", "adaptive.csv", "fragility.csv"];
+
+/// The rounds depend only on the rows so far, which are in canonical
+/// order: one and two threads give the same files, and a run stopped after
+/// two rounds and run again replays them from its checkpoint to the same
+/// bytes, solving only what was not done.
+#[test]
+fn same_bytes_on_one_and_two_threads_and_after_a_kill() {
+    let s = study(VASE);
+    let tmp = tempfile::tempdir().unwrap();
+    let (one, two, killed) = (
+        tmp.path().join("one"),
+        tmp.path().join("two"),
+        tmp.path().join("killed"),
+    );
+    let r1 = pipeline::run(&s, &opts(&one, 1)).unwrap();
+    let r2 = pipeline::run(&s, &opts(&two, 2)).unwrap();
+    assert!(r1.run.complete && r2.run.complete);
+    let rounds = r1.adaptive.as_ref().unwrap().rounds;
+    assert!(
+        rounds >= 3,
+        "at least the minimum of 3 rounds, got {rounds}"
+    );
+    let stop = RunOptions {
+        stop_after_units: Some(2),
+        ..opts(&killed, 2)
+    };
+    let first = pipeline::run(&s, &stop).unwrap();
+    assert!(!first.run.complete, "stopped after 2 of {rounds} rounds");
+    assert!(killed.join("adaptive-checkpoint.json").exists());
+    let second = pipeline::run(&s, &opts(&killed, 1)).unwrap();
+    assert!(second.run.complete);
+    assert_eq!(
+        first.run.analyses_run + second.run.analyses_run,
+        r1.run.analyses_run,
+        "the resumed run solves only what the killed one had not"
+    );
+    assert!(!killed.join("adaptive-checkpoint.json").exists());
+    for name in OUTPUTS {
+        assert!(
+            read(&one, name) == read(&two, name),
+            "{name}: 1 vs 2 threads"
+        );
+        assert!(
+            read(&one, name) == read(&killed, name),
+            "{name}: after a kill"
+        );
+    }
+}
+
+/// A case stops when its bootstrap band is below 95 % of the target (the
+/// margin), after at least 100 analyses; the band it reports is the one
+/// fragility.csv has, and the analyses went mostly near the median.
+#[test]
+fn a_case_stops_when_its_band_meets_the_target() {
+    let s = study(VASE);
+    let tmp = tempfile::tempdir().unwrap();
+    let report = pipeline::run(&s, &opts(tmp.path(), 2)).unwrap();
+    let a = report.adaptive.unwrap();
+    let case = &a.cases[0];
+    assert_eq!(case.stop.status(), "met");
+    assert!(case.analyses() >= 100, "{} analyses", case.analyses());
+    let band = case.bands[0].1.unwrap();
+    assert!(band.median_half() <= 0.95 * 0.10, "±{}", band.median_half());
+    assert!(band.beta_half() <= 0.95 * 0.3, "β ±{}", band.beta_half());
+    let fragility = String::from_utf8(read(tmp.path(), "fragility.csv")).unwrap();
+    let lo = format!("{}", band.median_band.0);
+    assert!(fragility.contains(&lo), "fragility.csv has the band {lo}");
+    // Fisher information puts most analyses after the coarse round within
+    // a factor 1.5 of θ (a fixed grid over 0.05–3 g puts 2 of its 12
+    // levels there).
+    let levels = s.intensity.levels();
+    let near: usize = case
+        .counts
+        .iter()
+        .zip(levels)
+        .filter(|(_, x)| (**x / band.median).ln().abs() < 1.5f64.ln())
+        .map(|(n, _)| n)
+        .sum();
+    let placed = case.analyses() - 30; // after the coarse round
+    assert!(
+        2 * near > placed,
+        "{near} of {placed} placed analyses near θ = {}: {:?}",
+        band.median,
+        case.counts
+    );
+    let summary = String::from_utf8(read(tmp.path(), "summary.md")).unwrap();
+    assert!(summary.contains("## Precision") && summary.contains("| met |"));
+}
+
+/// A vase that cannot overturn below 0.12 g: the case stops early, with a
+/// message naming the case and the range, instead of extrapolating.
+#[test]
+fn a_median_above_the_range_stops_the_case_with_a_message() {
+    let text = VASE.replace("max = 3.0", "max = 0.12");
+    let s = study(&text);
+    let tmp = tempfile::tempdir().unwrap();
+    let report = pipeline::run(&s, &opts(tmp.path(), 2)).unwrap();
+    let case = &report.adaptive.unwrap().cases[0];
+    assert_eq!(case.stop.status(), "outside_range");
+    assert!(case.analyses() < 100, "stopped early: {}", case.analyses());
+    let rockfrag::study::adaptive::Stop::Outside(message) = &case.stop else {
+        unreachable!()
+    };
+    for words in ["a4_w0p2_edrawn_mudrawn", "above the range 0.05 to 0.12 g"] {
+        assert!(message.contains(words), "{message}");
+    }
+    let summary = String::from_utf8(read(tmp.path(), "summary.md")).unwrap();
+    assert!(summary.contains(message.as_str()));
+}
+
+/// The canonical spec of an adaptive study keeps the range (not the
+/// lattice) and reads back to the same study.
+#[test]
+fn canonical_spec_keeps_the_range() {
+    let s = study(VASE);
+    let toml = s.to_toml();
+    assert!(toml.contains("min = 0.05"), "{toml}");
+    let back = Study::from_toml_unchecked(&toml, Path::new("vase-adaptive.toml")).unwrap();
+    assert_eq!(back, s);
+    // the lattice: 20 levels a decade over 0.05–3 g, both ends
+    assert_eq!(s.intensity.levels().len(), 37);
+}
+
+#[test]
+fn bad_adaptive_specs_name_the_field() {
+    let cases = [
+        (
+            VASE.replace("precision = { median = 0.10, beta = 0.3 }", ""),
+            "grid.pga",
+        ),
+        (
+            VASE.replace("pga = { min = 0.05, max = 3.0 }", "pga = [0.1, 0.2]"),
+            "fragility.precision",
+        ),
+        (VASE.replace("max = 3.0", "max = 0.06"), "grid.pga.max"),
+        (VASE.replace("min = 0.05", "min = -1"), "grid.pga.min"),
+        (
+            VASE.replace("median = 0.10", "median = 5"),
+            "fragility.precision.median",
+        ),
+        (
+            VASE.replace("bootstrap = 300", "bootstrap = 0"),
+            "fragility.bootstrap",
+        ),
+        (
+            VASE.replace("[fragility]", "[fragility]\nmax_analyses = 10"),
+            "fragility.max_analyses",
+        ),
+    ];
+    for (text, field) in cases {
+        let err = Study::from_toml(&text, Path::new("vase-adaptive.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("vase-adaptive.toml") && err.contains(field),
+            "{field}: {err}"
+        );
+    }
+    let s = study(VASE);
+    let tmp = tempfile::tempdir().unwrap();
+    let sharded = RunOptions {
+        shard: Shard::new(1, 2).unwrap(),
+        ..opts(tmp.path(), 1)
+    };
+    let err = pipeline::run(&s, &sharded).unwrap_err().to_string();
+    assert!(
+        err.contains("--shard") && err.contains("one case per job"),
+        "{err}"
+    );
+    assert!(!tmp.path().join("outcomes.csv").exists());
+}
+
+/// `rockfrag run SPEC --precision 0.05` on a fixed grid sizes it from a
+/// pilot: per case, the pilot's band and the records per level for ±5 %
+/// (at least the pilot's 10, more when its band is wider), and writes
+/// nothing where it runs. An adaptive spec is refused.
+#[test]
+fn precision_flag_sizes_a_fixed_grid_from_a_pilot() {
+    let tmp = tempfile::tempdir().unwrap();
+    let fixed = VASE
+        .replace(
+            "pga = { min = 0.05, max = 3.0 }",
+            "pga = [0.2, 0.3, 0.4, 0.5, 0.6, 0.8]",
+        )
+        .replace("precision = { median = 0.10, beta = 0.3 }", "");
+    std::fs::write(tmp.path().join("fixed.toml"), fixed).unwrap();
+    std::fs::write(tmp.path().join("adaptive.toml"), VASE).unwrap();
+    let run = |spec: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_rockfrag"))
+            .args(["run", spec, "--precision", "0.05"])
+            .current_dir(tmp.path())
+            .output()
+            .unwrap()
+    };
+    let out = run("fixed.toml");
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    let text = common::stdout(&out);
+    assert!(text.contains("pilot: 10 records × 6 levels"), "{text}");
+    let line = text
+        .lines()
+        .find(|l| l.contains("a4_w0p2_edrawn_mudrawn overturning"))
+        .unwrap_or_else(|| panic!("{text}"));
+    // "pilot ±P %; about N records per level": N = 10 (P/5)², rounded up
+    let number = |after: &str| -> f64 {
+        let rest = &line[line.find(after).unwrap() + after.len()..];
+        rest.split([' ', '%']).next().unwrap().parse().unwrap()
+    };
+    let (p, n) = (number("pilot ±"), number("about "));
+    let expected = (10.0 * (p / 5.0).powi(2)).max(10.0);
+    assert!((n - expected).abs() <= 0.1 * expected + 1.0, "{line}");
+    let mut left: Vec<String> = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["adaptive.toml", "fixed.toml"], "nothing written");
+    let refused = run("adaptive.toml");
+    assert!(!refused.status.success());
+    assert!(common::stderr(&refused).contains("is adaptive"));
+}
