@@ -42,28 +42,34 @@ struct Window {
 
 impl Window {
     /// Takes in the ground (ẍg, ÿg) = (`ax`, `ay`) of one instant; the
-    /// friction margins only with μs finite, A_hi and min(g + ÿg) only for a
-    /// `bouncing` cascade (e > 0).
+    /// friction margins only with `FRICTION` (μs finite), A_hi and
+    /// min(g + ÿg) only for a `BOUNCING` cascade (e > 0).
     #[inline(always)]
-    fn include(&mut self, bl: &Block, mu_s: f64, bouncing: bool, ax: f64, ay: f64) {
+    fn include<const FRICTION: bool, const BOUNCING: bool>(
+        &mut self,
+        bl: &Block,
+        mu_s: f64,
+        ax: f64,
+        ay: f64,
+    ) {
         for s in [-1.0, 1.0] {
             let c = ph::rock_contact_sc(bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
             // eq. (1) at θ = 0 on side s: ψ̈ = sθ̈ = −A_s
             self.lo_min = self.lo_min.min(-s * c.alpha);
             self.n_margin = self.n_margin.min(c.n - 0.5 * (bl.g + ay));
-            if mu_s.is_finite() {
+            if FRICTION {
                 self.f_margin = self.f_margin.min(mu_s * c.n - c.f.abs());
             }
-            if bouncing {
+            if BOUNCING {
                 self.a_hi = self.a_hi.max(-s * c.alpha);
             }
         }
-        if mu_s.is_finite() {
+        if FRICTION {
             self.rest_margin = self.rest_margin.min(mu_s * (bl.g + ay) - ax.abs());
         }
         self.ax_max = self.ax_max.max(ax.abs());
         self.gy_max = self.gy_max.max((bl.g + ay).abs());
-        if bouncing {
+        if BOUNCING {
             self.g_min = self.g_min.min(bl.g + ay);
         }
     }
@@ -128,6 +134,30 @@ impl Run<'_> {
             Some((mu_s, _)) if impact::rock_impact_mu(&bl) < mu_s => mu_s,
             Some(_) => return false,
         };
+        // one copy of the bounds per kind of cascade, each with only its own
+        // terms (the e = 0, infinite-friction one as lean as it always was)
+        match (mu_s.is_finite(), bouncing) {
+            (false, false) => self.cascade_bounds::<false, false>(t, rs, series, eta, mu_s),
+            (false, true) => self.cascade_bounds::<false, true>(t, rs, series, eta, mu_s),
+            (true, false) => self.cascade_bounds::<true, false>(t, rs, series, eta, mu_s),
+            (true, true) => self.cascade_bounds::<true, true>(t, rs, series, eta, mu_s),
+        }
+    }
+
+    /// The bounds of [`Run::cascade_settles`] over the coming samples, for
+    /// Housner's ratio `eta` and static friction `mu_s` (`FRICTION`: finite),
+    /// of a cascade whose rock impacts bounce (`BOUNCING`: e > 0) or not.
+    fn cascade_bounds<const FRICTION: bool, const BOUNCING: bool>(
+        &mut self,
+        t: f64,
+        rs: &RockState,
+        series: Option<(Velocity, f64, f64, f64)>,
+        eta: f64,
+        mu_s: f64,
+    ) -> bool {
+        let bl = self.bl;
+        let n = self.acc.len();
+        let bouncing = BOUNCING;
         let u0 = rs.omega.abs();
         // e > 0: the rotation the series left, on the side the block rocks
         let psi0 = rs.s * rs.theta;
@@ -158,12 +188,12 @@ impl Run<'_> {
         // bounds only grow with the window)
         let t_far = k_end as f64 * self.dt;
         let at_start = self.segment(k0).at(t);
-        w.include(&bl, mu_s, bouncing, at_start.0, at_start.1);
+        w.include::<FRICTION, BOUNCING>(&bl, mu_s, at_start.0, at_start.1);
         for k in k0..k_end {
             let seg = self.segment(k);
             let tw = (k + 1) as f64 * self.dt;
             let (ax, ay) = seg.at(tw);
-            w.include(&bl, mu_s, bouncing, ax, ay);
+            w.include::<FRICTION, BOUNCING>(&bl, mu_s, ax, ay);
             let Window {
                 lo_min,
                 ax_max,
@@ -261,7 +291,7 @@ impl Run<'_> {
             // speed of the cascade, its fastest landing) plus
             // R (ψm |θ̈| + |Δθ̈|) ≤ 2 R k ψm (|ẍg| + |g + ÿg|) each, so
             // μs N − |F| falls by at most (1 + μs) times that.
-            if mu_s.is_finite() {
+            if FRICTION {
                 let dev = bl.r * (w2 + 2.0 * kk * psi_m * (ax_max + gy_max));
                 if f_margin <= (1.0 + mu_s) * dev {
                     return false;
