@@ -124,8 +124,9 @@ def taylor_lines(path):
 SOLVER_FILES = [
     ("event searches (scan.rs, roots.rs: first descent, Newton, Brent)",
      ("solver/scan.rs", "solver/roots.rs")),
-    ("impacts and the cascade and chatter rules (impact.rs, impacts.rs, chatter.rs)",
-     ("solver/impact.rs", "driver/impacts.rs", "driver/chatter.rs")),
+    ("impacts and the cascade and chatter rules (impact.rs, impacts.rs, cascade.rs, chatter.rs)",
+     ("solver/impact.rs", "driver/impacts.rs", "driver/cascade.rs",
+      "driver/chatter.rs")),
     ("flight and its landing searches (flight.rs)", ("driver/flight.rs",)),
     ("rock steps: the step loop, event checks on the series, θmax, μ demand (rock.rs)",
      ("driver/rock.rs",)),

@@ -120,10 +120,10 @@ pub struct Outcome {
     /// Time of the first impact, if any.
     pub first_impact_time: Option<f64>,
     /// Time spent in each mode, in the order of [`Mode::ALL`] (s; they sum
-    /// to `end_time`). A cascade of e = 0 rock impacts that the cascade rule
+    /// to `end_time`). A cascade of rock impacts that the cascade rule
     /// settles counts as rock for as long as it would have lasted (its
     /// duration in closed form on the ground of its start, within 1e-4 s of
-    /// every impact followed on still ground) and as rest from then on; the
+    /// every impact followed on still ground at e = 0) and as rest from then on; the
     /// history shows the block at rest from the settle. A series of bounces
     /// closed by the chatter rule counts as rock from the closing impact.
     pub time_in_mode: [f64; 5],

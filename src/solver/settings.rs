@@ -100,12 +100,13 @@ pub struct SolverSettings {
     /// is set to rest.
     pub settle_tol: f64,
     /// Settle a cascade of shrinking rock impacts at once when bounds prove it
-    /// dies out before the ground can lift the block again (e = 0, infinite
-    /// friction; the block's later motion is unchanged), and close the tail
-    /// of a series of bounces on one corner in closed form when bounds prove
-    /// it converges onto rock about that corner (e > 0, infinite friction;
-    /// third-order error in the rebound). Default: true; false follows every
-    /// impact. See the solver's module documentation.
+    /// dies out before the ground can lift the block again (e = 0: the
+    /// block's later motion is unchanged; e > 0 once its series are closed),
+    /// and close the tail of a series of bounces on one corner in closed form
+    /// when bounds prove it converges onto rock about that corner (e > 0;
+    /// third-order error in the rebound). Under Coulomb friction both apply
+    /// only while bounds prove nothing can slip. Default: true; false follows
+    /// every impact. See the solver's module documentation.
     pub settle_cascades: bool,
     /// Largest number of events in one analysis before it is abandoned as
     /// stalled (default: 1,000,000).

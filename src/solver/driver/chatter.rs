@@ -1,4 +1,5 @@
-//! The chatter rule (`settle_cascades`, e > 0, infinite friction): the tail of
+//! The chatter rule (`settle_cascades`, e > 0; infinite friction, or Coulomb
+//! friction with Newton's law while nothing slips): the tail of
 //! a series of shrinking bounces of one corner is closed in one step, with
 //! its drift, rotation and duration summed in closed form (the derivation is
 //! in the driver's module documentation).
@@ -120,9 +121,7 @@ impl Run<'_> {
         let e = self.e;
         // rock about corner `side` means θ on the side s = −side
         let s = -side;
-        if !self.set.settle_cascades
-            || self.fric.is_some()
-            || !(e > 0.0 && e < 1.0)
+        if !(self.set.settle_cascades && e > 0.0 && e < 1.0)
             || s * theta < 0.0
             || (theta == 0.0 && !(s * plastic.omega > 0.0 && 3.0 * bl.sin_c * bl.sin_c < 1.0))
             || n < 2
@@ -146,10 +145,23 @@ impl Run<'_> {
         // forcing, linear between samples: extremes at the ends and samples)
         let mut gmin = bl.g + ay0;
         let (mut ax_max, mut gy_max, mut rate_v) = (ax0.abs(), (bl.g + ay0).abs(), 0.0_f64);
+        // With Coulomb friction (Newton's law, `chatter_due`) the series is
+        // that of infinite friction while nothing slips: the caller checked
+        // that this impact sticks; the later ones are bounded below, and the
+        // rock about the corner over the series by its smallest friction
+        // margin μs N − |F| at (θ, ω_p) (concave in the forcing).
+        let mu_s = self.fric.map_or(f64::INFINITY, |(mu_s, _)| mu_s);
         let (sp, cp) = bl.phi_sin_cos(psi);
-        let rock_n =
-            |ax: f64, ay: f64| ph::rock_contact_sc(&bl, s, sp, cp, plastic.omega, ax, ay).n;
-        let mut n_min = rock_n(ax0, ay0);
+        let rock_c = |ax: f64, ay: f64| ph::rock_contact_sc(&bl, s, sp, cp, plastic.omega, ax, ay);
+        let margin = |c: ph::RockContact| {
+            if mu_s.is_finite() {
+                mu_s * c.n - c.f.abs()
+            } else {
+                f64::INFINITY
+            }
+        };
+        let c0 = rock_c(ax0, ay0);
+        let (mut n_min, mut f_min) = (c0.n, margin(c0));
         for k in k0..(k0 + MAX_SAMPLES).min(n - 1) {
             let seg = self.segment(k);
             let tw = (k + 1) as f64 * self.dt;
@@ -158,7 +170,9 @@ impl Run<'_> {
             ax_max = ax_max.max(ax.abs());
             gy_max = gy_max.max((bl.g + ay).abs());
             rate_v = rate_v.max(seg.v1.abs());
-            n_min = n_min.min(rock_n(ax, ay));
+            let c = rock_c(ax, ay);
+            n_min = n_min.min(c.n);
+            f_min = f_min.min(margin(c));
             let span = tw - t;
             // eq. (1): |θ̈| ≤ k (|ẍg| cosφ + |g + ÿg| |sinφ|), φ = θc − ψ; while
             // ψ ∈ [0, θc] (checked below) |sinφ| ≤ sinθc
@@ -216,19 +230,43 @@ impl Run<'_> {
             if n_min <= bl.r * (w_max * w_max - w0 * w0 + 2.0 * kk * dtheta * (ax_max + gy_max)) {
                 return None;
             }
+            if mu_s.is_finite() {
+                // Rock about the corner does not slip over T: F moves by at most
+                // R ω_max² (centripetal, either way) and, like N, by
+                // 2 R k Δθ (|ẍg| + |g + ÿg|), so μs N − |F| by (1 + μs) times that.
+                let dev_f = bl.r * (w_max * w_max + 2.0 * kk * dtheta * (ax_max + gy_max));
+                if f_min <= (1.0 + mu_s) * dev_f {
+                    return None;
+                }
+                // The later impacts stick. Each meets the corner after a flight of
+                // τ ≤ 2u/(lo − x) from no tangential velocity (Newton's stick), so
+                // at a tangential speed |u_t| ≤ |a_t| τ, |a_t| = |ẍg + ω² r_x| ≤
+                // |ẍg| + ω_max² R, and a normal one |u_n| ≥ u √((lo − x)/(lo + x)):
+                // ζ = |u_t/u_n| ≤ ζmax. The sticking impulse P = K Δu, Δu =
+                // (−u_t, −(1 + e) u_n), has |P_t/P_n| ≤ (c ζ + |b|(1 + e))/(a(1 + e)
+                // − |b| ζ) with K⁻¹ = [[a, b], [b, c]] (impact.rs), taken at
+                // their worst over the series, in which the corner's offset turns
+                // by at most δ = Δθ + k_w h (|Δr_x|, |Δr_y| ≤ R δ).
+                let at_max = ax_max + w_max * w_max * bl.r;
+                let zeta = 2.0 * at_max / (lo - x) * ((lo + x) / (lo - x)).sqrt();
+                let dr = bl.r * (dtheta + dev);
+                let (rx_hi, ry_hi) = (rx.abs() + dr, ry.abs() + dr);
+                let ry_lo = (ry.abs() - dr).max(0.0);
+                let (ka_lo, kb_hi, kc_hi) = (
+                    1.0 + ry_lo * ry_lo / i,
+                    rx_hi * ry_hi / i,
+                    1.0 + rx_hi * rx_hi / i,
+                );
+                let num = kc_hi * zeta + kb_hi * (1.0 + e);
+                let den = ka_lo * (1.0 + e) - kb_hi * zeta;
+                if !(den > 0.0 && num <= mu_s * (1.0 - 1e-12) * den) {
+                    return None;
+                }
+            }
             // The later impacts of the series: each meets the corner after a
             // flight of τ = 2u/a with G's velocity changed by (−ẍg τ, −(g + ÿg) τ),
             // so their impulse ratio is the same for every u; one gives the demand.
-            let a = bl.g + ay0 + newton.omega * newton.omega * ry;
-            let tau = 2.0 * u1 / a;
-            let before = Velocity {
-                vx: newton.vx - ax0 * tau,
-                vy: newton.vy - (bl.g + ay0) * tau,
-                omega: newton.omega,
-            };
-            let r = impact::corner_impact(&bl, &before, rx, ry, e, self.set.impact);
-            let demand = r.friction_demand();
-            let demand_eq5 = impact::eq5_mu(&bl, &before, rx, ry, e);
+            let (demand, demand_eq5) = self.later_impact_demand(&newton, rx, ry, u1, ax0, ay0);
             // The series' sums (drift, duration, the third-order sums); the
             // correction they make to rock about the corner, taken at the
             // drift's centroid, is carried back to this impact by
@@ -259,6 +297,36 @@ impl Run<'_> {
 }
 
 impl Run<'_> {
+    /// The friction demand |P_t/P_n| (and the paper's eq. (5)) of the later
+    /// impacts of a bounce series of the corner at (rx, ry) that rebounds at
+    /// `u1` with the block's velocity `newton`, under the ground (ẍg, ÿg) =
+    /// (`ax`, `ay`): each meets the corner after a flight of τ = 2u/a with G's
+    /// velocity changed by (−ẍg τ, −(g + ÿg) τ), so their impulse ratio is
+    /// the same for every u; one gives the demand.
+    pub(super) fn later_impact_demand(
+        &self,
+        newton: &Velocity,
+        rx: f64,
+        ry: f64,
+        u1: f64,
+        ax: f64,
+        ay: f64,
+    ) -> (f64, f64) {
+        let bl = self.bl;
+        let a = bl.g + ay + newton.omega * newton.omega * ry;
+        let tau = 2.0 * u1 / a;
+        let before = Velocity {
+            vx: newton.vx - ax * tau,
+            vy: newton.vy - (bl.g + ay) * tau,
+            omega: newton.omega,
+        };
+        let r = impact::corner_impact(&bl, &before, rx, ry, self.e, self.set.impact);
+        (
+            r.friction_demand(),
+            impact::eq5_mu(&bl, &before, rx, ry, self.e),
+        )
+    }
+
     /// The rock state a closed bounce series leaves at `t0`, the instant it
     /// is closed: `rs`, rock about the corner from the plastic impact, with
     /// the series' correction (module documentation) carried back from the

@@ -72,8 +72,15 @@ impl Run<'_> {
                 if self.e > 0.0 && self.fric.is_none() && self.set.rock_impact == RockImpact::Rock {
                     return Ok(self.rock_impact_no_flight(t, fs, &rs));
                 }
-                match self.impacts(t, fs, rs.s) {
-                    State::Rock(after) if self.cascade_settles(t, &after) => {
+                let after = self.impacts(t, fs, rs.s);
+                // the series the chatter rule closed at this impact (e > 0), if any
+                let series = self
+                    .closed_series
+                    .take()
+                    .filter(|c| c.0 == t)
+                    .map(|(_, v, rx, ry, u)| (v, rx, ry, u));
+                match after {
+                    State::Rock(after) if self.cascade_settles(t, &after, series) => {
                         self.out.settles += 1;
                         State::Rest
                     }

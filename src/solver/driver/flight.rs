@@ -74,9 +74,11 @@ impl Run<'_> {
             // try the chatter rule here; only a success needs the event loop
             // (whose `impacts` takes this result), a failure bounces on as
             // `impacts` would
-            let (plastic, _) = self.hit(&vel, rx, ry, 0.0);
-            if let Some(ch) =
-                self.try_chatter(t, fs.theta, side, rx, ry, r.after, un_after, plastic.after)
+            let (plastic, plastic_demand) = self.hit(&vel, rx, ry, 0.0);
+            if self.sticks(demand)
+                && self.sticks(plastic_demand)
+                && let Some(ch) =
+                    self.try_chatter(t, fs.theta, side, rx, ry, r.after, un_after, plastic.after)
             {
                 self.chatter_tried = Some((t, side, ch));
                 return None;

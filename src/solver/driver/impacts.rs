@@ -1,10 +1,9 @@
-//! Sequential corner impacts and the choice of the mode after them; the
-//! cascade rule and the chatter rule's place (see the driver's module
-//! documentation).
+//! Sequential corner impacts and the choice of the mode after them, and the
+//! chatter rule's place in them (see the driver's module documentation;
+//! the cascade rule is in `cascade.rs`).
 
 use super::{Chatter, FlightState, RockState, Run, SlideState, State};
-use crate::outcome::Mode;
-use crate::solver::impact::{self, ImpactResult, Velocity};
+use crate::solver::impact::{self, ImpactLaw, ImpactResult, Velocity};
 use crate::solver::physics as ph;
 
 impl Run<'_> {
@@ -47,8 +46,18 @@ impl Run<'_> {
                 // with this impact made plastic, its sums carried into the rock
                 // state (`close_series`)
                 let (plastic, plastic_demand) = hit(0.0);
-                if let Some(ch) =
-                    self.try_chatter(t, pose.theta, sd, rx, ry, r.after, un_after, plastic.after)
+                if self.sticks(demand)
+                    && self.sticks(plastic_demand)
+                    && let Some(ch) = self.try_chatter(
+                        t,
+                        pose.theta,
+                        sd,
+                        rx,
+                        ry,
+                        r.after,
+                        un_after,
+                        plastic.after,
+                    )
                 {
                     self.out.mu_impact = self.out.mu_impact.max(demand).max(ch.demand);
                     self.out.mu_impact_eq5 = self
@@ -57,6 +66,10 @@ impl Run<'_> {
                         .max(impact::eq5_mu(&bl, &vel, rx, ry, self.e))
                         .max(ch.demand_eq5);
                     series_end = Some((sd, ch.end));
+                    if pose.theta == 0.0 {
+                        // a rock impact: for the cascade rule
+                        self.closed_series = Some((t, r.after, rx, ry, un_after));
+                    }
                     (r, demand) = (plastic, plastic_demand);
                     e_applied = 0.0;
                     self.out.settles += 1;
@@ -152,13 +165,15 @@ impl Run<'_> {
     }
 
     /// True if a bounce of corner `side` rebounding at `u` is one the chatter
-    /// rule tries to close: the rule applies (e in (0, 1), infinite friction),
-    /// the rebound is below `CLOSE_TOL`·√(gR), and, after a try on this corner
-    /// failed, it has halved since.
+    /// rule tries to close: the rule applies (e in (0, 1); infinite friction,
+    /// or Coulomb friction with Newton's impact law, under which the series
+    /// is the same while its impacts stick), the rebound is below
+    /// `CLOSE_TOL`·√(gR), and, after a try on this corner failed, it has
+    /// halved since.
     #[inline]
     pub(super) fn chatter_due(&self, side: f64, u: f64) -> bool {
         self.set.settle_cascades
-            && self.fric.is_none()
+            && (self.fric.is_none() || self.set.impact == ImpactLaw::Newton)
             && self.e > 0.0
             && self.e < 1.0
             && u <= self.v_close
@@ -194,6 +209,16 @@ impl Run<'_> {
             (side, 0.5 * u1)
         };
         tried
+    }
+
+    /// True if an impact asking for friction `demand` (|P_t/P_n| of the
+    /// sticking impulse) sticks: always under infinite friction, and under
+    /// Coulomb friction if demand ≤ μs, with a hair of margin so that the test
+    /// holds whatever the rounding of `corner_impact_friction`'s own.
+    #[inline]
+    pub(super) fn sticks(&self, demand: f64) -> bool {
+        self.fric
+            .is_none_or(|(mu_s, _)| demand <= mu_s * (1.0 - 1e-12))
     }
 
     /// One impact of the corner at offset (rx, ry) from G with restitution
@@ -242,133 +267,6 @@ impl Run<'_> {
         if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
             self.out.energy_gains += 1;
         }
-    }
-
-    /// The cascade rule (module documentation): true if the rock impacts that
-    /// follow a rock impact at `t`, leaving the block in `rs` (θ = 0), provably
-    /// die out before the ground can lift the block. Then the cascade's
-    /// friction demand is noted and the caller sets the block to rest.
-    pub(super) fn cascade_settles(&mut self, t: f64, rs: &RockState) -> bool {
-        /// Longest window, in record samples, over which the bounds are sought.
-        const MAX_SAMPLES: usize = 64;
-        let bl = self.bl;
-        // Housner's ratio of angular velocities at a rock impact with e = 0
-        let eta = impact::rock_impact_ratio(&bl, 0.0);
-        let n = self.acc.len();
-        if !self.set.settle_cascades
-            || self.fric.is_some()
-            || self.e != 0.0
-            || rs.theta != 0.0
-            || !(eta > 0.0 && eta < 1.0)
-            || n < 2
-        {
-            return false;
-        }
-        let u0 = rs.omega.abs();
-        let kk = 0.75 / bl.r; // eq. (1): I_O = 4mR²/3
-        // Over the window: the smallest A_s (either side), the largest |ẍg| and
-        // |g + ÿg|, the smallest N − (g + ÿg)/2 at θ = 0, θ̇ = 0 (all affine in
-        // the forcing, which is linear between samples, so extremes are at the
-        // window's ends and at samples), and the largest |dA_s/dt|.
-        let (mut lo_min, mut ax_max, mut gy_max, mut n_margin, mut rate) =
-            (f64::INFINITY, 0.0_f64, 0.0_f64, f64::INFINITY, 0.0_f64);
-        let mut include = |ax: f64, ay: f64| {
-            for s in [-1.0, 1.0] {
-                let c = ph::rock_contact_sc(&bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
-                // eq. (1) at θ = 0 on side s: ψ̈ = sθ̈ = −A_s
-                lo_min = lo_min.min(-s * c.alpha);
-                n_margin = n_margin.min(c.n - 0.5 * (bl.g + ay));
-            }
-            ax_max = ax_max.max(ax.abs());
-            gy_max = gy_max.max((bl.g + ay).abs());
-            (lo_min, ax_max, gy_max, n_margin)
-        };
-        let k0 = ((t / self.dt) as usize).min(n - 2);
-        let at_start = self.segment(k0).at(t);
-        include(at_start.0, at_start.1);
-        for k in k0..(k0 + MAX_SAMPLES).min(n - 1) {
-            let seg = self.segment(k);
-            let tw = (k + 1) as f64 * self.dt;
-            let (ax, ay) = seg.at(tw);
-            let (lo_min, ax_max, gy_max, n_margin) = include(ax, ay);
-            rate = rate.max(kk * (seg.v1.abs() * bl.sin_c + seg.a1.abs() * bl.cos_c));
-            if lo_min <= 0.0 || n_margin <= 0.0 {
-                // the ground can lift the block within the window, or the
-                // pivot's normal force comes near 0 (bounds on N below)
-                return false;
-            }
-            // A bounce leaving at u ≤ u0 on side s lasts τ, during which its
-            // restoring acceleration stays within A* ± x of the value A* ≥ lo_min
-            // at its start: x = rate·τ + δ, with δ = k ψm (|ẍg| + |g + ÿg|) the
-            // change of eq. (1) over the bounce's height ψ ≤ ψm (|Δsin|,
-            // |Δcos| ≤ ψm). First, while x ≤ lo_min/2: τ ≤ 2u/(A* − x) ≤
-            // 4u0/lo_min and ψ ≤ u²/(2(A* − x)) ≤ u0²/lo_min, which bounds x by x0.
-            let psi_m0 = u0 * u0 / lo_min;
-            let x0 = rate * 4.0 * u0 / lo_min + kk * psi_m0 * (ax_max + gy_max);
-            if x0 > 0.5 * lo_min {
-                return false;
-            }
-            // Then, with x ≤ x0: τ ≤ 2u0/(lo_min − x0), ψ ≤ u0²/(2(lo_min − x0)).
-            let psi_m = 0.5 * u0 * u0 / (lo_min - x0);
-            let x = rate * 2.0 * u0 / (lo_min - x0) + kk * psi_m * (ax_max + gy_max);
-            // it lands at most √((A* + x)/(A* − x)) ≤ √((lo_min + x)/(lo_min − x))
-            // faster than it left, and the impact multiplies the speed by η
-            let rho = eta * ((lo_min + x) / (lo_min - x)).sqrt();
-            if rho >= 1.0 {
-                // a longer window only widens the bounds
-                return false;
-            }
-            // Σ τₙ ≤ Σ 2uₙ/(lo_min − x) with uₙ ≤ ρⁿ u0
-            let t_cascade = 2.0 * u0 / ((lo_min - x) * (1.0 - rho));
-            if t + t_cascade > tw {
-                continue;
-            }
-            if psi_m > self.out.theta_max_over_theta_c * bl.theta_c {
-                // the cascade might set the peak rotation: follow it
-                return false;
-            }
-            // The pivot stays in compression: N (eq. (1)'s reactions) exceeds
-            // (g + ÿg)/2 over the window at θ = 0, θ̇ = 0 by n_margin, and a
-            // bounce changes it by at most R u0² (the centripetal term) plus
-            // R (ψm |θ̈| + sinθc |Δθ̈|) ≤ 2 R k ψm (|ẍg| + |g + ÿg|).
-            if n_margin <= bl.r * (u0 * u0 + 2.0 * kk * psi_m * (ax_max + gy_max)) {
-                return false;
-            }
-            // The cascade's friction demand: the contact forces at θ = 0,
-            // θ̇ = 0 on either side at its two ends.
-            let k1 = (((t + t_cascade) / self.dt) as usize).clamp(k0, k);
-            let ends = [at_start, self.segment(k1).at(t + t_cascade)];
-            let mut demand = 0.0_f64;
-            for (ax, ay) in ends {
-                for s in [-1.0, 1.0] {
-                    let c = ph::rock_contact_sc(&bl, s, bl.sin_c, bl.cos_c, 0.0, ax, ay);
-                    demand = demand.max(c.f.abs() / c.n);
-                }
-            }
-            self.out.mu_motion = self.out.mu_motion.max(demand);
-            // The cascade's duration, counted as rock rather than rest. On
-            // the ground frozen at the cascade's start, side s restores at
-            // A(ψ) = k[(g + ÿg) sin(θc − ψ) − s ẍg cos(θc − ψ)] = A_s − c_s ψ
-            // + O(ψ²), so a bounce leaving at u lands at u after
-            // (2/λ) atanh(uλ/A_s) = 2u/A_s + (2/3) c_s u³/A_s³ + O(u⁵),
-            // λ² = c_s; the bounces alternate sides, bounce n leaving at
-            // uₙ = ηⁿu0, so the sum is geometric (module documentation). It
-            // ends within the window, where rest cannot break (capped at the
-            // bound `t_cascade`, which it is below: A_s ≥ lo_min, η ≤ ρ).
-            let (ax, gy) = (at_start.0, bl.g + at_start.1);
-            let a_s = |s: f64| kk * (gy * bl.sin_c - s * ax * bl.cos_c);
-            let c_s = |s: f64| kk * (gy * bl.cos_c + s * ax * bl.sin_c);
-            let (a0, a1) = (a_s(rs.s), a_s(-rs.s));
-            let (e2, e3) = (eta * eta, eta * eta * eta);
-            let t_rock = (2.0 * u0 * (1.0 / a0 + eta / a1) / (1.0 - e2)
-                + 2.0 / 3.0 * u0 * u0 * u0 / (1.0 - e3 * e3)
-                    * (c_s(rs.s) / (a0 * a0 * a0) + e3 * c_s(-rs.s) / (a1 * a1 * a1)))
-                .min(t_cascade);
-            self.out.time_in_mode[Mode::Rock.index()] += t_rock;
-            self.out.time_in_mode[Mode::Rest.index()] -= t_rock;
-            return true;
-        }
-        false
     }
 
     /// Both corners down, no velocity: rest at the current footprint.

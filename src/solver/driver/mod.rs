@@ -21,7 +21,7 @@
 //! approaching fastest (sequential impacts), at most 64 times, after which
 //! the block is set down flat and still.
 //!
-//! Cascade rule (`settle_cascades`, e = 0 and infinite friction): after a rock
+//! Cascade rule (`settle_cascades`; e = 0, and e > 0 below): after a rock
 //! impact, a block rocking on alternate corners with a shrinking speed u
 //! (uₙ₊₁ = η·uₙ on landing, η = 1 − 1.5 sin²θc) makes an endless cascade of
 //! ever shorter bounces that the ε rule only ends after dozens of impacts.
@@ -48,13 +48,34 @@
 //! followed, on still ground from θc/2; capped at the bound above, inside
 //! the window, so the block is at rest for at least that long).
 //!
+//! Under Coulomb friction (`cascade.rs`) the cascade is the same motion,
+//! impulse for impulse, as long as nothing in it slips, since a sticking
+//! impact gives the infinite-friction impulse and a stuck pivot the same
+//! rock: its rock impacts strike at θ = 0, where the new corner moves
+//! straight down, so each asks for eq. (8)'s μ_imp whatever its speed (the
+//! rule needs μ_imp < μs); its bounces keep μs N − |F| > 0, bounded below
+//! over the window like N (F and N move by at most R w² + 2Rkψm(|ẍg| +
+//! |g + ÿg|) each, w the cascade's fastest speed); and the rest it is set to
+//! cannot break into sliding within the window, |ẍg| < μs (g + ÿg). With
+//! e > 0 (Newton's law) each rock impact of the cascade starts a bounce
+//! series on the new corner, and the rule is tried only once the chatter
+//! rule (below) has closed the first: the bounds then take in what a series
+//! started at an impact of speed v ≤ v_top can do (`Run::series_bounds`, the
+//! chatter rule's bounds per power of v): it ends before the block can rock
+//! back, it changes rock about the new corner by |Δθ| ≤ c_θ v² and
+//! |Δθ̇| ≤ c_ω v², so the next excursion leaves at most η_e = √((η +
+//! c_ω v_top)² + 2A_hi c_θ) times as fast, which replaces η in ρ; and under
+//! Coulomb friction its impacts stick. The series' friction demands are
+//! taken, as the chatter rule takes them, at the window's two ends.
+//!
 //! Friction demand `mu_motion`: |F|/N at the end of every rock step with
 //! N > 0. Steps that end beyond θc are held apart until a step ends within
 //! θc again (then they count) or the run ends: a run that overturns leaves
 //! out its final fall, where N → 0 and |F|/N grows without bound; a run
 //! that does not keeps them all ([`Outcome::mu_motion`]).
 //!
-//! Chatter rule (`settle_cascades`, e > 0 and infinite friction). With
+//! Chatter rule (`settle_cascades`, e > 0; infinite friction, or Coulomb
+//! friction with Newton's law while nothing slips). With
 //! e > 0 a rock impact starts a series of bounces on the new corner B: the
 //! block flies, B lands, rebounds at e times its landing speed, and so on,
 //! dozens of times, while the block rocks about B underneath. Take B's place
@@ -120,6 +141,15 @@
 //! series counts one impact and one in `settles`; its later impacts' friction
 //! demand (all with the same impulse ratio, since they scale with u) is
 //! taken from one of them; its flights are not counted in `flights`.
+//! Under Coulomb friction the series is that of infinite friction as long
+//! as every impact sticks and the rock about B does not slip: the closing
+//! impact and its plastic twin must stick, μs N − |F| of rock about B is
+//! bounded below over the window as N is, and the later impacts, each
+//! meeting the ground after a flight of τ ≤ 2u/(lo − x) from no tangential
+//! velocity (Newton's stick), arrive with |u_t/u_n| ≤ ζ = 2|a_t|max/(lo − x)
+//! ·√((lo + x)/(lo − x)), so their sticking impulse asks for at most (c ζ +
+//! |b|(1 + e))/(a(1 + e) − |b| ζ) < μs (K⁻¹ = [[a, b], [b, c]] at its worst
+//! as the corner turns over the series).
 //!
 //! Rock-impact rule (`rock_impact`): by default a rock impact with e > 0 is
 //! resolved by the impact law in full (the block flies and rings down on the
@@ -136,12 +166,14 @@
 //!
 //! The driver's own files, one per mode and concern: `rest`, `slide` (slide
 //! and slide-rock), `rock`, `flight`; `events` (reset maps), `impacts`
-//! (sequential impacts and the cascade rule), `chatter` (the chatter rule);
+//! (sequential impacts), `cascade` (the cascade rule), `chatter` (the chatter
+//! rule);
 //! `stepping` (the Dormand–Prince
 //! loop shared by rock and slide-rock); `bookkeeping` (peaks, slip, energy
 //! audit, history rows).
 
 mod bookkeeping;
+mod cascade;
 mod chatter;
 mod events;
 mod flight;
@@ -153,6 +185,7 @@ mod stepping;
 
 use super::block::Block;
 use super::history::History;
+use super::impact::Velocity;
 use super::physics as ph;
 use super::settings::{Analysis, Friction, Integrator, Model, SolverSettings};
 use crate::error::{Error, Result};
@@ -402,6 +435,10 @@ struct Run<'a> {
     /// ([`Run::bounce`]), for the event loop's impact at the same instant:
     /// (time, corner, result).
     chatter_tried: Option<(f64, f64, Chatter)>,
+    /// The bounce series the chatter rule last closed at a rock impact, for
+    /// the cascade rule at the same instant: (time, the velocity the Newton
+    /// impact left, the corner's offset (r_x, r_y), its rebound).
+    closed_series: Option<(f64, Velocity, f64, f64, f64)>,
     /// Contact distance of the two-contact rule (m).
     h_touch: f64,
     /// Coulomb friction (μs, μk), or `None` for infinite friction.
@@ -457,6 +494,7 @@ impl<'a> Run<'a> {
             v_close: CLOSE_TOL * (bl.g * bl.r).sqrt(),
             chatter_retry: (0.0, f64::INFINITY),
             chatter_tried: None,
+            closed_series: None,
             h_touch: 1e-9 * bl.b,
             fric: match an.friction {
                 Friction::Infinite => None,
