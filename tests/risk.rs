@@ -12,6 +12,7 @@ mod common;
 use std::path::Path;
 
 use rockfrag::figures::{Format, RiskFigure, save};
+use rockfrag::im::Im;
 use rockfrag::risk::{
     HazardCurve, HazardSource, RISK_HEADER, RiskOptions, assess, read_fragility, read_hazard,
     risk_integral,
@@ -122,7 +123,7 @@ fn openquake_power_law_matches_the_closed_form() {
     for (site, &(lon, k0)) in sites.iter().enumerate() {
         let h = read_hazard(&path, Some(site))
             .unwrap()
-            .in_unit_of("pga")
+            .in_unit_of(Im::PGA)
             .unwrap();
         match &h.source {
             HazardSource::OpenQuake {
@@ -303,11 +304,14 @@ fn the_imt_must_match_the_fit() {
         "hazard_curve-mean-PGV_1.csv",
         &openquake_file("PGV", 50.0, &iml, 2.0, &[(0.0, 1.0)]),
     );
-    let h = read_hazard(&pgv, None).unwrap().in_unit_of("pgv").unwrap();
+    let h = read_hazard(&pgv, None)
+        .unwrap()
+        .in_unit_of(Im::PGV)
+        .unwrap();
     assert_eq!(h.iml, vec![0.1, 0.2, 0.5, 1.0]);
     let err = read_hazard(&pgv, None)
         .unwrap()
-        .in_unit_of("pga")
+        .in_unit_of(Im::PGA)
         .unwrap_err()
         .to_string();
     assert!(
@@ -323,7 +327,7 @@ fn the_imt_must_match_the_fit() {
     );
     let err = read_hazard(&sa, None)
         .unwrap()
-        .in_unit_of("pga")
+        .in_unit_of(Im::PGA)
         .unwrap_err()
         .to_string();
     assert!(
@@ -522,7 +526,10 @@ fn the_figure_has_one_row_per_case_and_names_unfitted_limit_states() {
     assert!(fragility.bootstrap.is_none());
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("studies/hazard/hazard_curve-mean-PGA_example.csv");
-    let h = read_hazard(&path, None).unwrap().in_unit_of("pga").unwrap();
+    let h = read_hazard(&path, None)
+        .unwrap()
+        .in_unit_of(Im::PGA)
+        .unwrap();
     let rows = assess(&fragility, &h, &RiskOptions::default()).unwrap();
     let figure = RiskFigure::new(&rows, &h);
     assert_eq!(figure.cases.len(), 3);
@@ -677,8 +684,7 @@ fn flat_hazard_segments_contribute_nothing_and_a_zero_rate_is_never() {
         let curve = FittedCurve {
             key: Case::fixed(4.0, 0.5, 0.0, Friction::Infinite),
             limit_state: "overturning".into(),
-            im: "pga".into(),
-            im_unit: "g".into(),
+            im: Im::PGA,
             fit: Some((median, 0.1)),
             status: "ok".into(),
             replicates: Vec::new(),

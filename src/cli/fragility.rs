@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use super::args::choice;
 use anyhow::Context;
 use rockfrag::case::Field;
-use rockfrag::fragility::{BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState};
+use rockfrag::fragility::{BootstrapUnit, FragilityOptions, LimitState};
+use rockfrag::im::Im;
 
 /// Flags of `rockfrag fragility`.
 #[derive(Debug, clap::Args)]
@@ -17,11 +18,13 @@ pub struct FragilityArgs {
     #[arg(value_name = "DIR")]
     pub dir: PathBuf,
     /// Intensity measure the curves are fitted against: PGA in g, PGV in
-    /// m/s (needs a `pgv` column), PGA/(g tan θc) = PGA·H/B, dimensionless,
-    /// or the floor's peak acceleration PFA in g or velocity PFV in m/s (a
-    /// study with `[support] floor`; docs/floor.md).
-    #[arg(long, value_parser = choice::<IntensityMeasure>(IntensityMeasure::names()), default_value_t = IntensityMeasure::default())]
-    pub im: IntensityMeasure,
+    /// m/s, PGA/(g tan θc) = PGA·H/B, dimensionless, the floor's peak
+    /// acceleration PFA in g or velocity PFV in m/s (a study with
+    /// `[support] floor`; docs/floor.md), a record pair's RotD50 PGA or PGV
+    /// (docs/orientation.md) [default: the study's `[fragility] im`, else
+    /// pga, or pga-rotd50 for a study of record pairs]
+    #[arg(long, value_name = "IM", value_parser = im_name)]
+    pub im: Option<Im>,
     /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap
     /// [default: the study's own `[fragility] bootstrap`, else 1000].
     #[arg(long, value_name = "N", value_parser = bootstrap_replicates)]
@@ -71,6 +74,11 @@ fn bootstrap_replicates(text: &str) -> Result<usize, String> {
             rockfrag::fragility::bootstrap_limit()
         )),
     }
+}
+
+/// An intensity measure's name ([`Im`]).
+fn im_name(text: &str) -> Result<Im, String> {
+    text.parse().map_err(|e| format!("expected {e}"))
 }
 
 /// Parses `NAME=MEASURE>THRESHOLD` or `NAME=MEASURE`.

@@ -36,8 +36,8 @@ pub fn write_risk_csv(path: &Path, rows: &[RiskRow], options: &RiskOptions) -> R
                 c.key.id(),
                 c.key.fields(),
                 c.limit_state.clone(),
-                c.im.clone(),
-                c.im_unit.clone(),
+                c.im.name(),
+                c.im.unit().to_string(),
                 opt(c.fit.map(|f| f.0)),
                 opt(c.fit.map(|f| f.1)),
                 opt(r.rate()),
@@ -121,12 +121,9 @@ pub fn survival_cell(row: &RiskRow, years: f64) -> String {
 /// The `## Risk` section of `summary.md`: the hazard used and a table of the
 /// rates, return periods and probabilities over `options.years`.
 pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOptions) -> String {
-    let unit = rows.first().map_or("", |r| r.curve.im_unit.as_str());
-    let unit = if unit.is_empty() || unit == "1" {
-        String::new()
-    } else {
-        format!(" ({unit})")
-    };
+    let unit = rows
+        .first()
+        .map_or(String::new(), |r| r.curve.im.unit_suffix());
     let pct = (options.confidence * 100.0).round();
     let years = number(options.years);
     let mut s = format!(

@@ -15,7 +15,8 @@ use super::study::{
 use super::uncertainty::uncertainty;
 use crate::case::Param;
 use crate::error::{Error, Result, number};
-use crate::fragility::{FragilityOptions, IntensityMeasure};
+use crate::fragility::FragilityOptions;
+use crate::im::Im;
 use crate::motion::{Floor, G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{
@@ -117,13 +118,16 @@ impl SpecFile {
         fragility(&spec, self.fragility.as_ref(), &self.output)?;
         let mut fragility_options = self.fragility;
         // A study of record pairs is fitted against the pair's RotD50 PGA
-        // (what hazard models give) unless the spec names a measure.
+        // (what hazard models give) unless the spec names a measure; any
+        // other against PGA.
         if let Some(options) = &mut fragility_options
-            && motions.orientation().is_some()
-            && options.im == IntensityMeasure::Pga
-            && !names_fragility_im(text)
+            && options.im.is_none()
         {
-            options.im = IntensityMeasure::PgaRotd50;
+            options.im = Some(if motions.orientation().is_some() {
+                Im::PGA_ROTD50
+            } else {
+                Im::PGA
+            });
         }
         if let Some(infer) = &self.infer {
             infer.validate().map_err(|e| spec.nested("", e))?;
@@ -355,16 +359,6 @@ fn no_ensemble(
         }
     }
     Ok(())
-}
-
-/// Whether the spec's text names `[fragility] im` (the raw form cannot
-/// tell a default from a value written).
-fn names_fragility_im(text: &str) -> bool {
-    toml::from_str::<toml::Table>(text).is_ok_and(|t| {
-        t.get("fragility")
-            .and_then(toml::Value::as_table)
-            .is_some_and(|f| f.contains_key("im"))
-    })
 }
 
 /// Whether an `[uncertainty]` table gives nothing but its seed (once the

@@ -298,20 +298,9 @@ pub fn fragility_section(fits: &[FragilityRow]) -> String {
         return format!("{FRAGILITY_HEADING}\n\nNo curves: `fragility.csv` has no rows.\n");
     };
     let im = first.im;
-    let unit = match im.unit() {
-        "1" => String::new(),
-        u => format!(" ({u})"),
-    };
+    let unit = im.unit_suffix();
     let replicates = fits.iter().filter_map(|f| f.boot_replicates).max();
-    let im_text = match im.name() {
-        "pga" => "the PGA in g",
-        "pgv" => "the PGV in m/s",
-        "pfa" => "the floor's peak acceleration PFA in g",
-        "pfv" => "the floor's peak velocity PFV in m/s",
-        "pga-rotd50" => "the RotD50 PGA of the record pair in g",
-        "pgv-rotd50" => "the RotD50 PGV of the record pair in m/s",
-        _ => "PGA/(g tan θc), dimensionless",
-    };
+    let im_text = im.description();
     let mut s = format!(
         "{FRAGILITY_HEADING}\n\nLognormal curves P(limit state | IM) = Φ(ln(IM/θ)/β), IM {im_text}, \
          fitted by maximum likelihood over the stripes (`fragility.csv`; \
