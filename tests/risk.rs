@@ -473,6 +473,29 @@ fn cli_writes_risk_csv_summary_and_figure() {
         (get(1, "status"), get(1, "annual_rate")),
         ("none-overturned", "")
     );
+    // The file's own reader gives back every row as written (the line it
+    // writes again is the file's, byte for byte), typed: the fit's IM, the
+    // band, no rate for the unfitted case.
+    let read = rockfrag::risk::read_risk_csv(&d.join("risk.csv")).unwrap();
+    for (row, line) in read.iter().zip(csv.lines().skip(1)) {
+        assert_eq!(row.line(), line);
+    }
+    assert_eq!(read[0].im, Im::PGA);
+    assert_eq!(read[0].fit, Some((median, beta)));
+    assert_eq!(read[0].boot_fitted, Some(200));
+    assert!(read[0].band.is_some_and(|(lo, hi)| lo < hi));
+    assert_eq!(
+        (read[1].annual_rate, read[1].status.as_str()),
+        (None, "none-overturned")
+    );
+    // a unit that is not the IM's is refused, naming the column and value
+    let bad = d.join("bad-risk.csv");
+    std::fs::write(&bad, csv.replacen(",pga,g,", ",pga,m/s,", 1)).unwrap();
+    let e = rockfrag::risk::read_risk_csv(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("bad-risk.csv") && e.contains("im_unit") && e.contains("m/s"),
+        "{e}"
+    );
     let summary = std::fs::read_to_string(d.join("summary.md")).unwrap();
     assert_eq!(summary.matches("## Risk").count(), 1, "{summary}");
     assert!(summary.starts_with("# Study\n\n## Tables\n\nrows\n\n## Risk"));
