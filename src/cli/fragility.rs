@@ -21,10 +21,16 @@ pub struct FragilityArgs {
     /// m/s, PGA/(g tan θc) = PGA·H/B, dimensionless, the floor's peak
     /// acceleration PFA in g or velocity PFV in m/s (a study with
     /// `[support] floor`; docs/floor.md), a record pair's RotD50 PGA or PGV
-    /// (docs/orientation.md) [default: the study's `[fragility] im`, else
-    /// pga, or pga-rotd50 for a study of record pairs]
+    /// (docs/orientation.md), the 5 %-damped spectral acceleration
+    /// `sa(T)` (T in s) or its geometric mean `sa-avg(T1,T2)` in g, or
+    /// `pgv/pga` in s (each also `-floor`, `-rotd50`: measured on the
+    /// records again, outcomes.csv untouched). Repeat the flag to compare
+    /// IMs: each is fitted, ranked by β with a sufficiency check in the
+    /// summary's `## Intensity measures`, and the first is written
+    /// [default: the study's `[fragility] im`, else pga, or pga-rotd50 for
+    /// a study of record pairs]
     #[arg(long, value_name = "IM", value_parser = im_name)]
-    pub im: Option<Im>,
+    pub im: Vec<Im>,
     /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap
     /// [default: the study's own `[fragility] bootstrap`, else 1000].
     #[arg(long, value_name = "N", value_parser = bootstrap_replicates)]
@@ -109,7 +115,7 @@ impl FragilityArgs {
     /// is one (flags take precedence; pooled parameters add up).
     fn options(&self) -> anyhow::Result<FragilityOptions> {
         let given = FragilityOptions {
-            im: self.im,
+            im: self.im.first().copied(),
             bootstrap: match self.bootstrap {
                 Some(n) => n,
                 None => rockfrag::pipeline::study_bootstrap(&self.dir)?,
@@ -137,8 +143,30 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     // The table is the data (stdout); the notes and the files written are
     // status (stderr), as for every subcommand.
     eprint!("{}{}", report.notes(args.verbose), report.wrote);
+    let mut table = report.table.clone();
+    if args.im.len() > 1 {
+        let fits = rockfrag::fragility::compare_ims(&args.dir, &options, &args.im)?;
+        let section = rockfrag::fragility::ims_section(&fits);
+        let summary = args.dir.join("summary.md");
+        if rockfrag::pipeline::same_folder(&args.dir, out) && summary.exists() {
+            rockfrag::io_util::replace_section(
+                &summary,
+                rockfrag::fragility::IMS_HEADING,
+                &section,
+                &[rockfrag::study::COUNTS_HEADING],
+            )
+            .with_context(|| format!("updating {}", summary.display()))?;
+            eprintln!(
+                "updated {} ({})",
+                summary.display(),
+                rockfrag::fragility::IMS_HEADING
+            );
+        }
+        table.push('\n');
+        table.push_str(&section);
+    }
     let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(report.table.as_bytes()) {
+    match stdout.write_all(table.as_bytes()) {
         // A closed pipe (`rockfrag fragility … | head`) is not an error.
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         other => other.context("writing to standard output"),

@@ -5,6 +5,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::fit::Observation;
+use super::measured::{RecordIms, measure_records};
 use super::options::{FragilityOptions, LimitState};
 use crate::case::{Case, Field};
 use crate::error::{Error, Result};
@@ -111,7 +112,24 @@ pub struct Outcomes {
 /// measure). A failed analysis is skipped and counted in
 /// [`CaseData::failed`].
 pub fn read_outcomes(path: &Path, im: Im) -> Result<Outcomes> {
-    read_outcomes_with(path, im, &[LimitState::overturning()], &[])
+    let measured = measured_for(path, im)?;
+    read_outcomes_with(
+        path,
+        im,
+        &[LimitState::overturning()],
+        &[],
+        measured.as_ref(),
+    )
+}
+
+/// An IM `outcomes.csv` does not hold, measured on the records of the
+/// study folder holding `path` ([`measure_records`]); `None` for the others.
+fn measured_for(path: &Path, im: Im) -> Result<Option<RecordIms>> {
+    if im.stored() || !im.of_record() {
+        return Ok(None);
+    }
+    let dir = path.parent().unwrap_or(Path::new("."));
+    measure_records(dir, im).map(Some)
 }
 
 /// Reads `outcomes.csv` for the intensity measure and limit states of
@@ -121,7 +139,14 @@ pub fn read_outcomes(path: &Path, im: Im) -> Result<Outcomes> {
 /// above any threshold.
 pub fn read_outcomes_for(path: &Path, options: &FragilityOptions) -> Result<Outcomes> {
     options.validate()?;
-    read_outcomes_with(path, options.im(), &options.limit_states(), &options.pool)
+    let measured = measured_for(path, options.im())?;
+    read_outcomes_with(
+        path,
+        options.im(),
+        &options.limit_states(),
+        &options.pool,
+        measured.as_ref(),
+    )
 }
 
 fn read_outcomes_with(
@@ -129,12 +154,16 @@ fn read_outcomes_with(
     im: Im,
     limit_states: &[LimitState],
     pool: &[Field],
+    measured: Option<&RecordIms>,
 ) -> Result<Outcomes> {
     let pga_column = Column::Im(Im::PGA);
     let mut required = vec![pga_column, Column::Record, Column::Overturned];
     let im_column = Column::of_im(im);
     if let Some(c) = im_column.filter(|&c| c != pga_column) {
         required.push(c);
+    }
+    if let Some(m) = measured.filter(|m| !required.contains(&m.level_column)) {
+        required.push(m.level_column);
     }
     // The column and kind of each limit state's measure.
     let mut measures = Vec::with_capacity(limit_states.len());
@@ -212,7 +241,16 @@ fn read_outcomes_with(
                 pga * own.aspect.fixed().expect("an analysis's aspect is fixed")
             }
             (_, Some(c)) => positive(row.intensity(c), c)?,
-            (_, None) => unreachable!("every IM but PGA/(g tan θc) has a column"),
+            (_, None) => {
+                let m = measured.expect("an IM without a column is measured on the records");
+                let level = positive(row.intensity(m.level_column), m.level_column)?;
+                m.get(level, row.record).ok_or_else(|| {
+                    table.error_at(
+                        line,
+                        format!("record {} at level {level} was not measured", row.record),
+                    )
+                })?
+            }
         };
         let mut exceeded = 0u64;
         for (k, &(column, kind, threshold)) in measures.iter().enumerate() {
