@@ -189,3 +189,23 @@ fn repeated_im_ranks_the_measures_by_beta() {
         );
     }
 }
+
+/// A spec asking for a floor's or a pair's IM of a study that has neither
+/// is refused when read, naming `fragility.im`, its line and what it needs,
+/// before any analysis runs.
+#[test]
+fn a_spec_fitting_against_an_im_its_motions_lack_is_refused() {
+    let base = std::fs::read_to_string(spec()).unwrap();
+    for (im, needs) in [("sa(1.0)-floor", "floor"), ("pga-rotd50", "record pairs")] {
+        let text = format!("{base}\n[fragility]\nim = \"{im}\"\n");
+        let e = Study::from_toml(&text, Path::new("s.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("fragility.im") && e.contains(im) && e.contains(needs),
+            "{e}"
+        );
+    }
+    let ok = format!("{base}\n[fragility]\nim = \"sa-avg(0.5,2)\"\n");
+    assert!(Study::from_toml(&ok, Path::new("s.toml")).is_ok());
+}

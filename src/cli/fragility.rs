@@ -144,8 +144,14 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     // status (stderr), as for every subcommand.
     eprint!("{}{}", report.notes(args.verbose), report.wrote);
     let mut table = report.table.clone();
-    if args.im.len() > 1 {
-        let fits = rockfrag::fragility::compare_ims(&args.dir, &options, &args.im)?;
+    let mut ims: Vec<Im> = Vec::new();
+    for &im in &args.im {
+        if !ims.contains(&im) {
+            ims.push(im);
+        }
+    }
+    if ims.len() > 1 {
+        let fits = rockfrag::fragility::compare_ims(&args.dir, &options, &ims)?;
         let section = rockfrag::fragility::ims_section(&fits);
         let summary = args.dir.join("summary.md");
         if rockfrag::pipeline::same_folder(&args.dir, out) && summary.exists() {

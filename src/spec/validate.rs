@@ -16,7 +16,7 @@ use super::uncertainty::uncertainty;
 use crate::case::Param;
 use crate::error::{Error, Result, number};
 use crate::fragility::FragilityOptions;
-use crate::im::Im;
+use crate::im::{At, Im};
 use crate::motion::{Floor, G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{
@@ -128,6 +128,24 @@ impl SpecFile {
             } else {
                 Im::PGA
             });
+        }
+        // An IM the study's motions will not have is refused now, not
+        // after every analysis has run.
+        if let Some(im) = fragility_options.as_ref().and_then(|o| o.im) {
+            let missing = match im.at() {
+                At::Floor if floor.is_ground() => Some("a study on a floor ([support] floor)"),
+                At::RotD50 if motions.orientation().is_none() => {
+                    Some("a study of record pairs (components = 2, or record pairs)")
+                }
+                _ => None,
+            };
+            if let Some(needs) = missing {
+                return Err(spec.bad(
+                    "fragility.im",
+                    &im,
+                    &format!("an IM of this study's motions: {im} needs {needs}"),
+                ));
+            }
         }
         if let Some(infer) = &self.infer {
             infer.validate().map_err(|e| spec.nested("", e))?;

@@ -210,17 +210,17 @@ impl Source {
             ) => {
                 let r = synthetic(synth, *seed, members.as_deref(), record, g)?;
                 let pgv = r.pgv();
-                scaled(r, level, pgv, "PGV")
+                scaled(r, level, pgv, &Im::PGV.short())
             }
             (Source::Files(records), Intensity::Pga(_)) => {
                 let r = records[record].clone();
                 let pga = r.pga();
-                scaled(r, level * g, pga, "PGA")
+                scaled(r, level * g, pga, &Im::PGA.short())
             }
             (Source::Files(records), Intensity::Pgv(_)) => {
                 let r = records[record].clone();
                 let pgv = r.pgv();
-                scaled(r, level, pgv, "PGV")
+                scaled(r, level, pgv, &Im::PGV.short())
             }
             (Source::Files(records), Intensity::Scale(_)) => {
                 Ok(records[record].clone().scaled(level))

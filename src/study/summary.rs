@@ -28,6 +28,7 @@ use crate::case::Case;
 use crate::fragility::{
     Caveat, FragilityRow, caveat_words, first_inversion, unfit_advice, unfit_words,
 };
+use crate::im::Im;
 use crate::io_util::sig3;
 use crate::spec::{Intensity, Motions, Orientation, Study, Uncertainty};
 use crate::uncertainty::{Distribution, Property, Value};
@@ -602,13 +603,14 @@ fn floor_text(floor: &crate::motion::Floor) -> String {
 
 /// The name and unit of a study's levels in a table heading: `PGA`, `PGV`
 /// (a record pair's RotD50 for studies of pairs) or `scale`.
-fn level_heading(study: &Study) -> (&'static str, &'static str) {
+fn level_heading(study: &Study) -> (String, String) {
     let pairs = study.motions.orientation().is_some();
-    match study.intensity {
-        Intensity::Pga(_) if pairs => ("RotD50 PGA", " (g)"),
-        Intensity::Pga(_) => ("PGA", " (g)"),
-        Intensity::Pgv(_) if pairs => ("RotD50 PGV", " (m/s)"),
-        Intensity::Pgv(_) => ("PGV", " (m/s)"),
-        Intensity::Scale(_) => ("scale", ""),
-    }
+    let im = match (&study.intensity, pairs) {
+        (Intensity::Pga(_), true) => Im::PGA_ROTD50,
+        (Intensity::Pga(_), false) => Im::PGA,
+        (Intensity::Pgv(_), true) => Im::PGV_ROTD50,
+        (Intensity::Pgv(_), false) => Im::PGV,
+        (Intensity::Scale(_), _) => return ("scale".into(), String::new()),
+    };
+    (im.short(), im.unit_suffix())
 }
