@@ -88,7 +88,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<StudyReport> {
 pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<FinishReport> {
     let mut report = FinishReport::default();
     if let Some(options) = &study.fragility {
-        report.fit = Some(fit_and_write(dir, dir, options)?);
+        let mut options = options.clone();
+        if let Some(im) = options.im.filter(|im| !im.stored() && im.of_record()) {
+            let values = study::measure_study_records(study, dir, im)?;
+            options.measured = Some(std::sync::Arc::new(values));
+        }
+        report.fit = Some(fit_and_write(dir, dir, &options)?);
     }
     if study.output.summary {
         let read;
@@ -200,10 +205,25 @@ pub fn folder_fit_options(dir: &Path, options: &FragilityOptions) -> Result<Frag
     });
     Ok(FragilityOptions {
         im,
+        measured: measured(dir, im)?,
         limit_state,
         pool,
         ..options.clone()
     })
+}
+
+/// An IM `outcomes.csv` does not hold, measured on the records of the study
+/// folder `dir` ([`study::measure_records`]); `None` for the others.
+fn measured(
+    dir: &Path,
+    im: Option<crate::im::Im>,
+) -> Result<Option<std::sync::Arc<crate::fragility::RecordIms>>> {
+    match im {
+        Some(im) if !im.stored() && im.of_record() => {
+            Ok(Some(std::sync::Arc::new(study::measure_records(dir, im)?)))
+        }
+        _ => Ok(None),
+    }
 }
 
 /// The bootstrap replicates of a refit of the study folder `dir` when the

@@ -7,10 +7,10 @@ mod common;
 use std::path::Path;
 
 use common::{rockfrag, run_spec, stderr};
-use rockfrag::fragility::{measure_records, read_outcomes};
+use rockfrag::fragility::{FragilityOptions, read_outcomes, read_outcomes_for};
 use rockfrag::im::{Im, spectral_acceleration};
 use rockfrag::spec::Study;
-use rockfrag::study::Source;
+use rockfrag::study::{Source, measure_records};
 
 fn spec() -> &'static Path {
     Path::new(concat!(
@@ -81,7 +81,15 @@ fn a_refit_against_sa_measures_the_records_and_runs_nothing() {
             assert!((want / level - 1.0).abs() > 0.01, "{want} at {level} g");
         }
     }
-    let outcomes = read_outcomes(&outcomes, sa).unwrap();
+    // without the measured values the reader refuses, saying what it needs
+    let e = read_outcomes(&outcomes, sa).unwrap_err().to_string();
+    assert!(e.contains("sa(1.0)") && e.contains("study folder"), "{e}");
+    let options = FragilityOptions {
+        im: Some(sa),
+        measured: Some(std::sync::Arc::new(measured.clone())),
+        ..FragilityOptions::default()
+    };
+    let outcomes = read_outcomes_for(&outcomes, &options).unwrap();
     for case in &outcomes.cases {
         for t in &case.trials {
             let record: usize = case.records[t.record].parse().unwrap();

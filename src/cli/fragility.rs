@@ -151,13 +151,13 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
         }
     }
     if ims.len() > 1 {
-        let fits = rockfrag::fragility::compare_ims(&args.dir, &options, &ims)?;
-        let section = rockfrag::fragility::ims_section(&fits);
+        let fits = rockfrag::study::compare_ims(&args.dir, &options, &ims)?;
+        let section = rockfrag::study::ims_section(&fits);
         let summary = args.dir.join("summary.md");
         if rockfrag::pipeline::same_folder(&args.dir, out) && summary.exists() {
             rockfrag::io_util::replace_section(
                 &summary,
-                rockfrag::fragility::IMS_HEADING,
+                rockfrag::study::IMS_HEADING,
                 &section,
                 &[rockfrag::study::COUNTS_HEADING],
             )
@@ -165,7 +165,7 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
             eprintln!(
                 "updated {} ({})",
                 summary.display(),
-                rockfrag::fragility::IMS_HEADING
+                rockfrag::study::IMS_HEADING
             );
         }
         table.push('\n');

@@ -309,8 +309,18 @@ impl StudyData {
         if study.is_none() && data.fit_on_stripes() {
             return Ok(data);
         }
+        let im = data.curve_im();
+        let measured = match study {
+            Some(s) if !im.stored() && im.of_record() => {
+                crate::study::measure_study_records(s, dir, im)
+                    .ok()
+                    .map(std::sync::Arc::new)
+            }
+            _ => None,
+        };
         let options = FragilityOptions {
-            im: Some(data.curve_im()),
+            im: Some(im),
+            measured,
             limit_state: study
                 .and_then(|s| s.fragility.as_ref())
                 .map_or_else(Vec::new, |f| f.limit_state.clone()),

@@ -5,8 +5,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::fit::Observation;
-use super::measured::{RecordIms, measure_records};
-use super::options::{FragilityOptions, LimitState};
+use super::options::{FragilityOptions, LimitState, RecordIms};
 use crate::case::{Case, Field};
 use crate::error::{Error, Result};
 use crate::im::{At, Im, Measure};
@@ -112,24 +111,30 @@ pub struct Outcomes {
 /// measure). A failed analysis is skipped and counted in
 /// [`CaseData::failed`].
 pub fn read_outcomes(path: &Path, im: Im) -> Result<Outcomes> {
-    let measured = measured_for(path, im)?;
-    read_outcomes_with(
-        path,
-        im,
-        &[LimitState::overturning()],
-        &[],
-        measured.as_ref(),
-    )
+    let options = FragilityOptions::default();
+    let measured = measured_for(&options, im)?;
+    read_outcomes_with(path, im, &[LimitState::overturning()], &[], measured)
 }
 
-/// An IM `outcomes.csv` does not hold, measured on the records of the
-/// study folder holding `path` ([`measure_records`]); `None` for the others.
-fn measured_for(path: &Path, im: Im) -> Result<Option<RecordIms>> {
+/// The measured values of `im` in `options`, when it is an IM
+/// `outcomes.csv` does not hold; `None` for the others. Errors: none given.
+fn measured_for(options: &FragilityOptions, im: Im) -> Result<Option<&RecordIms>> {
     if im.stored() || !im.of_record() {
         return Ok(None);
     }
-    let dir = path.parent().unwrap_or(Path::new("."));
-    measure_records(dir, im).map(Some)
+    match options.measured.as_deref().filter(|m| m.im == im) {
+        Some(m) => Ok(Some(m)),
+        None => Err(Error::invalid(
+            "im",
+            im,
+            &format!(
+                "an IM outcomes.csv holds ({}, pga-over-tan): {im} is measured on the records \
+                 again, which needs the study folder (rockfrag fragility DIR --im, or \
+                 Python's fragility on the folder)",
+                Im::COLUMNS.map(Im::name).join(", ")
+            ),
+        )),
+    }
 }
 
 /// Reads `outcomes.csv` for the intensity measure and limit states of
@@ -139,13 +144,13 @@ fn measured_for(path: &Path, im: Im) -> Result<Option<RecordIms>> {
 /// above any threshold.
 pub fn read_outcomes_for(path: &Path, options: &FragilityOptions) -> Result<Outcomes> {
     options.validate()?;
-    let measured = measured_for(path, options.im())?;
+    let measured = measured_for(options, options.im())?;
     read_outcomes_with(
         path,
         options.im(),
         &options.limit_states(),
         &options.pool,
-        measured.as_ref(),
+        measured,
     )
 }
 

@@ -76,11 +76,9 @@
 
 mod bootstrap;
 mod case;
-mod compare;
 mod data;
 mod files;
 mod fit;
-mod measured;
 mod nrml;
 mod options;
 mod report;
@@ -91,7 +89,6 @@ pub use case::{
     BetaModel, CaseFit, Caveat, Curve, ORDER_TOLERANCE, caveat_note, caveat_words, first_inversion,
     fit_case, fit_cases, fit_outcomes, out_of_order,
 };
-pub use compare::{IMS_HEADING, ImFit, compare_ims, ims_section};
 pub use data::{CaseData, Outcomes, Trial, read_outcomes, read_outcomes_for};
 pub use files::{
     BOOTSTRAP_HEADER, BootstrapRow, CURVES_HEADER, CurveRow, FRAGILITY_HEADER, FragilityRow,
@@ -101,14 +98,13 @@ pub use fit::{
     LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal, unfit_advice,
     unfit_words,
 };
-pub use measured::{RecordIms, measure_records};
 pub use nrml::{
     IML_SIGMAS, NrmlEntry, NrmlFunction, NrmlShape, lognormal_to_moments, model_range,
     moments_to_lognormal, nrml_model_string, nrml_string, write_nrml,
 };
 pub use options::{
     BootstrapUnit, FragilityOptions, LimitState, MAX_BOOTSTRAP, MAX_GRID_POINTS, MAX_LIMIT_STATES,
-    bootstrap_limit,
+    RecordIms, bootstrap_limit,
 };
 pub use report::{FitReport, fit_and_write};
 pub use set::{SET_FILE, SET_FILES, check_set};

@@ -1,6 +1,8 @@
 //! What a fit is asked for: the intensity measure, the limit states and the
 //! fit's settings (the spec's `[fragility]` table).
 
+use std::collections::HashMap;
+
 use serde::{Deserialize, Serialize};
 
 use crate::case::Field;
@@ -50,6 +52,38 @@ impl LimitState {
     }
 }
 
+/// The values of one IM that `outcomes.csv` does not hold, for every
+/// motion (level, record) of a study folder: measured on the study's
+/// records (`study::measure_records`) and handed to the fit in
+/// [`FragilityOptions::measured`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordIms {
+    /// The IM.
+    pub im: Im,
+    /// The `outcomes.csv` column holding each row's level.
+    pub level_column: Column,
+    /// The value of each (level's bits, record).
+    pub values: HashMap<(u64, usize), f64>,
+}
+
+impl RecordIms {
+    /// The IM of record `record` at level `level` (as the level column
+    /// holds it), if measured.
+    pub fn get(&self, level: f64, record: usize) -> Option<f64> {
+        self.values.get(&(level.to_bits(), record)).copied()
+    }
+
+    /// Motions measured.
+    pub fn len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Whether none was.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+}
+
 /// The most bootstrap replicates a fit draws: 10⁵. Each costs about 200
 /// bytes of memory, 30 µs of fitting per 200 analyses and a 78-byte row of
 /// `fragility_bootstrap.csv` for every curve, and more buy nothing: the
@@ -72,6 +106,11 @@ pub struct FragilityOptions {
     /// in when the spec names none).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub im: Option<Im>,
+    /// The values of an IM `outcomes.csv` does not hold (`sa(T)`, …),
+    /// measured on the study's records by `study::measure_records`; not
+    /// part of a spec.
+    #[serde(skip)]
+    pub measured: Option<std::sync::Arc<RecordIms>>,
     /// Bootstrap replicates, at most [`MAX_BOOTSTRAP`]; 0 skips the
     /// bootstrap and leaves the bands empty (default: 1000).
     pub bootstrap: usize,
@@ -102,6 +141,7 @@ impl Default for FragilityOptions {
     fn default() -> Self {
         FragilityOptions {
             im: None,
+            measured: None,
             bootstrap: 1000,
             unit: BootstrapUnit::Records,
             seed: 1,

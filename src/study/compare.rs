@@ -10,13 +10,10 @@
 
 use std::path::Path;
 
-use super::case::fit_cases;
-use super::data::read_outcomes_for;
-use super::files::FragilityRow;
-use super::measured::measure_records;
-use super::options::FragilityOptions;
+use super::measure::measure_records;
 use crate::detmath as dm;
 use crate::error::Result;
+use crate::fragility::{FragilityOptions, FragilityRow, fit_cases, read_outcomes_for};
 use crate::im::Im;
 use crate::io_util::sig3;
 
@@ -53,8 +50,14 @@ pub fn compare_ims(dir: &Path, options: &FragilityOptions, ims: &[Im]) -> Result
     let feature = measure_records(dir, Im::PGV_OVER_PGA)?;
     let mut all: Vec<Vec<ImFit>> = Vec::new();
     for &im in ims {
+        let measured = if im.stored() || !im.of_record() {
+            None
+        } else {
+            Some(std::sync::Arc::new(measure_records(dir, im)?))
+        };
         let opts = FragilityOptions {
             im: Some(im),
+            measured,
             ..options.clone()
         };
         let outcomes = read_outcomes_for(&path, &opts)?;

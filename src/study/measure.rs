@@ -9,40 +9,14 @@
 use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
 
+use super::files;
+use super::manifest::Manifest;
+use super::source::Source;
 use crate::error::{Error, Result};
+use crate::fragility::RecordIms;
 use crate::im::{At, Im};
 use crate::outcomes_csv::{Column, OutcomesFile};
 use crate::spec::Study;
-use crate::study::{Manifest, Source, files};
-
-/// The values of one IM for every motion (level, record) of a study
-/// folder's `outcomes.csv`.
-#[derive(Clone, Debug)]
-pub struct RecordIms {
-    /// The IM.
-    pub im: Im,
-    /// The `outcomes.csv` column holding each row's level.
-    pub level_column: Column,
-    values: HashMap<(u64, usize), f64>,
-}
-
-impl RecordIms {
-    /// The IM of record `record` at level `level` (as the level column
-    /// holds it), if measured.
-    pub fn get(&self, level: f64, record: usize) -> Option<f64> {
-        self.values.get(&(level.to_bits(), record)).copied()
-    }
-
-    /// Motions measured.
-    pub fn len(&self) -> usize {
-        self.values.len()
-    }
-
-    /// Whether none was.
-    pub fn is_empty(&self) -> bool {
-        self.values.is_empty()
-    }
-}
 
 /// The study a folder's `manifest.json` records, for measuring `im` on its
 /// records. Errors: no manifest (a file of outcomes alone cannot be
@@ -73,7 +47,13 @@ fn folder_study(dir: &Path, im: Im) -> Result<Study> {
 /// a RotD50 without record pairs), naming the IM.
 pub fn measure_records(dir: &Path, im: Im) -> Result<RecordIms> {
     let study = folder_study(dir, im)?;
-    let level_column = crate::study::plan::columns(&study).level();
+    measure_study_records(&study, dir, im)
+}
+
+/// As [`measure_records`], for the folder `dir` of `study`.
+pub fn measure_study_records(study: &Study, dir: &Path, im: Im) -> Result<RecordIms> {
+    let study = study.clone();
+    let level_column = super::plan::columns(&study).level();
     let path = dir.join(files::OUTCOMES);
     let mut table = OutcomesFile::open(
         &path,
