@@ -24,6 +24,8 @@
 //! - [`spec`]: study specs (TOML) read once into a validated [`spec::Study`];
 //! - [`motion`]: ground-motion records, synthetic (Clough–Penzien spectrum,
 //!   modulated, high-passed) or recorded (PEER `.AT2`, CSV);
+//! - [`im`]: intensity measures, one type for every stage (names, units,
+//!   columns, OpenQuake's IMTs, pelicun's demands, how each is measured);
 //! - [`uncertainty`]: distributions of uncertain block parameters and the
 //!   per-analysis draws from them;
 //! - [`solver`]: the event-driven block solver (rest, slide, rock, slide-rock,
@@ -85,6 +87,7 @@ pub mod threads;
 pub mod stats;
 pub mod uncertainty;
 pub mod motion;
+pub mod im;
 pub mod outcome;
 pub mod solver;
 pub mod case;

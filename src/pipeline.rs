@@ -109,7 +109,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<StudyReport> {
 pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<FinishReport> {
     let mut report = FinishReport::default();
     if let Some(options) = &study.fragility {
-        report.fit = Some(fit_and_write(dir, dir, options)?);
+        let mut options = options.clone();
+        if let Some(im) = options.im.filter(|im| !im.stored() && im.of_record()) {
+            let values = study::measure_study_records(study, dir, im)?;
+            options.measured = Some(std::sync::Arc::new(values));
+        }
+        report.fit = Some(fit_and_write(dir, dir, &options)?);
     }
     if study.output.summary {
         let read;
@@ -231,8 +236,10 @@ pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitRe
 
 /// `options` completed from the study recorded in `dir/manifest.json`, if
 /// any, as `rockfrag fragility` and Python's `fragility` do: its drawn
-/// parameters are pooled (with those `options` pools), and its own
-/// `[fragility]` limit states are fitted unless `options` names some.
+/// parameters are pooled (with those `options` pools), its own
+/// `[fragility]` limit states are fitted unless `options` names some, and
+/// against its own `[fragility] im` unless `options` names one (a study of
+/// record pairs without one: its RotD50 PGA).
 pub fn folder_fit_options(dir: &Path, options: &FragilityOptions) -> Result<FragilityOptions> {
     let manifest = dir.join(files::MANIFEST);
     let study = if manifest.exists() {
@@ -256,11 +263,37 @@ pub fn folder_fit_options(dir: &Path, options: &FragilityOptions) -> Result<Frag
     } else {
         options.limit_state.clone()
     };
+    let im = options.im.or_else(|| {
+        let study = study.as_ref()?;
+        match &study.fragility {
+            Some(f) => f.im,
+            None => study
+                .motions
+                .orientation()
+                .map(|_| crate::im::Im::PGA_ROTD50),
+        }
+    });
     Ok(FragilityOptions {
+        im,
+        measured: measured(dir, im)?,
         limit_state,
         pool,
         ..options.clone()
     })
+}
+
+/// An IM `outcomes.csv` does not hold, measured on the records of the study
+/// folder `dir` ([`study::measure_records`]); `None` for the others.
+fn measured(
+    dir: &Path,
+    im: Option<crate::im::Im>,
+) -> Result<Option<std::sync::Arc<crate::fragility::RecordIms>>> {
+    match im {
+        Some(im) if !im.stored() && im.of_record() => {
+            Ok(Some(std::sync::Arc::new(study::measure_records(dir, im)?)))
+        }
+        _ => Ok(None),
+    }
 }
 
 /// The bootstrap replicates of a refit of the study folder `dir` when the
@@ -326,8 +359,8 @@ pub struct RiskReport {
     pub rows: Vec<crate::risk::RiskRow>,
     /// The hazard curve as integrated (in the fit's unit).
     pub hazard: crate::risk::HazardCurve,
-    /// The fit's intensity measure and its unit.
-    pub im: (String, String),
+    /// The fit's intensity measure.
+    pub im: crate::im::Im,
     /// Whether the folder had `fragility_bootstrap.csv` (a band on the
     /// rates).
     pub banded: bool,
@@ -386,7 +419,7 @@ pub fn risk(
         crate::io_util::replace_section(path, "## Risk", &section, &[]).map_err(Error::io(path))?;
     }
     Ok(RiskReport {
-        im: (fragility.im().to_string(), fragility.im_unit().to_string()),
+        im: fragility.im(),
         banded: fragility.bootstrap.is_some(),
         rows,
         hazard,

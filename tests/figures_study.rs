@@ -861,7 +861,7 @@ fn risk_deaggregation_curves_are_smooth_and_peak_at_their_marks() {
     let fragility = read_fragility(d).unwrap();
     let hazard = read_hazard(&example_hazard(), None)
         .unwrap()
-        .in_unit_of("pga")
+        .in_unit_of(rockfrag::im::Im::PGA)
         .unwrap();
     let rows = assess(&fragility, &hazard, &RiskOptions::default()).unwrap();
     let figure = RiskFigure::new(&rows, &hazard);

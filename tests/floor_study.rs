@@ -13,7 +13,8 @@
 mod common;
 
 use common::{rockfrag, stderr, stdout};
-use rockfrag::fragility::{FragilityOptions, IntensityMeasure, read_outcomes_for};
+use rockfrag::fragility::{FragilityOptions, read_outcomes_for};
+use rockfrag::im::Im;
 use rockfrag::motion::{Floor, floor_record, read_record};
 use rockfrag::outcomes_csv::{Column, OutcomesFile};
 use rockfrag::solver::{Analysis, Block, simulate};
@@ -126,18 +127,23 @@ fn a_study_on_a_floor_feels_the_floor_and_records_its_peaks() {
         "{}",
         header.lines().next().unwrap()
     );
-    let mut file = OutcomesFile::open(&path, &[Column::Pfa, Column::Pfv], "the test").unwrap();
+    let mut file = OutcomesFile::open(
+        &path,
+        &[Column::Im(Im::PFA), Column::Im(Im::PFV)],
+        "the test",
+    )
+    .unwrap();
     let mut source = Source::new(&s).unwrap();
     let mut rows = 0;
     let mut amplified = 0;
     while let Some((_, row)) = file.next_row().unwrap() {
         rows += 1;
-        let level = row.pga.unwrap();
+        let level = row.im(Im::PGA).unwrap();
         let ground = source.record(&s.intensity, level, row.record, s.g).unwrap();
         let felt = floor_record(&ground, &s.floor).unwrap();
-        assert_eq!(row.pfa, Some(felt.pga() / s.g));
-        assert_eq!(row.pfv, Some(felt.pgv()));
-        assert_eq!(row.pgv, Some(ground.pgv()));
+        assert_eq!(row.im(Im::PFA), Some(felt.pga() / s.g));
+        assert_eq!(row.im(Im::PFV), Some(felt.pgv()));
+        assert_eq!(row.im(Im::PGV), Some(ground.pgv()));
         let block = Block::new(0.6, 3.0, s.g).unwrap();
         let mut want = simulate(&Analysis::new(block, 0.4), &felt, &s.solver, None).unwrap();
         // what outcomes.csv does not hold (no [output] time_in_mode, stats)
@@ -145,21 +151,21 @@ fn a_study_on_a_floor_feels_the_floor_and_records_its_peaks() {
         want.transitions = Default::default();
         want.stats = Default::default();
         assert_eq!(row.outcome(), Some(&want));
-        amplified += usize::from(row.pfa.unwrap() > level);
+        amplified += usize::from(row.im(Im::PFA).unwrap() > level);
     }
     assert_eq!(rows, 6);
     // a 0.8-s building under firm-soil motion amplifies at the roof
     assert!(amplified >= 4, "{amplified} of 6 rows with PFA > PGA");
 
     let options = FragilityOptions {
-        im: IntensityMeasure::Pfa,
+        im: Some(Im::PFA),
         ..FragilityOptions::default()
     };
     let data = read_outcomes_for(&path, &options).unwrap();
     let mut want: Vec<f64> = Vec::new();
     let mut file = OutcomesFile::open(&path, &[], "the test").unwrap();
     while let Some((_, row)) = file.next_row().unwrap() {
-        want.push(row.pfa.unwrap());
+        want.push(row.im(Im::PFA).unwrap());
     }
     let got: Vec<f64> = data.cases[0].trials.iter().map(|t| t.im).collect();
     assert_eq!(got, want);
@@ -178,7 +184,7 @@ fn fitting_a_ground_study_against_pfa_names_the_missing_column() {
     rockfrag::study::run(&s, &RunOptions::new(dir.path())).unwrap();
     let path = dir.path().join("outcomes.csv");
     let options = FragilityOptions {
-        im: IntensityMeasure::Pfa,
+        im: Some(Im::PFA),
         ..FragilityOptions::default()
     };
     let err = read_outcomes_for(&path, &options)

@@ -11,9 +11,10 @@ use rockfrag::Error;
 use rockfrag::case::{Case, Param};
 use rockfrag::fragility::{
     BOOTSTRAP_HEADER, BootstrapUnit, CURVES_HEADER, CaseData, FRAGILITY_HEADER, FragilityOptions,
-    IntensityMeasure, Observation, Trial, Unfit, bootstrap, fit_case, fit_cases, fit_lognormal,
-    lognormal_to_moments, moments_to_lognormal, nrml_string, read_outcomes, write_outputs,
+    Observation, Trial, Unfit, bootstrap, fit_case, fit_cases, fit_lognormal, lognormal_to_moments,
+    moments_to_lognormal, nrml_string, read_outcomes, write_outputs,
 };
+use rockfrag::im::Im;
 use rockfrag::solver::Friction;
 
 /// Synthetic data and a small `outcomes.csv` writer, standing in for the study runner.
@@ -381,19 +382,19 @@ fn outcomes_are_read_by_header_with_failed_rows_counted() {
 
 fn write_outcomes_and_check(path: &Path, rows: &[fixture::Row]) {
     fixture::write_outcomes(path, rows);
-    let pga = read_outcomes(path, IntensityMeasure::Pga).unwrap();
+    let pga = read_outcomes(path, Im::PGA).unwrap();
     assert_eq!(pga.cases.len(), 2);
     let c = &pga.cases[0];
     assert_eq!((c.trials.len(), c.failed), (29, 1));
     assert_eq!((c.n_records(), c.n_stripes()), (10, 3));
     assert_eq!(pga.cases[1].key.aspect, 6.0);
-    let tan = read_outcomes(path, IntensityMeasure::PgaOverTan).unwrap();
+    let tan = read_outcomes(path, Im::PGA_OVER_TAN).unwrap();
     assert_eq!(tan.cases[1].trials[0].im, 0.2 * 6.0);
-    let pgv = read_outcomes(path, IntensityMeasure::Pgv).unwrap();
+    let pgv = read_outcomes(path, Im::PGV).unwrap();
     assert_eq!(pgv.cases[0].trials[0].im, rows[0].pgv);
     // Against PGV every analysis has its own intensity: a fit over analyses.
     let options = FragilityOptions {
-        im: IntensityMeasure::Pgv,
+        im: Some(Im::PGV),
         bootstrap: 100,
         ..FragilityOptions::default()
     };
@@ -420,7 +421,7 @@ fn bad_outcomes_are_clear_errors() {
         "aspect,width,restitution,friction,mu_s,mu_k,pga,record\n",
     )
     .unwrap();
-    let err = read_outcomes(&path, IntensityMeasure::Pga).unwrap_err();
+    let err = read_outcomes(&path, Im::PGA).unwrap_err();
     assert!(
         matches!(&err, Error::Parse { line: 1, message, .. } if message.contains("`overturned`")),
         "{err}"
@@ -432,13 +433,13 @@ fn bad_outcomes_are_clear_errors() {
          4,0.5,0,inf,,,0.3,0,true\n4,0.5,0,inf,,,0.3,1,maybe\n",
     )
     .unwrap();
-    let err = read_outcomes(&path, IntensityMeasure::Pga).unwrap_err();
+    let err = read_outcomes(&path, Im::PGA).unwrap_err();
     assert!(
         matches!(&err, Error::Parse { line: 3, message, .. }
             if message.contains("`overturned`") && message.contains("maybe")),
         "{err}"
     );
-    let err = read_outcomes(&path, IntensityMeasure::Pgv).unwrap_err();
+    let err = read_outcomes(&path, Im::PGV).unwrap_err();
     assert!(err.to_string().contains("pgv"), "{err}");
 }
 
@@ -534,14 +535,14 @@ fn nrml_parses_with_the_expected_elements() {
     let over_tan = fit_case(
         &scaled,
         &FragilityOptions {
-            im: IntensityMeasure::PgaOverTan,
+            im: Some(Im::PGA_OVER_TAN),
             bootstrap: 0,
             ..FragilityOptions::default()
         },
     )
     .remove(0);
     let pgv = FragilityOptions {
-        im: IntensityMeasure::Pgv,
+        im: Some(Im::PGV),
         bootstrap: 0,
         ..FragilityOptions::default()
     };
@@ -806,8 +807,7 @@ fn stripes_count_the_levels_not_the_measured_peaks() {
     }
     // Within-stripe resampling on the PGV study: the stripes hold their
     // records' analyses, so replicates differ.
-    let outcomes =
-        read_outcomes(&tmp.path().join("pgv/outcomes.csv"), IntensityMeasure::Pga).unwrap();
+    let outcomes = read_outcomes(&tmp.path().join("pgv/outcomes.csv"), Im::PGA).unwrap();
     let case = &outcomes.cases[0];
     assert_eq!(case.n_stripes(), 5);
     let grid: Vec<f64> = (1..20).map(|i| 0.1 * i as f64).collect();

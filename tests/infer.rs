@@ -80,7 +80,7 @@ fn inference(study: &Study, survey: &Survey) -> rockfrag::Result<rockfrag::infer
         study,
         models: &models,
         slide: None,
-        im: Im::Pga,
+        im: Im::PGA,
         source: Source::new(study)?,
     };
     let table = runner.table(&(0..study.records()).collect::<Vec<_>>())?;
@@ -88,7 +88,7 @@ fn inference(study: &Study, survey: &Survey) -> rockfrag::Result<rockfrag::infer
         &table,
         survey,
         &Prior::LogUniform,
-        Im::Pga,
+        Im::PGA,
         true,
         &settings(study),
         1,

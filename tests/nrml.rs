@@ -32,9 +32,10 @@
 
 use rockfrag::case::Case;
 use rockfrag::fragility::{
-    CaseData, CaseFit, FragilityOptions, IntensityMeasure, LimitState, NrmlEntry, NrmlFunction,
-    NrmlShape, Trial, fit_case, moments_to_lognormal, nrml_model_string, nrml_string,
+    CaseData, CaseFit, FragilityOptions, LimitState, NrmlEntry, NrmlFunction, NrmlShape, Trial,
+    fit_case, moments_to_lognormal, nrml_model_string, nrml_string,
 };
+use rockfrag::im::Im;
 use rockfrag::solver::Friction;
 use statrs::distribution::{ContinuousCDF, Normal};
 
@@ -67,11 +68,11 @@ fn case(aspect: f64, theta: f64, beta: f64, n: usize, scale: f64) -> CaseData {
     c
 }
 
-fn fit(c: &CaseData, im: IntensityMeasure) -> CaseFit {
+fn fit(c: &CaseData, im: Im) -> CaseFit {
     fit_case(
         c,
         &FragilityOptions {
-            im,
+            im: Some(im),
             bootstrap: 0,
             ..FragilityOptions::default()
         },
@@ -228,13 +229,13 @@ fn p_at(r: &Read, k: usize, x: f64) -> f64 {
 /// with noDamageLimit = minIML.
 #[test]
 fn overturning_model_has_what_openquake_reads() {
-    let fitted = fit(&case(4.0, 0.5, 0.4, 40, 1.0), IntensityMeasure::Pga);
+    let fitted = fit(&case(4.0, 0.5, 0.4, 40, 1.0), Im::PGA);
     let mut none = case(6.0, 0.5, 0.4, 5, 1.0);
     none.trials.iter_mut().for_each(|a| {
         a.overturned = false;
         a.exceeded = 0;
     });
-    let unfitted = fit(&none, IntensityMeasure::Pga);
+    let unfitted = fit(&none, Im::PGA);
     assert!(unfitted.fit.is_err());
     let text = nrml_string(&[fitted.clone(), unfitted]);
     let read = read_as_openquake(&text, &["overturning"]);
@@ -263,11 +264,11 @@ fn overturning_model_has_what_openquake_reads() {
 /// to 1e-9 relative (the fits are of scaled data, converged to ~1e-10).
 #[test]
 fn other_intensity_measures_are_written_in_openquake_units() {
-    let base = fit(&case(4.0, 0.5, 0.4, 40, 1.0), IntensityMeasure::Pga);
+    let base = fit(&case(4.0, 0.5, 0.4, 40, 1.0), Im::PGA);
     let base = base.fit.unwrap();
     for (im, scale, imt, factor) in [
-        (IntensityMeasure::PgaOverTan, 4.0, "PGA", 1.0),
-        (IntensityMeasure::Pgv, 1.0, "PGV", 100.0),
+        (Im::PGA_OVER_TAN, 4.0, "PGA", 1.0),
+        (Im::PGV, 1.0, "PGV", 100.0),
     ] {
         let f = fit(&case(4.0, 0.5, 0.4, 40, scale), im);
         let read = read_as_openquake(&nrml_string(&[f]), &["overturning"]);
@@ -299,7 +300,7 @@ fn several_limit_states_are_written_in_order() {
     let f = |id: &str, params: Vec<(f64, f64)>| {
         NrmlEntry::Function(NrmlFunction {
             id: id.to_string(),
-            imt: "PGA",
+            imt: "PGA".into(),
             shape: NrmlShape::Continuous(params),
         })
     };
@@ -330,7 +331,7 @@ fn several_limit_states_are_written_in_order() {
 fn a_function_missing_a_limit_state_is_refused() {
     let entry = NrmlEntry::Function(NrmlFunction {
         id: "block-a".to_string(),
-        imt: "PGA",
+        imt: "PGA".into(),
         shape: NrmlShape::Continuous(vec![(0.3, 0.1)]),
     });
     nrml_model_string(&["uplift", "overturning"], &[entry], (0.1, 1.2));
@@ -350,7 +351,7 @@ fn every_function_is_0_at_min_iml_and_1_at_max_iml() {
         (5.0, 0.9, 0.25),
     ]
     .iter()
-    .map(|&(aspect, theta, beta)| fit(&case(aspect, theta, beta, 400, 1.0), IntensityMeasure::Pga))
+    .map(|&(aspect, theta, beta)| fit(&case(aspect, theta, beta, 400, 1.0), Im::PGA))
     .collect();
     assert!(fits.iter().all(|f| f.fit.is_ok()));
     let read = read_as_openquake(&nrml_string(&fits), &["overturning"]);

@@ -15,7 +15,8 @@
 mod common;
 
 use common::{rockfrag, stderr, stdout};
-use rockfrag::fragility::{FragilityOptions, IntensityMeasure, read_outcomes_for};
+use rockfrag::fragility::{FragilityOptions, read_outcomes_for};
+use rockfrag::im::Im;
 use rockfrag::motion::{MeasuredPair, Pair, SynthesisSettings, read_record, synthesize, write_csv};
 use rockfrag::outcomes_csv::{Column, OutcomeRow, OutcomesFile};
 use rockfrag::spec::{Motions, Orientation, Study};
@@ -95,11 +96,17 @@ fn pairs_at_the_axes_are_their_components() {
     for (x, y) in a.iter().zip(&b) {
         assert_eq!((x.case, x.record, x.scale), (y.case, y.record, y.scale));
         assert_eq!(x.result, y.result, "record {}", x.record);
-        assert_eq!((x.pga, x.pgv), (y.pga, y.pgv));
+        assert_eq!(
+            (x.im(Im::PGA), x.im(Im::PGV)),
+            (y.im(Im::PGA), y.im(Im::PGV))
+        );
         assert_eq!(x.phi, Some(if x.record % 2 == 0 { 0.0 } else { 90.0 }));
         // the scaled pair's RotD50 (a measured peak: scale-factor levels)
-        assert!(x.pga_rotd50.is_some_and(|v| v.is_finite() && v > 0.0));
-        assert!(y.pga_rotd50.is_none() && y.phi.is_none());
+        assert!(
+            x.im(Im::PGA_ROTD50)
+                .is_some_and(|v| v.is_finite() && v > 0.0)
+        );
+        assert!(y.im(Im::PGA_ROTD50).is_none() && y.phi.is_none());
         rocked += usize::from(x.outcome().is_some_and(|o| o.theta_max_over_theta_c > 0.1));
     }
     assert!(
@@ -148,7 +155,7 @@ fn a_pair_is_scaled_to_its_rotd50_and_solved_as_simulate_solves_it() {
     assert!(matches!(orientation, Orientation::Drawn { .. }));
     let mut checked = 0;
     for row in &rows {
-        let level = row.pga_rotd50.unwrap();
+        let level = row.im(Im::PGA_ROTD50).unwrap();
         assert!(level == 0.3 || level == 0.6, "{level}");
         let (p, phi) = orientation.member(row.record);
         assert_eq!(row.phi, Some(phi));
@@ -164,8 +171,8 @@ fn a_pair_is_scaled_to_its_rotd50_and_solved_as_simulate_solves_it() {
         assert!((rotd50 / level - 1.0).abs() < 1e-12, "{rotd50} vs {level}");
         let rotd100 = rockfrag::motion::rotd(&scaled, 100.0).unwrap() / study.g;
         let felt = m.felt(k, phi).unwrap();
-        assert_eq!(row.pga, Some(felt.pga() / study.g));
-        assert!(row.pga.unwrap() <= rotd100 * (1.0 + 1e-12));
+        assert_eq!(row.im(Im::PGA), Some(felt.pga() / study.g));
+        assert!(row.im(Im::PGA).unwrap() <= rotd100 * (1.0 + 1e-12));
         // one row per level through the binary (the others are the same path)
         if row.case.aspect == 3.0 && row.record < 2 {
             let file = |j: usize| pairs[p][j].path.to_str().unwrap().to_string();
@@ -268,17 +275,14 @@ fn pairs_are_fitted_against_rotd50_by_default() {
         PAIRS,
         "pga = [0.5, 1.0, 1.5, 2.0]\n\n[fragility]\nbootstrap = 0",
     );
-    assert_eq!(
-        study.fragility.as_ref().unwrap().im,
-        IntensityMeasure::PgaRotd50
-    );
+    assert_eq!(study.fragility.as_ref().unwrap().im, Some(Im::PGA_ROTD50));
     let named = spec(
         dir.path(),
         "fit-pga",
         PAIRS,
         "pga = [0.5, 1.0, 1.5, 2.0]\n\n[fragility]\nbootstrap = 0\nim = \"pga\"",
     );
-    assert_eq!(named.fragility.as_ref().unwrap().im, IntensityMeasure::Pga);
+    assert_eq!(named.fragility.as_ref().unwrap().im, Some(Im::PGA));
     // the fit on completion is the command's (`rockfrag run`)
     let out = dir.path().join("out");
     let o = common::run_spec(&dir.path().join("fit.toml"), &out);
@@ -300,7 +304,7 @@ fn pairs_are_fitted_against_rotd50_by_default() {
     let data = read_outcomes_for(
         &path,
         &FragilityOptions {
-            im: IntensityMeasure::PgaRotd50,
+            im: Some(Im::PGA_ROTD50),
             ..FragilityOptions::default()
         },
     )
@@ -469,7 +473,7 @@ fn synthetic_pairs_are_two_independent_components() {
     assert_eq!(Study::from_toml(&drawn.to_toml(), &path).unwrap(), drawn);
     // fitted against the pair's RotD50 by default, as recorded pairs are
     let fitted = Study::from_toml(&format!("{text}\n[fragility]\n"), &path).unwrap();
-    assert_eq!(fitted.fragility.unwrap().im, IntensityMeasure::PgaRotd50);
+    assert_eq!(fitted.fragility.unwrap().im, Some(Im::PGA_ROTD50));
     let back = Study::from_toml(&study.to_toml(), &path).unwrap();
     assert_eq!(back, study);
     let rows = run(&study, &dir.path().join("out"));
@@ -478,7 +482,7 @@ fn synthetic_pairs_are_two_independent_components() {
     };
     let mut synth = Synthesizer::new(settings).unwrap();
     for row in &rows {
-        let level = row.pga_rotd50.unwrap();
+        let level = row.im(Im::PGA_ROTD50).unwrap();
         let k = row.record / 2;
         let h1 = synth.generate_natural(4, k as u64).unwrap();
         let h2 = synth
@@ -493,8 +497,8 @@ fn synthetic_pairs_are_two_independent_components() {
             (h2.scaled(scale), 90.0)
         };
         assert_eq!(row.phi, Some(phi));
-        assert_eq!(row.pga, Some(want.pga() / study.g));
-        assert_eq!(row.pgv, Some(want.pgv()));
+        assert_eq!(row.im(Im::PGA), Some(want.pga() / study.g));
+        assert_eq!(row.im(Im::PGV), Some(want.pgv()));
     }
     for (extra, field, value) in [
         ("components = 3\n", "components", "3"),

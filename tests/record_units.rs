@@ -163,14 +163,14 @@ fn a_hazard_curve_in_another_unit_is_refused() {
         ([5.0, 50.0, 200.0], "pgv", "cm/s (divide by 100 for m/s)"),
     ] {
         let h = HazardCurve::from_rates(p, &iml, &rates).unwrap();
-        let e = h.in_unit_of(im).unwrap_err().to_string();
+        let e = h.in_unit_of(im.parse().unwrap()).unwrap_err().to_string();
         assert!(
             e.contains("hazard.csv") && e.contains("levels from") && e.contains(wants),
             "{e}"
         );
     }
     let g = HazardCurve::from_rates(p, &[0.005, 0.05, 0.5], &rates).unwrap();
-    assert!(g.in_unit_of("pga").is_ok());
+    assert!(g.in_unit_of(rockfrag::im::Im::PGA).is_ok());
 }
 
 /// A floor mode with Γφ = 10⁵ made the floor accelerate at 3·10⁴ g, and a

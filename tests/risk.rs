@@ -12,6 +12,7 @@ mod common;
 use std::path::Path;
 
 use rockfrag::figures::{Format, RiskFigure, save};
+use rockfrag::im::Im;
 use rockfrag::risk::{
     HazardCurve, HazardSource, RISK_HEADER, RiskOptions, assess, read_fragility, read_hazard,
     risk_integral,
@@ -122,7 +123,7 @@ fn openquake_power_law_matches_the_closed_form() {
     for (site, &(lon, k0)) in sites.iter().enumerate() {
         let h = read_hazard(&path, Some(site))
             .unwrap()
-            .in_unit_of("pga")
+            .in_unit_of(Im::PGA)
             .unwrap();
         match &h.source {
             HazardSource::OpenQuake {
@@ -303,11 +304,14 @@ fn the_imt_must_match_the_fit() {
         "hazard_curve-mean-PGV_1.csv",
         &openquake_file("PGV", 50.0, &iml, 2.0, &[(0.0, 1.0)]),
     );
-    let h = read_hazard(&pgv, None).unwrap().in_unit_of("pgv").unwrap();
+    let h = read_hazard(&pgv, None)
+        .unwrap()
+        .in_unit_of(Im::PGV)
+        .unwrap();
     assert_eq!(h.iml, vec![0.1, 0.2, 0.5, 1.0]);
     let err = read_hazard(&pgv, None)
         .unwrap()
-        .in_unit_of("pga")
+        .in_unit_of(Im::PGA)
         .unwrap_err()
         .to_string();
     assert!(
@@ -323,7 +327,7 @@ fn the_imt_must_match_the_fit() {
     );
     let err = read_hazard(&sa, None)
         .unwrap()
-        .in_unit_of("pga")
+        .in_unit_of(Im::PGA)
         .unwrap_err()
         .to_string();
     assert!(
@@ -469,6 +473,29 @@ fn cli_writes_risk_csv_summary_and_figure() {
         (get(1, "status"), get(1, "annual_rate")),
         ("none-overturned", "")
     );
+    // The file's own reader gives back every row as written (the line it
+    // writes again is the file's, byte for byte), typed: the fit's IM, the
+    // band, no rate for the unfitted case.
+    let read = rockfrag::risk::read_risk_csv(&d.join("risk.csv")).unwrap();
+    for (row, line) in read.iter().zip(csv.lines().skip(1)) {
+        assert_eq!(row.line(), line);
+    }
+    assert_eq!(read[0].im, Im::PGA);
+    assert_eq!(read[0].fit, Some((median, beta)));
+    assert_eq!(read[0].boot_fitted, Some(200));
+    assert!(read[0].band.is_some_and(|(lo, hi)| lo < hi));
+    assert_eq!(
+        (read[1].annual_rate, read[1].status.as_str()),
+        (None, "none-overturned")
+    );
+    // a unit that is not the IM's is refused, naming the column and value
+    let bad = d.join("bad-risk.csv");
+    std::fs::write(&bad, csv.replacen(",pga,g,", ",pga,m/s,", 1)).unwrap();
+    let e = rockfrag::risk::read_risk_csv(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("bad-risk.csv") && e.contains("im_unit") && e.contains("m/s"),
+        "{e}"
+    );
     let summary = std::fs::read_to_string(d.join("summary.md")).unwrap();
     assert_eq!(summary.matches("## Risk").count(), 1, "{summary}");
     assert!(summary.starts_with("# Study\n\n## Tables\n\nrows\n\n## Risk"));
@@ -522,7 +549,10 @@ fn the_figure_has_one_row_per_case_and_names_unfitted_limit_states() {
     assert!(fragility.bootstrap.is_none());
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("studies/hazard/hazard_curve-mean-PGA_example.csv");
-    let h = read_hazard(&path, None).unwrap().in_unit_of("pga").unwrap();
+    let h = read_hazard(&path, None)
+        .unwrap()
+        .in_unit_of(Im::PGA)
+        .unwrap();
     let rows = assess(&fragility, &h, &RiskOptions::default()).unwrap();
     let figure = RiskFigure::new(&rows, &h);
     assert_eq!(figure.cases.len(), 3);
@@ -677,8 +707,7 @@ fn flat_hazard_segments_contribute_nothing_and_a_zero_rate_is_never() {
         let curve = FittedCurve {
             key: Case::fixed(4.0, 0.5, 0.0, Friction::Infinite),
             limit_state: "overturning".into(),
-            im: "pga".into(),
-            im_unit: "g".into(),
+            im: Im::PGA,
             fit: Some((median, 0.1)),
             status: "ok".into(),
             replicates: Vec::new(),

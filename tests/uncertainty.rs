@@ -8,6 +8,7 @@ mod common;
 
 use rockfrag::case::{Field, Param};
 use rockfrag::fragility::{fit_cases, read_outcomes_for};
+use rockfrag::im::Im;
 use rockfrag::motion::{At2, G_STANDARD as G, SynthesisSettings, Synthesizer};
 use rockfrag::outcomes_csv::{Column, OutcomesFile};
 use rockfrag::solver::Friction;
@@ -114,13 +115,17 @@ fn recorded_scaled_drawn_restitution_three_limit_states() {
     );
 
     // The draws, and each analysis's own IM.
-    let mut table =
-        OutcomesFile::open(&one.join(files::OUTCOMES), &[Column::Pga], "the test").unwrap();
+    let mut table = OutcomesFile::open(
+        &one.join(files::OUTCOMES),
+        &[Column::Im(Im::PGA)],
+        "the test",
+    )
+    .unwrap();
     let (mut es, mut pgas) = (Vec::new(), Vec::new());
     while let Some((_, row)) = table.next_row().unwrap() {
         assert!(row.result.is_ok(), "every analysis finishes");
         es.push(row.case.restitution.fixed().unwrap());
-        pgas.push(row.pga.unwrap());
+        pgas.push(row.im(Im::PGA).unwrap());
     }
     assert_eq!(es.len(), RECORDS * 6);
     assert!(es.iter().all(|e| (0.0..=0.9).contains(e)), "{es:?}");

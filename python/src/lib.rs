@@ -628,10 +628,7 @@ fn risk(
 /// `count`, `number` or `text` ([`ValueKind`](rockfrag::outcomes_csv::ValueKind)),
 /// values as text (empty where absent), typed by the Python layer.
 #[pyfunction]
-fn read_outcomes(
-    py: Python<'_>,
-    path: &str,
-) -> PyResult<Vec<(&'static str, &'static str, Vec<String>)>> {
+fn read_outcomes(py: Python<'_>, path: &str) -> PyResult<Vec<(String, &'static str, Vec<String>)>> {
     use rockfrag::outcomes_csv::{OutcomesFile, ValueKind};
     let path = Path::new(path);
     py.detach(|| -> rockfrag::Result<_> {
@@ -659,7 +656,7 @@ fn read_outcomes(
                     ValueKind::Number => "number",
                     ValueKind::Text => "text",
                 };
-                (c.name(), kind, v)
+                (c.name().into_owned(), kind, v)
             })
             .collect())
     })
@@ -795,7 +792,14 @@ fn infer<'py>(
     }
     let (study, spec_file) = load_study(spec_path.as_deref(), spec_json.as_deref())?;
     let prior: PriorChoice = choice(prior)?;
-    let im = im.map(|s| choice::<Im>(&s)).transpose()?;
+    let im = im
+        .map(|s| {
+            s.parse::<Im>()
+                .ok()
+                .and_then(|im| rockfrag::infer::inferable(im).ok())
+                .ok_or_else(|| py_err(rockfrag::Error::invalid("im", &s, "pga (g) or pgv (m/s)")))
+        })
+        .transpose()?;
     let out = out.map_or_else(
         || match &observations_path {
             Some(p) => rockfrag::infer::default_out(Path::new(p)),

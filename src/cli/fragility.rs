@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use super::args::choice;
 use anyhow::Context;
 use rockfrag::case::Field;
-use rockfrag::fragility::{BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState};
+use rockfrag::fragility::{BootstrapUnit, FragilityOptions, LimitState};
+use rockfrag::im::Im;
 
 /// Flags of `rockfrag fragility`.
 #[derive(Debug, clap::Args)]
@@ -17,11 +18,19 @@ pub struct FragilityArgs {
     #[arg(value_name = "DIR")]
     pub dir: PathBuf,
     /// Intensity measure the curves are fitted against: PGA in g, PGV in
-    /// m/s (needs a `pgv` column), PGA/(g tan θc) = PGA·H/B, dimensionless,
-    /// or the floor's peak acceleration PFA in g or velocity PFV in m/s (a
-    /// study with `[support] floor`; docs/floor.md).
-    #[arg(long, value_parser = choice::<IntensityMeasure>(IntensityMeasure::names()), default_value_t = IntensityMeasure::default())]
-    pub im: IntensityMeasure,
+    /// m/s, PGA/(g tan θc) = PGA·H/B, dimensionless, the floor's peak
+    /// acceleration PFA in g or velocity PFV in m/s (a study with
+    /// `[support] floor`; docs/floor.md), a record pair's RotD50 PGA or PGV
+    /// (docs/orientation.md), the 5 %-damped spectral acceleration
+    /// `sa(T)` (T in s) or its geometric mean `sa-avg(T1,T2)` in g, or
+    /// `pgv/pga` in s (each also `-floor`, `-rotd50`: measured on the
+    /// records again, outcomes.csv untouched). Repeat the flag to compare
+    /// IMs: each is fitted, ranked by β with a sufficiency check in the
+    /// summary's `## Intensity measures`, and the first is written
+    /// [default: the study's `[fragility] im`, else pga, or pga-rotd50 for
+    /// a study of record pairs]
+    #[arg(long, value_name = "IM", value_parser = im_name)]
+    pub im: Vec<Im>,
     /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap
     /// [default: the study's own `[fragility] bootstrap`, else 1000].
     #[arg(long, value_name = "N", value_parser = bootstrap_replicates)]
@@ -73,6 +82,11 @@ fn bootstrap_replicates(text: &str) -> Result<usize, String> {
     }
 }
 
+/// An intensity measure's name ([`Im`]).
+fn im_name(text: &str) -> Result<Im, String> {
+    text.parse().map_err(|e| format!("expected {e}"))
+}
+
 /// Parses `NAME=MEASURE>THRESHOLD` or `NAME=MEASURE`.
 fn parse_limit_state(text: &str) -> Result<LimitState, String> {
     let (name, rest) = text.split_once('=').ok_or_else(|| {
@@ -101,7 +115,7 @@ impl FragilityArgs {
     /// is one (flags take precedence; pooled parameters add up).
     fn options(&self) -> anyhow::Result<FragilityOptions> {
         let given = FragilityOptions {
-            im: self.im,
+            im: self.im.first().copied(),
             bootstrap: match self.bootstrap {
                 Some(n) => n,
                 None => rockfrag::pipeline::study_bootstrap(&self.dir)?,
@@ -129,8 +143,36 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     // The table is the data (stdout); the notes and the files written are
     // status (stderr), as for every subcommand.
     eprint!("{}{}", report.notes(args.verbose), report.wrote);
+    let mut table = report.table.clone();
+    let mut ims: Vec<Im> = Vec::new();
+    for &im in &args.im {
+        if !ims.contains(&im) {
+            ims.push(im);
+        }
+    }
+    if ims.len() > 1 {
+        let fits = rockfrag::study::compare_ims(&args.dir, &options, &ims)?;
+        let section = rockfrag::study::ims_section(&fits);
+        let summary = args.dir.join("summary.md");
+        if rockfrag::pipeline::same_folder(&args.dir, out) && summary.exists() {
+            rockfrag::io_util::replace_section(
+                &summary,
+                rockfrag::study::IMS_HEADING,
+                &section,
+                &[rockfrag::study::COUNTS_HEADING],
+            )
+            .with_context(|| format!("updating {}", summary.display()))?;
+            eprintln!(
+                "updated {} ({})",
+                summary.display(),
+                rockfrag::study::IMS_HEADING
+            );
+        }
+        table.push('\n');
+        table.push_str(&section);
+    }
     let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(report.table.as_bytes()) {
+    match stdout.write_all(table.as_bytes()) {
         // A closed pipe (`rockfrag fragility … | head`) is not an error.
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         other => other.context("writing to standard output"),

@@ -53,7 +53,10 @@ fn prior(s: &str) -> Result<PriorChoice, String> {
 }
 
 fn im(s: &str) -> Result<Im, String> {
-    s.parse().map_err(|_| "expected pga or pgv".to_string())
+    s.parse::<Im>()
+        .ok()
+        .and_then(|im| infer::inferable(im).ok())
+        .ok_or_else(|| "expected pga or pgv".to_string())
 }
 
 /// Runs `rockfrag infer`.

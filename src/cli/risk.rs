@@ -61,7 +61,8 @@ pub fn run(args: RiskArgs) -> anyhow::Result<()> {
     if hazard.source == HazardSource::Plain {
         text.push_str(&format!(
             "note: plain hazard file: its levels are taken in the fit's unit ({} {})\n",
-            report.im.0, report.im.1
+            report.im,
+            report.im.unit()
         ));
     }
     if hazard.dropped_low + hazard.dropped_high > 0 {

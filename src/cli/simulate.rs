@@ -7,6 +7,7 @@ use super::args::{
 use anyhow::Context;
 use clap::ValueEnum;
 use rockfrag::error::{fixed, number};
+use rockfrag::im::Im;
 use rockfrag::motion::{self, G_STANDARD, MeasuredPair, Pair, Record, SynthesisSettings};
 use rockfrag::outcome::{Mode, Outcome};
 use rockfrag::solver::{
@@ -553,19 +554,21 @@ fn run_study(args: &SimulateArgs, path: &std::path::Path) -> anyhow::Result<()> 
     let b = &analysis.block;
     let coulomb = matches!(analysis.friction, Friction::Coulomb { .. });
     print_summary(study.g, own, coulomb, b, &motion.felt, &outcome);
-    if let Some((_, phi)) = motion.pair {
+    if let Some(phi) = motion.phi() {
         println!(
             "pair              RotD50 PGA {} g, the block faces φ = {}° from H1",
-            fixed(motion.pair.map_or(0.0, |p| p.0[0]), 3),
+            fixed(motion.im(Im::PGA_ROTD50).unwrap_or(0.0), 3),
             number(phi)
         );
     }
-    if let (Some(pfa), Some(pfv)) = (motion.pfa_g, motion.pfv) {
+    if let (Some(pfa), Some(pfv), Some(pga)) =
+        (motion.im(Im::PFA), motion.im(Im::PFV), motion.im(Im::PGA))
+    {
         println!(
             "floor             PFA {} g, PFV {} m/s under the ground's PGA {} g",
             fixed(pfa, 3),
             fixed(pfv, 3),
-            fixed(motion.pga_g, 3)
+            fixed(pga, 3)
         );
     }
     Ok(())

@@ -35,7 +35,8 @@ use std::path::{Path, PathBuf};
 
 use crate::detmath as dm;
 use crate::error::{Error, Result};
-use crate::fragility::{Caveat, FragilityRow, IML_SIGMAS, IntensityMeasure, read_fragility_csv};
+use crate::fragility::{Caveat, FragilityRow, IML_SIGMAS, read_fragility_csv};
+use crate::im::Im;
 use crate::io_util::{number, sig3, write_atomic};
 use crate::risk::{HazardCurve, HazardSource, read_hazard, risk_integral};
 
@@ -94,20 +95,16 @@ pub fn export_openquake(
         crate::fragility::check_set(dir)?;
         read_fragility_csv(&dir.join("fragility.csv"))?
     };
-    let im = rows.first().map_or(IntensityMeasure::Pga, |r| r.im);
-    let factor = match im {
-        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50 => 1.0,
-        // OpenQuake's PGV is in cm/s.
-        IntensityMeasure::Pgv | IntensityMeasure::PgvRotd50 => 100.0,
-        IntensityMeasure::PgaOverTan | IntensityMeasure::Pfa | IntensityMeasure::Pfv => {
-            return Err(Error::invalid(
-                "fragility.im",
-                im.name(),
-                "pga or pgv for OpenQuake, whose hazard is the ground's (refit with --im pga; \
-                 a floor's curve against the ground's PGA is what OpenQuake integrates)",
-            ));
-        }
+    let im = rows.first().map_or(Im::PGA, |r| r.im);
+    let Some(oq) = im.openquake() else {
+        return Err(Error::invalid(
+            "fragility.im",
+            im,
+            "pga or pgv for OpenQuake, whose hazard is the ground's (refit with --im pga; \
+             a floor's curve against the ground's PGA is what OpenQuake integrates)",
+        ));
     };
+    let factor = oq.factor;
     let fitted: Vec<&FragilityRow> = rows.iter().filter(|r| r.fit().is_some()).collect();
     if fitted.is_empty() {
         return Err(Error::Parse {
@@ -146,7 +143,7 @@ pub fn export_openquake(
         });
     }
 
-    let curve = read_hazard(hazard, site)?.in_unit_of(im.name())?;
+    let curve = read_hazard(hazard, site)?.in_unit_of(im)?;
     let curves: Vec<(f64, f64)> = fitted.iter().filter_map(|r| r.fit()).collect();
     let (lo, hi) = curves
         .iter()
@@ -175,11 +172,7 @@ pub fn export_openquake(
         HazardSource::OpenQuake { lon, lat, .. } => (lon, lat, 0.0),
         HazardSource::Plain => (0.0, 0.0, 0.0),
     };
-    let imt = if im == IntensityMeasure::Pgv {
-        "PGV"
-    } else {
-        "PGA"
-    };
+    let imt = oq.imt;
     let source_name = hazard.file_name().map_or_else(
         || hazard.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
@@ -265,7 +258,7 @@ pub fn export_openquake(
         investigation_time: t,
         expected,
     };
-    write_text(&out.join("README.md"), &readme(&job, &source_name, imt))?;
+    write_text(&out.join("README.md"), &readme(&job, &source_name, &imt))?;
     Ok(job)
 }
 

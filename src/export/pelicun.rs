@@ -24,7 +24,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::fragility::{Caveat, FragilityRow, IntensityMeasure, LimitState, read_fragility_csv};
+use crate::fragility::{Caveat, FragilityRow, LimitState, read_fragility_csv};
+use crate::im::Im;
 use crate::io_util::write_atomic;
 
 /// What [`export_pelicun`] wrote.
@@ -41,21 +42,14 @@ pub struct PelicunDatabase {
 }
 
 /// pelicun's demand type and unit for curves fitted against `im`.
-pub fn demand(im: IntensityMeasure) -> Result<(&'static str, &'static str)> {
-    match im {
-        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50 => {
-            Ok(("Peak Ground Acceleration", "g"))
-        }
-        IntensityMeasure::Pgv | IntensityMeasure::PgvRotd50 => Ok(("Peak Ground Velocity", "mps")),
-        // pelicun's floor demands, at the floor the block stands on
-        IntensityMeasure::Pfa => Ok(("Peak Floor Acceleration", "g")),
-        IntensityMeasure::Pfv => Ok(("Peak Floor Velocity", "mps")),
-        IntensityMeasure::PgaOverTan => Err(Error::invalid(
+pub fn demand(im: Im) -> Result<(&'static str, &'static str)> {
+    im.pelicun().ok_or_else(|| {
+        Error::invalid(
             "fragility.im",
-            im.name(),
+            im,
             "pga or pgv for pelicun (refit with --im pga)",
-        )),
-    }
+        )
+    })
 }
 
 /// Writes the damage database of the fitted study folder `dir` (its
@@ -81,7 +75,7 @@ pub fn export_pelicun(
         crate::fragility::check_set(dir)?;
         read_fragility_csv(&dir.join("fragility.csv"))?
     };
-    let im = rows.first().map_or(IntensityMeasure::Pga, |r| r.im);
+    let im = rows.first().map_or(Im::PGA, |r| r.im);
     let (demand_type, unit) = demand(im)?;
     let mut names: Vec<String> = Vec::new();
     for r in &rows {

@@ -43,9 +43,10 @@ use super::risk::RiskFigure;
 use super::spectrum::SpectrumFigure;
 use crate::case::Field;
 use crate::error::{Error, Result};
-use crate::io_util::number;
 use crate::motion::{Record, SynthesisSettings, Synthesizer, read_record};
-use crate::risk::{RiskOptions, USED_HAZARD, assess, read_fragility, read_hazard};
+use crate::risk::{
+    RiskCsvRow, RiskOptions, USED_HAZARD, assess, read_fragility, read_hazard, read_risk_csv,
+};
 use crate::spec::{Motions, Study};
 use crate::study::Manifest;
 use crate::study::files::MANIFEST;
@@ -405,19 +406,17 @@ fn risk_figure(dir: &Path, notes: &mut Vec<String>) -> Option<RiskFigure> {
             return None;
         }
     };
-    let now: Vec<[String; 3]> = rows
+    // the rates the fit gives now, as risk.csv would hold them
+    let key = |r: &RiskCsvRow| {
+        let rate = r.annual_rate.filter(|v| v.is_finite());
+        (r.case, r.limit_state.clone(), rate)
+    };
+    let now: Vec<_> = rows
         .iter()
-        .map(|r| {
-            [
-                r.curve.key.id(),
-                r.curve.limit_state.clone(),
-                r.rate()
-                    .filter(|v| v.is_finite())
-                    .map_or(String::new(), number),
-            ]
-        })
+        .map(|r| key(&RiskCsvRow::of(r, RiskOptions::default().years)))
         .collect();
-    if risk_csv_rates(&csv).as_ref() != Some(&now) {
+    let written = read_risk_csv(&csv).map(|w| w.iter().map(key).collect::<Vec<_>>());
+    if written.ok().as_ref() != Some(&now) {
         notes.push(format!(
             "risk: skipped, {} does not hold the rates of the fit in {} (refitted since \
              rockfrag risk ran?): {rerun}",
@@ -427,30 +426,6 @@ fn risk_figure(dir: &Path, notes: &mut Vec<String>) -> Option<RiskFigure> {
         return None;
     }
     Some(RiskFigure::new(&rows, &hazard))
-}
-
-/// (case_id, limit_state, annual_rate) of each row of a `risk.csv`, as
-/// written; `None` if it cannot be read.
-fn risk_csv_rates(path: &Path) -> Option<Vec<[String; 3]>> {
-    let mut reader = csv::Reader::from_path(path).ok()?;
-    let header = reader.headers().ok()?.clone();
-    let column = |name: &str| header.iter().position(|h| h == name);
-    let (id, ls, rate) = (
-        column("case_id")?,
-        column("limit_state")?,
-        column("annual_rate")?,
-    );
-    reader
-        .records()
-        .map(|r| {
-            let r = r.ok()?;
-            Some([
-                r.get(id)?.to_string(),
-                r.get(ls)?.to_string(),
-                r.get(rate)?.to_string(),
-            ])
-        })
-        .collect()
 }
 
 /// The sample record and spectrum of a study of recorded motions: the first

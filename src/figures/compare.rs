@@ -66,7 +66,11 @@ impl CompareFigure {
         for (label, dir) in folders {
             let data = StudyData::load(dir)?;
             measures.push(data.pga_label());
-            let curves = data.curves.unwrap_or_default();
+            // curves against the stripes' PGA only: the figure's axis
+            let curves = match data.fit_on_stripes() {
+                true => data.curves.unwrap_or_default(),
+                false => Vec::new(),
+            };
             // the first case's most severe limit state
             let fit: Vec<(f64, f64, f64, f64)> = match curves.first() {
                 Some(first) => {
@@ -120,7 +124,7 @@ impl CompareFigure {
             ));
         }
         measures.dedup();
-        let x_label = match measures[..] {
+        let x_label = match &measures[..] {
             [one] => format!("ground {one}"),
             _ => "ground PGA (g; RotD50 for the studies of record pairs)".to_string(),
         };

@@ -15,9 +15,8 @@ use std::path::Path;
 
 use crate::case::{Case, Field, Param, cmp_friction};
 use crate::error::{Error, Result};
-use crate::fragility::{
-    FragilityOptions, IntensityMeasure, read_curves_csv, read_fragility_csv, read_outcomes_for,
-};
+use crate::fragility::{FragilityOptions, read_curves_csv, read_fragility_csv, read_outcomes_for};
+use crate::im::Im;
 use crate::outcomes_csv::{Column, OutcomesFile};
 use crate::solver::Friction;
 use crate::spec::Study;
@@ -210,9 +209,12 @@ pub struct StudyData {
     /// The fitted curves' θ and β (against PGA), from `fragility.csv`;
     /// empty when the folder has none.
     pub lognormal: Vec<LognormalCurve>,
-    /// The PGA of the stripes and curves: the record's, or a record pair's
-    /// RotD50 ([`read_outcomes`]).
-    pub im: IntensityMeasure,
+    /// The PGA of the stripes ([`PlotRow::pga`]): the record's, or a
+    /// record pair's RotD50 ([`read_outcomes`]).
+    pub im: Im,
+    /// The IM the folder's fit is against (`fragility.csv`; `curves` and
+    /// `lognormal` are its curves), `None` without a fit.
+    pub fit_im: Option<Im>,
     /// The study, when known (from the folder's manifest): its limit
     /// states' definitions and the distributions of what it draws.
     pub study: Option<Study>,
@@ -225,11 +227,21 @@ pub struct StudyData {
 impl StudyData {
     /// The label of the PGA axis: `PGA (g)`, or `RotD50 PGA (g)` for a
     /// study of record pairs.
-    pub fn pga_label(&self) -> &'static str {
-        match self.im {
-            IntensityMeasure::PgaRotd50 => "RotD50 PGA (g)",
-            _ => "PGA (g)",
-        }
+    pub fn pga_label(&self) -> String {
+        self.im.axis_label()
+    }
+
+    /// The IM of the fitted curves ([`StudyData::fit_im`]), else of the
+    /// stripes.
+    pub fn curve_im(&self) -> Im {
+        self.fit_im.unwrap_or(self.im)
+    }
+
+    /// Whether the fitted curves are against the stripes' PGA (what the
+    /// figures drawn over stripes, the history's and the comparison's,
+    /// need).
+    pub fn fit_on_stripes(&self) -> bool {
+        self.curve_im() == self.im
     }
 }
 
@@ -252,14 +264,23 @@ impl StudyData {
         }
         crate::fragility::check_set(dir)?;
         let curves_path = dir.join("fragility_curves.csv");
-        let curves = if curves_path.exists() {
-            Some(read_fragility_curves(&curves_path, im)?)
+        let fits_path = dir.join("fragility.csv");
+        // one fit writes one IM: its first row's
+        let fit_im = if fits_path.exists() {
+            read_fragility_csv(&fits_path)?.first().map(|r| r.im)
+        } else if curves_path.exists() {
+            read_curves_csv(&curves_path)?.first().map(|r| r.im)
         } else {
             None
         };
-        let fits_path = dir.join("fragility.csv");
+        let curve_im = fit_im.unwrap_or(im);
+        let curves = if curves_path.exists() {
+            Some(read_fragility_curves(&curves_path, curve_im)?)
+        } else {
+            None
+        };
         let lognormal = if fits_path.exists() {
-            read_lognormal(&fits_path, im)?
+            read_lognormal(&fits_path, curve_im)?
         } else {
             Vec::new()
         };
@@ -268,6 +289,7 @@ impl StudyData {
             curves,
             lognormal,
             im,
+            fit_im,
             study: None,
             observed: Vec::new(),
         })
@@ -281,14 +303,26 @@ impl StudyData {
     pub fn load_study(dir: &Path, study: Option<&Study>, pooled: &[Field]) -> Result<StudyData> {
         let mut data = StudyData::load_pooled(dir, pooled)?;
         data.study = study.cloned();
-        let Some(study) = study else {
+        // Without a study, only a fit against another IM than the stripes'
+        // needs the fractions counted here (overturning's); else the
+        // figure counts them from the rows.
+        if study.is_none() && data.fit_on_stripes() {
             return Ok(data);
+        }
+        let im = data.curve_im();
+        let measured = match study {
+            Some(s) if !im.stored() && im.of_record() => {
+                crate::study::measure_study_records(s, dir, im)
+                    .ok()
+                    .map(std::sync::Arc::new)
+            }
+            _ => None,
         };
         let options = FragilityOptions {
-            im: data.im,
+            im: Some(im),
+            measured,
             limit_state: study
-                .fragility
-                .as_ref()
+                .and_then(|s| s.fragility.as_ref())
                 .map_or_else(Vec::new, |f| f.limit_state.clone()),
             pool: pooled.to_vec(),
             ..FragilityOptions::default()
@@ -297,14 +331,48 @@ impl StudyData {
         let Ok(outcomes) = read_outcomes_for(&dir.join("outcomes.csv"), &options) else {
             return Ok(data);
         };
+        let on_stripes = data.fit_on_stripes();
         for case in &outcomes.cases {
-            let levels = stripes(case.trials.iter().map(|t| t.im));
+            // each trial's stripe: by its IM when the fit is against the
+            // stripes' own; else by its level, drawn at the stripe's IM
+            // (the level's, or the geometric mean of the analyses' own)
+            let key = |t: &crate::fragility::Trial| if on_stripes { t.im } else { t.level };
+            let levels = stripes(case.trials.iter().map(key));
+            let mut at_im: Vec<(f64, f64, usize)> = vec![(0.0, 0.0, 0); levels.len()];
+            let stripe_of = |x: f64| {
+                levels
+                    .partition_point(|&l| l < x && !same_stripe(l, x))
+                    .min(levels.len() - 1)
+            };
+            for t in &case.trials {
+                let a = &mut at_im[stripe_of(key(t))];
+                a.0 = if a.2 == 0 || a.0 == t.im {
+                    t.im
+                } else {
+                    f64::NAN
+                };
+                a.1 += crate::detmath::ln(t.im);
+                a.2 += 1;
+            }
+            let positions: Vec<f64> = at_im
+                .iter()
+                .zip(&levels)
+                .map(|(&(same, sum_ln, n), &level)| {
+                    if on_stripes {
+                        level
+                    } else if same.is_nan() {
+                        crate::detmath::exp(sum_ln / n as f64)
+                    } else {
+                        same
+                    }
+                })
+                .collect();
             for (k, ls) in outcomes.limit_states.iter().enumerate() {
                 let mut counts: Vec<(usize, usize)> = vec![(0, 0); levels.len()];
                 for t in &case.trials {
-                    let i = levels.partition_point(|&l| l < t.im && !same_stripe(l, t.im));
-                    counts[i.min(levels.len() - 1)].0 += usize::from(t.exceeds(k));
-                    counts[i.min(levels.len() - 1)].1 += 1;
+                    let i = stripe_of(key(t));
+                    counts[i].0 += usize::from(t.exceeds(k));
+                    counts[i].1 += 1;
                 }
                 // the fit's count, if it has one, must be this one
                 let total: usize = counts.iter().map(|c| c.0).sum();
@@ -315,16 +383,15 @@ impl StudyData {
                 if fitted.is_some_and(|l| l.n_exceeded != total) {
                     continue;
                 }
-                data.observed
-                    .extend(levels.iter().zip(counts).map(|(&im, (exceeded, trials))| {
-                        ObservedStripe {
-                            case: case.key,
-                            limit_state: ls.name.clone(),
-                            im,
-                            exceeded,
-                            trials,
-                        }
-                    }));
+                data.observed.extend(positions.iter().zip(counts).map(
+                    |(&im, (exceeded, trials))| ObservedStripe {
+                        case: case.key,
+                        limit_state: ls.name.clone(),
+                        im,
+                        exceeded,
+                        trials,
+                    },
+                ));
             }
         }
         Ok(data)
@@ -371,11 +438,11 @@ fn sort(rows: &mut [PlotRow]) {
 /// Errors: [`Error::Io`] if the file cannot be read,
 /// [`Error::Parse`] naming the line for a missing
 /// column, or the line, column and value for an unreadable value.
-pub fn read_outcomes(path: &Path) -> Result<(Vec<PlotRow>, IntensityMeasure)> {
+pub fn read_outcomes(path: &Path) -> Result<(Vec<PlotRow>, Im)> {
     let mut table = OutcomesFile::open(
         path,
         &[
-            Column::Pga,
+            Column::Im(Im::PGA),
             Column::Record,
             Column::Overturned,
             Column::Uplifted,
@@ -388,12 +455,12 @@ pub fn read_outcomes(path: &Path) -> Result<(Vec<PlotRow>, IntensityMeasure)> {
     )?;
     // optional: files written before the column existed lack it
     let has_eq5 = table.has(Column::MuImpactEq5);
-    let im = if table.has(Column::PgaRotd50) {
-        IntensityMeasure::PgaRotd50
+    let im = if table.has(Column::Im(Im::PGA_ROTD50)) {
+        Im::PGA_ROTD50
     } else {
-        IntensityMeasure::Pga
+        Im::PGA
     };
-    let column = im.column();
+    let column = Column::Im(im);
     // sized once, by the file's lines: grown by doubling, 100,000 rows
     // would hold 19 MB and copy 9 MB into it on the last growth
     let mut rows = Vec::with_capacity(line_count(path)?.saturating_sub(1));
@@ -449,7 +516,7 @@ fn line_count(path: &Path) -> Result<usize> {
 /// band (no bootstrap) reads as the curve itself. Returns the points sorted
 /// by case, limit state (in the file's order: a case's limit states in
 /// order of severity) and IM.
-pub fn read_fragility_curves(path: &Path, im: IntensityMeasure) -> Result<Vec<CurvePoint>> {
+pub fn read_fragility_curves(path: &Path, im: Im) -> Result<Vec<CurvePoint>> {
     let mut points: Vec<CurvePoint> = read_curves_csv(path)?
         .into_iter()
         .filter(|r| r.im == im)
@@ -482,7 +549,7 @@ pub fn read_fragility_curves(path: &Path, im: IntensityMeasure) -> Result<Vec<Cu
 /// Reads the fitted θ and β of `fragility.csv` ([`read_fragility_csv`]):
 /// the cases and limit states fitted against `im` (see
 /// [`read_fragility_curves`]), in the file's order.
-pub fn read_lognormal(path: &Path, im: IntensityMeasure) -> Result<Vec<LognormalCurve>> {
+pub fn read_lognormal(path: &Path, im: Im) -> Result<Vec<LognormalCurve>> {
     Ok(read_fragility_csv(path)?
         .into_iter()
         .filter(|r| r.im == im)
@@ -573,7 +640,7 @@ mod tests {
         )
         .unwrap();
         let (rows, im) = read_outcomes(&path).unwrap();
-        assert_eq!(im, IntensityMeasure::Pga, "no pga_rotd50 column");
+        assert_eq!(im, Im::PGA, "no pga_rotd50 column");
         assert_eq!(rows.len(), 2);
         assert_eq!(rows[0].case.friction, Param::Fixed(Friction::Infinite));
         assert!(rows[0].uplifted && !rows[0].overturned);

@@ -228,7 +228,7 @@ pub struct FragilityFigure {
     /// The limit states with fitted curves, in order of severity (as
     /// `fragility_curves.csv` lists them); `["overturning"]` without fits.
     pub limit_states: Vec<String>,
-    /// The IM axis's label ([`StudyData::pga_label`]).
+    /// The IM axis's label: the fit's IM ([`StudyData::curve_im`]).
     pub x_label: String,
     /// The legend's text of a drawn e (`e ~ U(0.2, 0.6), drawn per
     /// analysis`), when the study draws it.
@@ -436,7 +436,7 @@ impl FragilityFigure {
             short_of_reach,
             as_infinite,
             limit_states,
-            x_label: data.pga_label().to_string(),
+            x_label: data.curve_im().axis_label(),
         }
     }
 

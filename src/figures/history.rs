@@ -42,7 +42,7 @@ use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
 use crate::case::{Case, Field, Param};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
-use crate::fragility::IntensityMeasure;
+use crate::im::Im;
 use crate::io_util::sig3;
 use crate::motion::{Record, SynthesisSettings, Synthesizer};
 use crate::outcome::{Mode, Outcome};
@@ -681,21 +681,26 @@ fn choose_run(
     stripes.sort_by(f64::total_cmp);
     stripes.dedup();
     // The case's fitted median of its most severe limit state: where its
-    // curve crosses 1/2.
-    let median = data.curves.as_ref().and_then(|curves| {
-        let last = curves
-            .iter()
-            .filter(|c| c.case == case)
-            .map(|c| &c.limit_state)
-            .next_back()?;
-        let pts: Vec<_> = curves
-            .iter()
-            .filter(|c| c.case == case && &c.limit_state == last)
-            .collect();
-        pts.windows(2)
-            .find(|w| w[0].p < 0.5 && w[1].p >= 0.5)
-            .map(|w| w[0].im + (0.5 - w[0].p) / (w[1].p - w[0].p) * (w[1].im - w[0].im))
-    });
+    // curve crosses 1/2 (of a fit against the stripes' PGA).
+    let on_stripes = data.fit_on_stripes();
+    let median = data
+        .curves
+        .as_ref()
+        .filter(|_| on_stripes)
+        .and_then(|curves| {
+            let last = curves
+                .iter()
+                .filter(|c| c.case == case)
+                .map(|c| &c.limit_state)
+                .next_back()?;
+            let pts: Vec<_> = curves
+                .iter()
+                .filter(|c| c.case == case && &c.limit_state == last)
+                .collect();
+            pts.windows(2)
+                .find(|w| w[0].p < 0.5 && w[1].p >= 0.5)
+                .map(|w| w[0].im + (0.5 - w[0].p) / (w[1].p - w[0].p) * (w[1].im - w[0].im))
+        });
     let (pga, why) = match level {
         Some(l) => {
             let Some(&s) = stripes.iter().find(|&&s| s == l) else {
@@ -765,12 +770,16 @@ fn choose_run(
     // Its own block and level, from outcomes.csv.
     let pooled = options.pooled;
     let cols = options.study.map(plan::columns);
-    let mut table = OutcomesFile::open(&dir.join("outcomes.csv"), &[Column::Pga], "the history")?;
-    let rotd50 = data.im == IntensityMeasure::PgaRotd50;
+    let mut table = OutcomesFile::open(
+        &dir.join("outcomes.csv"),
+        &[Column::Im(Im::PGA)],
+        "the history",
+    )?;
+    let rotd50 = data.im.is_rotd50();
     while let Some((_, row)) = table.next_row()? {
         // the stripe's PGA as `read_outcomes` took it
         if row.record as u64 == run.record
-            && row.intensity(data.im.column()) == Some(run.pga)
+            && row.im(data.im) == Some(run.pga)
             && row.case.pooled(pooled) == case
             && row.result.is_ok()
         {

@@ -52,6 +52,7 @@ use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, LogAxis, Margins, Marker, Sample, curve};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, Style};
 use crate::case::Case;
+use crate::im::Im;
 use crate::risk::{HazardCurve, RiskOptions, RiskRow, deaggregation_smoothed};
 
 /// Most cases drawn as rows of panel (b); `risk.csv` has them all.
@@ -222,19 +223,7 @@ impl RiskFigure {
         for (c, label) in cases.iter_mut().zip(labels) {
             c.label = label;
         }
-        let (im, unit) = rows.first().map_or(("pga", "g"), |r| {
-            (r.curve.im.as_str(), r.curve.im_unit.as_str())
-        });
-        let im_label = match (im, unit) {
-            ("pga", _) => "PGA (g)".to_string(),
-            ("pgv", _) => "PGV (m/s)".to_string(),
-            ("pfa", _) => "PFA (g)".to_string(),
-            ("pfv", _) => "PFV (m/s)".to_string(),
-            ("pga-rotd50", _) => "RotD50 PGA (g)".to_string(),
-            ("pgv-rotd50", _) => "RotD50 PGV (m/s)".to_string(),
-            (name, "1" | "") => name.to_string(),
-            (name, u) => format!("{name} ({u})"),
-        };
+        let im_label = rows.first().map_or(Im::PGA, |r| r.curve.im).axis_label();
         let pct = (RiskOptions::default().confidence * 100.0).round();
         RiskFigure {
             title: format!("Annual rate of each limit state at {}", hazard.site()),

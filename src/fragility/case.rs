@@ -8,10 +8,11 @@ use rayon::prelude::*;
 use super::bootstrap::{BootstrapSummary, bootstrap, bootstrap_common_beta};
 use super::data::{CaseData, Outcomes, read_outcomes_for};
 use super::fit::{LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal};
-use super::options::{FragilityOptions, IntensityMeasure};
+use super::options::FragilityOptions;
 use crate::case::Case;
 use crate::detmath as dm;
 use crate::error::{Error, Result};
+use crate::im::Im;
 use crate::io_util::sig3;
 
 /// A fitted curve sampled on a grid.
@@ -198,7 +199,7 @@ pub struct CaseFit {
     /// The limit state's name (`overturning` unless limit states were given).
     pub limit_state: String,
     /// The intensity measure of the fit.
-    pub im: IntensityMeasure,
+    pub im: Im,
     /// Successful analyses.
     pub n_analyses: usize,
     /// Of those, analyses that overturned.
@@ -353,7 +354,7 @@ fn separate(case: &CaseData, k: usize, name: &str, options: &FragilityOptions) -
     CaseFit {
         key: case.key,
         limit_state: name.to_string(),
-        im: options.im,
+        im: options.im(),
         n_analyses: case.trials.len(),
         n_overturned: case.trials.iter().filter(|a| a.overturned).count(),
         n_exceeded: case.trials.iter().filter(|a| a.exceeds(k)).count(),
@@ -421,13 +422,13 @@ fn curve(fit: &LognormalFit, grid: &[f64]) -> Curve {
 /// have been read with `options.im` and `options`' limit states.
 pub fn fit_cases(outcomes: &Outcomes, options: &FragilityOptions) -> Result<Vec<CaseFit>> {
     options.validate()?;
-    if outcomes.im != options.im {
+    if outcomes.im != options.im() {
         return Err(Error::invalid(
             "fragility.im",
-            options.im.name(),
+            options.im(),
             &format!(
                 "the intensity measure the outcomes were read with ({})",
-                outcomes.im.name()
+                outcomes.im
             ),
         ));
     }

@@ -5,9 +5,10 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::fit::Observation;
-use super::options::{FragilityOptions, IntensityMeasure, LimitState};
+use super::options::{FragilityOptions, LimitState, RecordIms};
 use crate::case::{Case, Field};
 use crate::error::{Error, Result};
+use crate::im::{At, Im, Measure};
 use crate::outcomes_csv::{Column, MeasureKind, OutcomesFile};
 
 /// One successful analysis of a case, as the fit sees it: a binomial trial
@@ -97,7 +98,7 @@ impl CaseData {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcomes {
     /// The intensity measure stored in [`Trial::im`].
-    pub im: IntensityMeasure,
+    pub im: Im,
     /// The limit states whose exceedance [`Trial::exceeded`] records, in
     /// order of increasing severity.
     pub limit_states: Vec<LimitState>,
@@ -109,8 +110,31 @@ pub struct Outcomes {
 /// needs: `pga`, `record`, `overturned` (and `pgv` for the PGV intensity
 /// measure). A failed analysis is skipped and counted in
 /// [`CaseData::failed`].
-pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
-    read_outcomes_with(path, im, &[LimitState::overturning()], &[])
+pub fn read_outcomes(path: &Path, im: Im) -> Result<Outcomes> {
+    let options = FragilityOptions::default();
+    let measured = measured_for(&options, im)?;
+    read_outcomes_with(path, im, &[LimitState::overturning()], &[], measured)
+}
+
+/// The measured values of `im` in `options`, when it is an IM
+/// `outcomes.csv` does not hold; `None` for the others. Errors: none given.
+fn measured_for(options: &FragilityOptions, im: Im) -> Result<Option<&RecordIms>> {
+    if im.stored() || !im.of_record() {
+        return Ok(None);
+    }
+    match options.measured.as_deref().filter(|m| m.im == im) {
+        Some(m) => Ok(Some(m)),
+        None => Err(Error::invalid(
+            "im",
+            im,
+            &format!(
+                "an IM outcomes.csv holds ({}, pga-over-tan): {im} is measured on the records \
+                 again, which needs the study folder (rockfrag fragility DIR --im, or \
+                 Python's fragility on the folder)",
+                Im::COLUMNS.map(Im::name).join(", ")
+            ),
+        )),
+    }
 }
 
 /// Reads `outcomes.csv` for the intensity measure and limit states of
@@ -120,18 +144,31 @@ pub fn read_outcomes(path: &Path, im: IntensityMeasure) -> Result<Outcomes> {
 /// above any threshold.
 pub fn read_outcomes_for(path: &Path, options: &FragilityOptions) -> Result<Outcomes> {
     options.validate()?;
-    read_outcomes_with(path, options.im, &options.limit_states(), &options.pool)
+    let measured = measured_for(options, options.im())?;
+    read_outcomes_with(
+        path,
+        options.im(),
+        &options.limit_states(),
+        &options.pool,
+        measured,
+    )
 }
 
 fn read_outcomes_with(
     path: &Path,
-    im: IntensityMeasure,
+    im: Im,
     limit_states: &[LimitState],
     pool: &[Field],
+    measured: Option<&RecordIms>,
 ) -> Result<Outcomes> {
-    let mut required = vec![Column::Pga, Column::Record, Column::Overturned];
-    if im.column() != Column::Pga {
-        required.push(im.column());
+    let pga_column = Column::Im(Im::PGA);
+    let mut required = vec![pga_column, Column::Record, Column::Overturned];
+    let im_column = Column::of_im(im);
+    if let Some(c) = im_column.filter(|&c| c != pga_column) {
+        required.push(c);
+    }
+    if let Some(m) = measured.filter(|m| !required.contains(&m.level_column)) {
+        required.push(m.level_column);
     }
     // The column and kind of each limit state's measure.
     let mut measures = Vec::with_capacity(limit_states.len());
@@ -145,16 +182,14 @@ fn read_outcomes_with(
         };
         measures.push((column, kind, ls.exceeds.unwrap_or(0.0)));
     }
-    let purpose = match im {
-        IntensityMeasure::PgaRotd50 | IntensityMeasure::PgvRotd50 => format!(
-            "the fragility fit against {}, which only studies of record pairs have",
-            im.name()
+    let purpose = match im.at() {
+        At::RotD50 => {
+            format!("the fragility fit against {im}, which only studies of record pairs have")
+        }
+        At::Floor => format!(
+            "the fragility fit against {im}, which only studies on a floor ([support]) have"
         ),
-        IntensityMeasure::Pfa | IntensityMeasure::Pfv => format!(
-            "the fragility fit against {}, which only studies on a floor ([support]) have",
-            im.name()
-        ),
-        _ => "the fragility fit".to_string(),
+        At::Ground => "the fragility fit".to_string(),
     };
     let mut table = OutcomesFile::open(path, &required, &purpose)?;
     for (ls, &(column, _, _)) in limit_states.iter().zip(&measures) {
@@ -205,12 +240,22 @@ fn read_outcomes_with(
                 )
             })
         };
-        let pga = positive(row.pga, Column::Pga)?;
-        let value = match im {
-            IntensityMeasure::PgaOverTan => {
+        let pga = positive(row.im(Im::PGA), pga_column)?;
+        let value = match (im.measure(), im_column) {
+            (Measure::PgaOverTan, _) => {
                 pga * own.aspect.fixed().expect("an analysis's aspect is fixed")
             }
-            _ => positive(row.intensity(im.column()), im.column())?,
+            (_, Some(c)) => positive(row.intensity(c), c)?,
+            (_, None) => {
+                let m = measured.expect("an IM without a column is measured on the records");
+                let level = positive(row.intensity(m.level_column), m.level_column)?;
+                m.get(level, row.record).ok_or_else(|| {
+                    table.error_at(
+                        line,
+                        format!("record {} at level {level} was not measured", row.record),
+                    )
+                })?
+            }
         };
         let mut exceeded = 0u64;
         for (k, &(column, kind, threshold)) in measures.iter().enumerate() {
@@ -255,10 +300,13 @@ fn read_outcomes_with(
 fn level_candidates(table: &OutcomesFile) -> [Option<Column>; 2] {
     if table.has(Column::Scale) {
         [Some(Column::Scale), None]
-    } else if table.has(Column::PgaRotd50) {
-        [Some(Column::PgaRotd50), Some(Column::PgvRotd50)]
+    } else if table.has(Column::Im(Im::PGA_ROTD50)) {
+        [
+            Some(Column::Im(Im::PGA_ROTD50)),
+            Some(Column::Im(Im::PGV_ROTD50)),
+        ]
     } else {
-        [Some(Column::Pga), Some(Column::Pgv)]
+        [Some(Column::Im(Im::PGA)), Some(Column::Im(Im::PGV))]
     }
 }
 

@@ -15,9 +15,9 @@ use std::path::{Path, PathBuf};
 
 use super::case::{CaseFit, Caveat};
 use super::nrml;
-use super::options::IntensityMeasure;
 use crate::case::Case;
 use crate::error::{Error, Result};
+use crate::im::Im;
 use crate::io_util::{number, write_atomic};
 use crate::table::{Row, Table};
 
@@ -75,7 +75,7 @@ pub struct FragilityRow {
     /// The limit state's name.
     pub limit_state: String,
     /// The intensity measure.
-    pub im: IntensityMeasure,
+    pub im: Im,
     /// Median θ (unit of `im`), `None` when not fitted.
     pub median: Option<f64>,
     /// β, `None` when not fitted.
@@ -196,7 +196,7 @@ impl FragilityRow {
             self.case.id(),
             self.case.fields(),
             self.limit_state.clone(),
-            self.im.name().to_string(),
+            self.im.name(),
             opt(self.median),
             opt(self.beta),
             opt(self.median_band.map(|b| b.0)),
@@ -247,8 +247,9 @@ impl FragilityRow {
         };
         let required = |i: usize| c[i].expect("a required column");
         let pair = |a: Option<f64>, b: Option<f64>| a.zip(b);
-        let im = IntensityMeasure::from_name(text(1))
-            .ok_or_else(|| row.error(required(1), "pga, pgv or pga-over-tan"))?;
+        let im = text(1)
+            .parse::<Im>()
+            .map_err(|e| row.error(required(1), &e))?;
         let out = FragilityRow {
             case: row.case(true)?,
             limit_state: row.text(required(0))?.to_string(),
@@ -356,7 +357,7 @@ pub struct CurveRow {
     /// The limit state.
     pub limit_state: String,
     /// The intensity measure.
-    pub im: IntensityMeasure,
+    pub im: Im,
     /// The intensity (unit of `im`).
     pub im_value: f64,
     /// Fitted probability of exceeding the limit state.
@@ -430,8 +431,7 @@ pub fn read_curves_csv(path: &Path) -> Result<Vec<CurveRow>> {
             limit_state: limit_state
                 .map_or("overturning", |i| row.field(i))
                 .to_string(),
-            im: IntensityMeasure::from_name(row.field(im))
-                .ok_or_else(|| row.error(im, "pga, pgv or pga-over-tan"))?,
+            im: row.field(im).parse::<Im>().map_err(|e| row.error(im, &e))?,
             im_value: row.number(im_value)?,
             p: row.number(p)?,
             band,
@@ -451,7 +451,7 @@ pub struct BootstrapRow {
     /// The limit state.
     pub limit_state: String,
     /// The intensity measure.
-    pub im: IntensityMeasure,
+    pub im: Im,
     /// The replicate (0-based).
     pub replicate: usize,
     /// The replicate's (θ, β), or why it could not be fitted.
@@ -522,8 +522,7 @@ pub fn read_bootstrap_csv(path: &Path) -> Result<Vec<BootstrapRow>> {
             index: row.integer(index)? as usize,
             case: row.case(true)?,
             limit_state: row.text(ls)?.to_string(),
-            im: IntensityMeasure::from_name(row.field(im))
-                .ok_or_else(|| row.error(im, "pga, pgv or pga-over-tan"))?,
+            im: row.field(im).parse::<Im>().map_err(|e| row.error(im, &e))?,
             replicate: row.integer(replicate)? as usize,
             fit,
         });

@@ -62,7 +62,7 @@
 //!
 //! ## Intensity measures
 //!
-//! [`IntensityMeasure`]: PGA in g (the stripes' level), PGV in m/s (the
+//! [`Im`](crate::im::Im): PGA in g (the stripes' level), PGV in m/s (the
 //! `pgv` column: each analysis has its own, so the fit is over analyses
 //! grouped by equal PGV), or the dimensionless PGA/(g tan θc) = PGA·(H/B),
 //! the block's uplift threshold under infinite friction being 1.
@@ -104,8 +104,8 @@ pub use nrml::{
     moments_to_lognormal, nrml_model_string, nrml_string, write_nrml,
 };
 pub use options::{
-    BootstrapUnit, FragilityOptions, IntensityMeasure, LimitState, MAX_BOOTSTRAP, MAX_GRID_POINTS,
-    MAX_LIMIT_STATES, bootstrap_limit,
+    BootstrapUnit, FragilityOptions, LimitState, MAX_BOOTSTRAP, MAX_GRID_POINTS, MAX_LIMIT_STATES,
+    RecordIms, bootstrap_limit,
 };
 pub use precision::{
     Band, DEFAULT_MAX_ANALYSES, Design, MIN_ANALYSES, Precision, lattice, place, records_for,

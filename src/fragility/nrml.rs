@@ -56,9 +56,9 @@ use crate::detmath as dm;
 use std::path::Path;
 
 use super::case::{CaseFit, Caveat, first_inversion};
-use super::options::{IntensityMeasure, is_nrml_name};
-use crate::case::Case;
+use super::options::is_nrml_name;
 use crate::error::{Error, Result};
+use crate::im::OpenQuakeImt;
 use crate::io_util::number;
 use crate::io_util::write_atomic;
 
@@ -80,23 +80,6 @@ pub fn moments_to_lognormal(mean: f64, stddev: f64) -> (f64, f64) {
     let cv2 = dm::powi(stddev / mean, 2);
     let b2 = dm::ln_1p(cv2);
     (mean * dm::exp(-0.5 * b2), b2.sqrt())
-}
-
-/// The OpenQuake intensity measure type of a fit and the factor converting
-/// its intensities to OpenQuake's unit for that type (PGA in g, PGV in cm/s);
-/// no factor for PGA/(g tan θc) of a case whose H/B is drawn (it has no
-/// single PGA equivalent).
-pub(crate) fn openquake_imt(im: IntensityMeasure, key: &Case) -> (&'static str, Option<f64>) {
-    match im {
-        // OpenQuake's PGA and PGV are what its ground-motion models give:
-        // for most of them the RotD50 of the two components
-        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50 => ("PGA", Some(1.0)),
-        IntensityMeasure::Pgv | IntensityMeasure::PgvRotd50 => ("PGV", Some(100.0)),
-        IntensityMeasure::PgaOverTan => ("PGA", key.aspect.fixed().map(|a| 1.0 / a)),
-        // OpenQuake has no floor IMT: its hazard is the ground's
-        IntensityMeasure::Pfa => ("PFA", None),
-        IntensityMeasure::Pfv => ("PFV", None),
-    }
 }
 
 /// The limit state of a fit that names none.
@@ -136,7 +119,7 @@ pub struct NrmlFunction {
     /// Function id: the case's id ([`Case::id`]).
     pub id: String,
     /// OpenQuake intensity measure type (`PGA`, `PGV`).
-    pub imt: &'static str,
+    pub imt: String,
     /// The curves.
     pub shape: NrmlShape,
 }
@@ -192,9 +175,10 @@ pub fn nrml_string(fits: &[CaseFit]) -> String {
 pub fn model_range(fits: &[CaseFit]) -> (f64, f64) {
     let mut range = (f64::INFINITY, 0.0_f64);
     for f in fits {
-        let (Ok(fit), (_, Some(factor))) = (&f.fit, openquake_imt(f.im, &f.key)) else {
+        let (Ok(fit), Some(oq)) = (&f.fit, f.im.openquake_for(f.key.aspect.fixed())) else {
             continue;
         };
+        let factor = oq.factor;
         let (theta, beta) = (fit.median() * factor, fit.beta());
         range.0 = range.0.min(theta * dm::exp(-IML_SIGMAS * beta));
         range.1 = range.1.max(theta * dm::exp(IML_SIGMAS * beta));
@@ -203,9 +187,9 @@ pub fn model_range(fits: &[CaseFit]) -> (f64, f64) {
         return range;
     }
     for f in fits {
-        if let (Some((lo, hi)), (_, Some(factor))) = (f.im_range, openquake_imt(f.im, &f.key)) {
-            range.0 = range.0.min(lo * factor);
-            range.1 = range.1.max(hi * factor);
+        if let (Some((lo, hi)), Some(oq)) = (f.im_range, f.im.openquake_for(f.key.aspect.fixed())) {
+            range.0 = range.0.min(lo * oq.factor);
+            range.1 = range.1.max(hi * oq.factor);
         }
     }
     if range.0.is_finite() {
@@ -219,19 +203,12 @@ pub fn model_range(fits: &[CaseFit]) -> (f64, f64) {
 fn case_entry(case: &[&CaseFit], limit_states: &[&str], range: (f64, f64)) -> Option<NrmlEntry> {
     let first = case[0];
     let id = first.key.id();
-    let (imt, factor) = openquake_imt(first.im, &first.key);
-    let Some(factor) = factor else {
-        let reason = if first.im.is_floor() {
-            format!(
-                "fitted against {} (the floor's peak), an intensity OpenQuake's hazard does \
-                 not compute; fit against pga (the ground's) for OpenQuake",
-                first.im.name()
-            )
-        } else {
-            "H/B is drawn per analysis, so PGA/(g tan θc) has no single PGA \
-             equivalent; fit against PGA for OpenQuake"
-                .to_string()
-        };
+    let aspect = first.key.aspect.fixed();
+    let Some(OpenQuakeImt { imt, factor }) = first.im.openquake_for(aspect) else {
+        let reason = first
+            .im
+            .no_openquake_reason(aspect)
+            .expect("an IM without an IMT has a reason");
         return Some(NrmlEntry::Omitted { id, reason });
     };
     first.im_range?;
@@ -530,6 +507,7 @@ pub fn write_nrml(path: &Path, fits: &[CaseFit]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::case::Case;
     use crate::solver::Friction;
 
     /// Ids keep to NRML's alphabet.

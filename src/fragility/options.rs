@@ -1,10 +1,13 @@
 //! What a fit is asked for: the intensity measure, the limit states and the
 //! fit's settings (the spec's `[fragility]` table).
 
+use std::collections::HashMap;
+
 use serde::{Deserialize, Serialize};
 
 use crate::case::Field;
 use crate::error::{Error, Result};
+use crate::im::Im;
 use crate::outcomes_csv::{Column, MeasureKind};
 
 /// Most limit states a fit accepts (each analysis keeps its exceedances as
@@ -49,78 +52,35 @@ impl LimitState {
     }
 }
 
-/// The intensity measure the curves are fitted against.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(try_from = "String", into = "String")]
-pub enum IntensityMeasure {
-    /// Peak ground acceleration, in g (default).
-    #[default]
-    Pga,
-    /// Peak ground velocity, in m/s (needs a `pgv` column).
-    Pgv,
-    /// PGA/(g tan θc) = PGA·(H/B), dimensionless: 1 is the uplift threshold
-    /// of a block on a rigid base under infinite friction.
-    PgaOverTan,
-    /// Peak floor acceleration, in g: the peak absolute acceleration of the
-    /// floor the block stands on (a study with `[support] floor`; needs a
-    /// `pfa` column). A risk calculation needs the hazard in PFA at that
-    /// floor (a plain `iml,annual_rate` file).
-    Pfa,
-    /// Peak floor velocity, in m/s (needs a `pfv` column), as [`IntensityMeasure::Pfa`].
-    Pfv,
-    /// RotD50 PGA of a record pair, in g: the median over directions of the
-    /// peak of the rotated component, independent of how the block faces
-    /// (Boore 2010; what ground-motion models and OpenQuake's hazard give).
-    /// Studies of record pairs (needs a `pga_rotd50` column); the default
-    /// measure of their fit.
-    PgaRotd50,
-    /// RotD50 PGV of a record pair, in m/s (needs a `pgv_rotd50` column), as
-    /// [`IntensityMeasure::PgaRotd50`].
-    PgvRotd50,
+/// The values of one IM that `outcomes.csv` does not hold, for every
+/// motion (level, record) of a study folder: measured on the study's
+/// records (`study::measure_records`) and handed to the fit in
+/// [`FragilityOptions::measured`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordIms {
+    /// The IM.
+    pub im: Im,
+    /// The `outcomes.csv` column holding each row's level.
+    pub level_column: Column,
+    /// The value of each (level's bits, record).
+    pub values: HashMap<(u64, usize), f64>,
 }
 
-crate::io_util::named!(IntensityMeasure, "im" {
-    Pga => "pga",
-    Pgv => "pgv",
-    PgaOverTan => "pga-over-tan",
-    Pfa => "pfa",
-    Pfv => "pfv",
-    PgaRotd50 => "pga-rotd50",
-    PgvRotd50 => "pgv-rotd50",
-});
-
-impl IntensityMeasure {
-    /// The measure named `name` ([`IntensityMeasure::name`]).
-    pub fn from_name(name: &str) -> Option<IntensityMeasure> {
-        name.parse().ok()
+impl RecordIms {
+    /// The IM of record `record` at level `level` (as the level column
+    /// holds it), if measured.
+    pub fn get(&self, level: f64, record: usize) -> Option<f64> {
+        self.values.get(&(level.to_bits(), record)).copied()
     }
 
-    /// The `outcomes.csv` column the intensity is read from or computed
-    /// with (`pga` for PGA/(g tan θc)).
-    pub fn column(self) -> Column {
-        match self {
-            IntensityMeasure::Pga | IntensityMeasure::PgaOverTan => Column::Pga,
-            IntensityMeasure::Pgv => Column::Pgv,
-            IntensityMeasure::Pfa => Column::Pfa,
-            IntensityMeasure::Pfv => Column::Pfv,
-            IntensityMeasure::PgaRotd50 => Column::PgaRotd50,
-            IntensityMeasure::PgvRotd50 => Column::PgvRotd50,
-        }
+    /// Motions measured.
+    pub fn len(&self) -> usize {
+        self.values.len()
     }
 
-    /// Whether the intensity is the floor's (PFA, PFV) rather than the
-    /// ground's.
-    pub fn is_floor(self) -> bool {
-        matches!(self, IntensityMeasure::Pfa | IntensityMeasure::Pfv)
-    }
-
-    /// Unit of the intensity (`1` for dimensionless).
-    pub fn unit(self) -> &'static str {
-        match self {
-            IntensityMeasure::Pga | IntensityMeasure::Pfa | IntensityMeasure::PgaRotd50 => "g",
-            IntensityMeasure::Pgv | IntensityMeasure::Pfv | IntensityMeasure::PgvRotd50 => "m/s",
-            IntensityMeasure::PgaOverTan => "1",
-        }
+    /// Whether none was.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
     }
 }
 
@@ -141,8 +101,16 @@ pub const MAX_GRID_POINTS: usize = 10_000;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FragilityOptions {
-    /// Intensity measure (default: PGA in g).
-    pub im: IntensityMeasure,
+    /// Intensity measure ([`Im`]; default: PGA in g, or a record pair's
+    /// RotD50 PGA for a study of pairs, which the spec's validation fills
+    /// in when the spec names none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub im: Option<Im>,
+    /// The values of an IM `outcomes.csv` does not hold (`sa(T)`, …),
+    /// measured on the study's records by `study::measure_records`; not
+    /// part of a spec.
+    #[serde(skip)]
+    pub measured: Option<std::sync::Arc<RecordIms>>,
     /// Bootstrap replicates, at most [`MAX_BOOTSTRAP`]; 0 skips the
     /// bootstrap and leaves the bands empty (default: 1000).
     pub bootstrap: usize,
@@ -180,7 +148,8 @@ pub struct FragilityOptions {
 impl Default for FragilityOptions {
     fn default() -> Self {
         FragilityOptions {
-            im: IntensityMeasure::Pga,
+            im: None,
+            measured: None,
             bootstrap: 1000,
             unit: BootstrapUnit::Records,
             seed: 1,
@@ -195,6 +164,11 @@ impl Default for FragilityOptions {
 }
 
 impl FragilityOptions {
+    /// The intensity measure fitted against: the one given, else PGA.
+    pub fn im(&self) -> Im {
+        self.im.unwrap_or_default()
+    }
+
     /// The limit states fitted: those given, or overturning alone.
     pub fn limit_states(&self) -> Vec<LimitState> {
         if self.limit_state.is_empty() {

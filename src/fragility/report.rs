@@ -224,10 +224,7 @@ fn table(fits: &[CaseFit], options: &FragilityOptions) -> String {
         0 => String::new(),
         _ => format!(" [{}%]", (options.confidence * 100.0).round()),
     };
-    let unit = match options.im.unit() {
-        "1" => String::new(),
-        u => format!(" ({u})"),
-    };
+    let unit = options.im().unit_suffix();
     let header: Vec<String> = [
         "case",
         "limit state",

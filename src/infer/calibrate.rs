@@ -20,7 +20,7 @@ use serde::Serialize;
 
 use super::likelihood::{Grid, effective_records, joint, kind_curves, naive};
 use super::posterior::{Posterior, Prior, Summary};
-use super::simulate::{Class, Im, Runner, Table};
+use super::simulate::{Class, Runner, Table};
 use super::survey::{self, Survey};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
@@ -107,7 +107,7 @@ pub fn calibrate(
     settings: &InferSettings,
     options: &CalibrationOptions,
 ) -> Result<Calibration> {
-    let Some(im) = Im::of_levels(study) else {
+    let Some(im) = super::simulate::im_of_levels(study) else {
         return Err(Error::invalid(
             "grid.scale_factors",
             "(given)",
@@ -315,7 +315,7 @@ pub fn synthetic_survey(
     im: f64,
     record: usize,
 ) -> Result<Survey> {
-    let Some(im_kind) = Im::of_levels(study) else {
+    let Some(im_kind) = super::simulate::im_of_levels(study) else {
         return Err(Error::invalid(
             "grid.scale_factors",
             "(given)",

@@ -14,7 +14,6 @@ use plotters::prelude::{PathElement, Polygon};
 use plotters::style::{BLACK, Color, RGBColor};
 
 use super::inference::Inference;
-use super::simulate::Im;
 use super::survey::Survey;
 use crate::detmath as dm;
 use crate::figures::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
@@ -118,10 +117,7 @@ impl InferenceFigure {
                 tick_label(round3(s.p95)),
                 inf.im.unit()
             ),
-            im_label: match inf.im {
-                Im::Pga => "PGA (g)".into(),
-                Im::Pgv => "PGV (m/s)".into(),
-            },
+            im_label: inf.im.axis_label(),
             range: (lo, hi),
             prior: per_u(&inf.prior),
             joint: per_u(&inf.joint.density),

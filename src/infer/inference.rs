@@ -74,7 +74,7 @@ impl PriorChoice {
         match self {
             PriorChoice::LogUniform => Ok(Prior::LogUniform),
             PriorChoice::Hazard { path, site } => Ok(Prior::Hazard(Box::new(
-                read_hazard(path, *site)?.in_unit_of(im.name())?,
+                read_hazard(path, *site)?.in_unit_of(im)?,
             ))),
         }
     }

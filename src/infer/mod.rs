@@ -61,5 +61,5 @@ pub use inference::{Inference, PriorChoice, infer};
 pub use likelihood::{Grid, KindCurve};
 pub use posterior::{Bounds, McBand, McError, OPEN_EDGE, Posterior, Prior, Summary};
 pub use run::{InferOptions, InferReport, default_out, run, settings};
-pub use simulate::{Cell, Im, Table};
+pub use simulate::{Cell, Im, Table, inferable};
 pub use survey::{Kind, KindModel, SlideRule, Survey};

@@ -253,7 +253,7 @@ struct InferenceJson {
     study: String,
     spec: String,
     observations: String,
-    im: &'static str,
+    im: String,
     im_unit: &'static str,
     prior: String,
     grid_points: usize,

@@ -8,7 +8,7 @@ use super::inference::{Inference, PriorChoice, infer};
 use super::output;
 use super::simulate::{self, Im, Table};
 use super::survey::{self, KindModel, SlideRule, Survey};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::spec::{InferSettings, Study, fnv1a64};
 use crate::study::{RunLock, Source};
 
@@ -117,8 +117,9 @@ pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferR
     let settings = settings(study);
     let models = survey::models(survey, study, &settings, &opts.spec_file)?;
     let slide = survey::slide_rule(survey, study, &settings, &opts.spec_file)?;
-    let im = opts.im.or(Im::of_levels(study)).unwrap_or(Im::Pga);
-    let exact = Im::of_levels(study) == Some(im);
+    let im = opts.im.or(simulate::im_of_levels(study)).unwrap_or(Im::PGA);
+    let im = simulate::inferable(im).map_err(|e| Error::invalid("--im", im, &e))?;
+    let exact = simulate::im_of_levels(study) == Some(im);
     let prior = opts.prior.load(im)?;
     let (pool, threads) = crate::threads::pool(opts.threads)?;
     let hash = inputs_hash(study, &models, slide.as_ref(), im)?;

@@ -25,62 +25,41 @@ use crate::solver::simulate;
 use crate::spec::{Intensity, Study};
 use crate::study::Source;
 
-/// The intensity measure inferred.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Im {
-    /// Peak ground acceleration, g.
-    Pga,
-    /// Peak ground velocity, m/s.
-    Pgv,
-}
+/// The intensity measure an inference is of: PGA (g) or PGV (m/s) of the
+/// ground ([`Im::PGA`], [`Im::PGV`]); the others are refused
+/// ([`inferable`]).
+pub use crate::im::Im;
 
-impl Im {
-    /// Its name (`pga`, `pgv`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Im::Pga => "pga",
-            Im::Pgv => "pgv",
-        }
-    }
-
-    /// Its unit.
-    pub fn unit(self) -> &'static str {
-        match self {
-            Im::Pga => "g",
-            Im::Pgv => "m/s",
-        }
-    }
-
-    /// The IM a study's levels are in, if it is this IM exactly: then every
-    /// record at a level has the level's IM; otherwise each has its own,
-    /// measured on the scaled record.
-    pub fn of_levels(study: &Study) -> Option<Im> {
-        match study.intensity {
-            Intensity::Pga(_) => Some(Im::Pga),
-            Intensity::Pgv(_) => Some(Im::Pgv),
-            Intensity::Scale(_) => None,
-        }
-    }
-
-    /// The IM of a record (PGA in g with gravity `g`, or PGV).
-    pub fn of_record(self, record: &Record, g: f64) -> f64 {
-        match self {
-            Im::Pga => record.pga() / g,
-            Im::Pgv => record.pgv(),
-        }
+/// `im` if an inference can be of it (PGA or PGV of the ground), else
+/// what it can be of.
+pub fn inferable(im: Im) -> std::result::Result<Im, String> {
+    if im == Im::PGA || im == Im::PGV {
+        Ok(im)
+    } else {
+        Err(format!("pga (g) or pgv (m/s), not {im}"))
     }
 }
 
-impl std::str::FromStr for Im {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Im> {
-        match s {
-            "pga" => Ok(Im::Pga),
-            "pgv" => Ok(Im::Pgv),
-            _ => Err(Error::invalid("im", s, "pga (g) or pgv (m/s)")),
-        }
+/// The IM a study's levels are in, if it is an inferable IM exactly: then
+/// every record at a level has the level's IM; otherwise each has its own,
+/// measured on the scaled record.
+pub fn im_of_levels(study: &Study) -> Option<Im> {
+    match study.intensity {
+        Intensity::Pga(_) => Some(Im::PGA),
+        Intensity::Pgv(_) => Some(Im::PGV),
+        Intensity::Scale(_) => None,
     }
+}
+
+/// `im` of a record (PGA in g with gravity `g`, or PGV).
+pub fn im_of_record(im: Im, record: &Record, g: f64) -> f64 {
+    let felt = crate::im::Felt {
+        ground: record,
+        floor: None,
+        pair: None,
+        g,
+    };
+    im.on(&felt).expect("an inferable IM is the ground's")
 }
 
 /// One kind's draws on one record at one level.
@@ -177,14 +156,14 @@ impl Runner<'_> {
             )
             .collect();
         let records = records.into_iter().collect::<Result<Vec<Record>>>()?;
-        let exact = Im::of_levels(study) == Some(self.im);
+        let exact = im_of_levels(study) == Some(self.im);
         let ims: Vec<f64> = records
             .iter()
             .map(|r| {
                 if exact {
                     x
                 } else {
-                    self.im.of_record(r, study.g)
+                    im_of_record(self.im, r, study.g)
                 }
             })
             .collect();

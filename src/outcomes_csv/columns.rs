@@ -6,6 +6,9 @@
 //! them by [`Column::name`], so a column is added, renamed or moved here
 //! and nowhere else.
 
+use std::borrow::Cow;
+
+use crate::im::Im;
 use crate::outcome::{Mode, Outcome};
 
 /// One column of `outcomes.csv`.
@@ -23,21 +26,14 @@ pub enum Column {
     MuS,
     /// Kinetic friction coefficient μk (empty under `inf`).
     MuK,
-    /// Peak ground acceleration (g): the level, or the record's measured peak.
-    Pga,
-    /// Peak ground velocity (m/s): the level, or the record's measured peak.
-    Pgv,
-    /// RotD50 PGA of the record pair (g; studies of record pairs): the
-    /// level, or the scaled pair's measured RotD50. `pga` is then the peak
-    /// of the component the block feels.
-    PgaRotd50,
-    /// RotD50 PGV of the record pair (m/s), as [`Column::PgaRotd50`].
-    PgvRotd50,
-    /// Peak floor acceleration (g): the peak absolute acceleration of the
-    /// floor the block stands on (studies with `[support] floor`).
-    Pfa,
-    /// Peak floor velocity (m/s), as [`Column::Pfa`].
-    Pfv,
+    /// An intensity measure of the record ([`Im::COLUMNS`]), in its unit:
+    /// `pga` (g) and `pgv` (m/s), the level or the scaled record's measured
+    /// peak; `pga_rotd50`, `pgv_rotd50` of a record pair (studies of pairs:
+    /// the level, or the scaled pair's measured RotD50; `pga` is then the
+    /// peak of the component the block feels); `pfa`, `pfv` of the floor
+    /// the block stands on (studies with `[support] floor`). Named by
+    /// [`Im::column`].
+    Im(Im),
     /// Record index in the ensemble (0-based).
     Record,
     /// The record file as the spec names it (recorded motions only; a
@@ -120,10 +116,13 @@ pub const CASE: [Column; 6] = [
 
 /// The pair's orientation-independent peaks, after the felt component's
 /// (studies of record pairs).
-pub const ROTD50: [Column; 2] = [Column::PgaRotd50, Column::PgvRotd50];
+pub const ROTD50: [Column; 2] = [Column::Im(Im::PGA_ROTD50), Column::Im(Im::PGV_ROTD50)];
 
 /// The floor's peaks, after the ground's (studies on a floor).
-pub const FLOOR: [Column; 2] = [Column::Pfa, Column::Pfv];
+pub const FLOOR: [Column; 2] = [Column::Im(Im::PFA), Column::Im(Im::PFV)];
+
+/// The ground's peaks, which every file has.
+pub const GROUND: [Column; 2] = [Column::Im(Im::PGA), Column::Im(Im::PGV)];
 
 /// The outcome columns every file has, after `status`.
 pub const OUTCOME: [Column; 19] = [
@@ -183,6 +182,12 @@ impl Column {
         Columns::ALL.list().into_iter().find(|c| c.name() == name)
     }
 
+    /// The column of intensity measure `im` (`None` for one computed from
+    /// others, PGA/(g tan θc)).
+    pub fn of_im(im: Im) -> Option<Column> {
+        im.column().map(|_| Column::Im(im))
+    }
+
     /// Whether the column can be a limit state's measure, and as what: the
     /// outcome columns ([`OUTCOME`], [`TIME_IN_MODE`], [`STATS`]) are.
     pub fn measure_kind(self) -> Option<MeasureKind> {
@@ -205,20 +210,23 @@ impl Column {
     }
 
     /// The column's name in the header.
-    pub const fn name(self) -> &'static str {
+    pub fn name(self) -> Cow<'static, str> {
+        if let Column::Im(im) = self {
+            return Cow::Owned(im.column().unwrap_or_else(|| im.name()));
+        }
+        Cow::Borrowed(self.static_name())
+    }
+
+    /// The name of a column other than an IM's.
+    const fn static_name(self) -> &'static str {
         match self {
+            Column::Im(_) => "",
             Column::Aspect => "aspect",
             Column::Width => "width",
             Column::Restitution => "restitution",
             Column::Friction => "friction",
             Column::MuS => "mu_s",
             Column::MuK => "mu_k",
-            Column::Pga => "pga",
-            Column::Pgv => "pgv",
-            Column::PgaRotd50 => "pga_rotd50",
-            Column::PgvRotd50 => "pgv_rotd50",
-            Column::Pfa => "pfa",
-            Column::Pfv => "pfv",
             Column::Record => "record",
             Column::RecordFile => "record_file",
             Column::Phi => "phi",
@@ -436,15 +444,9 @@ impl Column {
     }
 }
 
-impl AsRef<str> for Column {
-    fn as_ref(&self) -> &str {
-        self.name()
-    }
-}
-
 impl std::fmt::Display for Column {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+        f.write_str(&self.name())
     }
 }
 
@@ -503,7 +505,7 @@ impl Columns {
     /// floor's), `record` (and `record_file`, `scale`), `status`, the outcome
     /// columns, `sensitive` when present, `error`.
     pub fn list(&self) -> Vec<Column> {
-        let mut v: Vec<Column> = CASE.into_iter().chain([Column::Pga, Column::Pgv]).collect();
+        let mut v: Vec<Column> = CASE.into_iter().chain(GROUND).collect();
         if self.pairs {
             v.extend(ROTD50);
         }
@@ -530,7 +532,7 @@ impl Columns {
     }
 
     /// Column names, in order.
-    pub fn names(&self) -> Vec<&'static str> {
+    pub fn names(&self) -> Vec<Cow<'static, str>> {
         self.list().into_iter().map(Column::name).collect()
     }
 
@@ -546,10 +548,10 @@ impl Columns {
     pub fn level(&self) -> Column {
         match (self.scale, self.pgv, self.pairs) {
             (true, _, _) => Column::Scale,
-            (false, true, false) => Column::Pgv,
-            (false, true, true) => Column::PgvRotd50,
-            (false, false, false) => Column::Pga,
-            (false, false, true) => Column::PgaRotd50,
+            (false, true, false) => Column::Im(Im::PGV),
+            (false, true, true) => Column::Im(Im::PGV_ROTD50),
+            (false, false, false) => Column::Im(Im::PGA),
+            (false, false, true) => Column::Im(Im::PGA_ROTD50),
         }
     }
 }

@@ -9,6 +9,7 @@ use std::path::Path;
 use super::columns::{CASE, Column, Columns};
 use crate::case::Case;
 use crate::error::{Error, Result};
+use crate::im::{Im, ImValues};
 use crate::outcome::Outcome;
 use crate::table::Table;
 use std::fmt::Write;
@@ -19,25 +20,12 @@ pub struct OutcomeRow {
     /// The analysis's own block (every parameter fixed: drawn values as
     /// drawn).
     pub case: Case,
-    /// Peak ground acceleration, g: the level of a PGA study, else the
-    /// scaled record's measured peak (`None` if the record failed).
-    pub pga: Option<f64>,
-    /// Peak ground velocity, m/s: the level of a PGV study, else the scaled
-    /// record's measured peak (`None` if the record failed).
-    pub pgv: Option<f64>,
-    /// RotD50 PGA of the record pair, g (studies of record pairs; `None`
-    /// otherwise, or if the record failed): the level of a PGA study, else
-    /// the scaled pair's measured RotD50. `pga` is then the peak of the
-    /// component the block feels.
-    pub pga_rotd50: Option<f64>,
-    /// RotD50 PGV of the record pair, m/s (as `pga_rotd50`).
-    pub pgv_rotd50: Option<f64>,
-    /// Peak floor acceleration, g: the peak absolute acceleration of the
-    /// floor the block stands on (`None` on the ground, or if the record
-    /// failed).
-    pub pfa: Option<f64>,
-    /// Peak floor velocity, m/s (as `pfa`).
-    pub pfv: Option<f64>,
+    /// The record's intensity measures that have a column in the file
+    /// ([`Column::Im`]), each in its unit: the level of the study in its
+    /// measure's column, the scaled record's measured values in the others
+    /// (`pga`, `pgv`; a pair's `pga_rotd50`, `pgv_rotd50`; the floor's
+    /// `pfa`, `pfv`). None when the record failed.
+    pub ims: ImValues,
     /// Record index in the ensemble (0-based).
     pub record: usize,
     /// The record file as the spec names it (recorded motions only).
@@ -69,20 +57,19 @@ impl OutcomeRow {
         self.intensity(columns.level())
     }
 
-    /// The row's value of an intensity column: `pga`, `pgv`, `pga_rotd50`,
-    /// `pgv_rotd50`, `pfa`, `pfv` or `scale` (`None` when absent, or for
-    /// any other column).
+    /// The row's value of an intensity column: an IM's ([`Column::Im`])
+    /// or `scale` (`None` when absent, or for any other column).
     pub fn intensity(&self, column: Column) -> Option<f64> {
         match column {
-            Column::Pga => self.pga,
-            Column::Pgv => self.pgv,
-            Column::PgaRotd50 => self.pga_rotd50,
-            Column::PgvRotd50 => self.pgv_rotd50,
-            Column::Pfa => self.pfa,
-            Column::Pfv => self.pfv,
+            Column::Im(im) => self.ims.get(im),
             Column::Scale => self.scale,
             _ => None,
         }
+    }
+
+    /// The row's value of intensity measure `im`, when the file holds it.
+    pub fn im(&self, im: Im) -> Option<f64> {
+        self.ims.get(im)
     }
 }
 
@@ -93,23 +80,13 @@ pub struct RecordInfo<'a> {
     pub index: usize,
     /// The intensity level (g for PGA, m/s for PGV, a factor for scale).
     pub level: f64,
-    /// Measured PGA of the scaled record, g (`None` if the record failed).
-    pub pga_g: Option<f64>,
-    /// Measured PGV of the scaled record, m/s (`None` if the record failed).
-    pub pgv: Option<f64>,
-    /// Measured RotD50 PGA of the scaled pair, g (`None` without pairs or
-    /// if the record failed).
-    pub pga_rotd50_g: Option<f64>,
-    /// Measured RotD50 PGV of the scaled pair, m/s (as `pga_rotd50_g`).
-    pub pgv_rotd50: Option<f64>,
+    /// The intensity measures of the scaled record (of [`Im::COLUMNS`]:
+    /// the ground's peaks, a pair's RotD50, the floor's peaks; empty if the
+    /// record failed).
+    pub measured: &'a ImValues,
     /// The direction the block faces, degrees from the pair's H1 (`None`
     /// without pairs).
     pub phi: Option<f64>,
-    /// Measured peak floor acceleration, g (`None` on the ground or if the
-    /// record failed).
-    pub pfa_g: Option<f64>,
-    /// Measured peak floor velocity, m/s (as `pfa_g`).
-    pub pfv: Option<f64>,
     /// The record file as written in the spec.
     pub file: Option<&'a str>,
 }
@@ -125,25 +102,24 @@ impl Columns {
         record: &RecordInfo,
         result: std::result::Result<Outcome, String>,
     ) -> OutcomeRow {
-        let level = Some(record.level);
-        let (mut pga, mut pgv) = (record.pga_g, record.pgv);
-        let (mut pga_rotd50, mut pgv_rotd50) = (record.pga_rotd50_g, record.pgv_rotd50);
+        let level = record.level;
+        let mut ims = ImValues::new();
         let mut scale = None;
-        match self.level() {
-            Column::Scale => scale = level,
-            Column::Pgv => pgv = level,
-            Column::PgvRotd50 => pgv_rotd50 = level,
-            Column::PgaRotd50 => pga_rotd50 = level,
-            _ => pga = level,
+        let level_column = self.level();
+        for column in self.list() {
+            let Column::Im(im) = column else { continue };
+            match (column == level_column, record.measured.get(im)) {
+                (true, _) => ims.set(im, level),
+                (false, Some(v)) => ims.set(im, v),
+                (false, None) => {}
+            }
+        }
+        if level_column == Column::Scale {
+            scale = Some(level);
         }
         OutcomeRow {
             case,
-            pga,
-            pgv,
-            pga_rotd50: pga_rotd50.filter(|_| self.pairs),
-            pgv_rotd50: pgv_rotd50.filter(|_| self.pairs),
-            pfa: record.pfa_g.filter(|_| self.floor),
-            pfv: record.pfv.filter(|_| self.floor),
+            ims,
             record: record.index,
             record_file: record.file.filter(|_| self.files).map(str::to_string),
             phi: record.phi.filter(|_| self.pairs),
@@ -190,13 +166,8 @@ impl OutcomeRow {
             Column::Friction => out.push_str(self.case.friction_name()),
             Column::MuS => param(out, self.case.mu_s()),
             Column::MuK => param(out, self.case.mu_k()),
-            Column::Pga => num(out, self.pga),
-            Column::Pgv => num(out, self.pgv),
-            Column::PgaRotd50 => num(out, self.pga_rotd50),
-            Column::PgvRotd50 => num(out, self.pgv_rotd50),
+            Column::Im(im) => num(out, self.ims.get(im)),
             Column::Phi => num(out, self.phi),
-            Column::Pfa => num(out, self.pfa),
-            Column::Pfv => num(out, self.pfv),
             Column::Scale => num(out, self.scale),
             Column::Record => {
                 let _ = write!(out, "{}", self.record);
@@ -247,7 +218,8 @@ impl OutcomesFile {
     /// its header (the error names every missing one and what needs it,
     /// `purpose`).
     pub fn open(path: &Path, required: &[Column], purpose: &str) -> Result<OutcomesFile> {
-        let names: Vec<&str> = required.iter().map(|c| c.name()).collect();
+        let names: Vec<String> = required.iter().map(|c| c.name().into_owned()).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let (table, _) = Table::open_dyn(path, &names, purpose)?;
         let present = Columns::ALL
             .list()
@@ -305,12 +277,7 @@ impl OutcomesFile {
         let case = row.case(false)?;
         let mut out = OutcomeRow {
             case,
-            pga: None,
-            pgv: None,
-            pga_rotd50: None,
-            pgv_rotd50: None,
-            pfa: None,
-            pfv: None,
+            ims: ImValues::new(),
             record: 0,
             record_file: None,
             phi: None,
@@ -330,13 +297,12 @@ impl OutcomesFile {
                 }
             };
             match column {
-                Column::Pga => out.pga = opt()?,
-                Column::Pgv => out.pgv = opt()?,
-                Column::PgaRotd50 => out.pga_rotd50 = opt()?,
-                Column::PgvRotd50 => out.pgv_rotd50 = opt()?,
+                Column::Im(im) => {
+                    if let Some(v) = opt()? {
+                        out.ims.set(im, v);
+                    }
+                }
                 Column::Phi => out.phi = opt()?,
-                Column::Pfa => out.pfa = opt()?,
-                Column::Pfv => out.pfv = opt()?,
                 Column::Scale => out.scale = opt()?,
                 Column::Record => out.record = row.integer(i)? as usize,
                 Column::RecordFile => {
@@ -402,16 +368,18 @@ mod tests {
             Columns::ALL,
         ] {
             let n = cols.names().len();
+            let mut measured = ImValues::new();
+            for (im, v) in Im::COLUMNS
+                .into_iter()
+                .zip([0.5, 0.4, 0.45, 0.35, 0.9, 0.7])
+            {
+                measured.set(im, v);
+            }
             let rec = RecordInfo {
                 index: 3,
                 level: 0.3,
-                pga_g: Some(0.5),
-                pgv: Some(0.4),
-                pga_rotd50_g: Some(0.45),
-                pgv_rotd50: Some(0.35),
+                measured: &measured,
                 phi: Some(37.5),
-                pfa_g: Some(0.9),
-                pfv: Some(0.7),
                 file: Some("a,b.csv"),
             };
             let mut outcome = Outcome {
@@ -447,7 +415,7 @@ mod tests {
                 s.push_str(&line);
             }
             std::fs::write(&path, s).unwrap();
-            let mut file = OutcomesFile::open(&path, &[Column::Pga], "the test").unwrap();
+            let mut file = OutcomesFile::open(&path, &[Column::Im(Im::PGA)], "the test").unwrap();
             for want in &rows {
                 let (_, got) = file.next_row().unwrap().unwrap();
                 assert_eq!(&got, want);

@@ -7,6 +7,7 @@ use std::fmt::Write;
 
 use super::tables;
 use crate::case::{Case, Param};
+use crate::im::Im;
 use crate::io_util::sig3;
 use crate::solver::Friction;
 use crate::spec::{Intensity, Study, friction_label};
@@ -45,9 +46,9 @@ pub(crate) fn tables_section(tally: &Tally, study: &Study) -> String {
     );
     s.push_str(&statistics(tally, study));
     let (level_name, level_unit) = match study.intensity {
-        Intensity::Pga(_) => ("A_g", "g"),
-        Intensity::Pgv(_) => ("PGV", "m/s"),
-        Intensity::Scale(_) => ("scale", "×"),
+        Intensity::Pga(_) => ("A_g".to_string(), "g"),
+        Intensity::Pgv(_) => (Im::PGV.short(), Im::PGV.unit()),
+        Intensity::Scale(_) => ("scale".to_string(), "×"),
     };
     let any_failed = c.failed > 0;
     let cases = crate::study::plan::cases(study);
@@ -259,9 +260,9 @@ fn statistics(tally: &Tally, study: &Study) -> String {
             "Trend of overturning over e (Cochran–Armitage, counts pooled over H/B and {}): \
              ours {}.",
             if matches!(study.intensity, Intensity::Pga(_)) {
-                "A_g"
+                "A_g".to_string()
             } else {
-                "PGV"
+                Im::PGV.short()
             },
             trend(ours)
         );

@@ -6,6 +6,7 @@ use crate::detmath as dm;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result, number};
+use crate::im::Im;
 
 /// Where a hazard curve came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -72,35 +73,28 @@ impl HazardCurve {
         finish(path, HazardSource::Plain, &points, 0)
     }
 
-    /// The curve with its levels in the unit of a fit against `im` (a
-    /// `fragility.csv` `im` name: `pga` in g, `pgv` in m/s): OpenQuake's IMT
-    /// must be that IM (PGA in g, PGV in cm/s, converted); a plain file is
-    /// taken to be in the fit's unit already.
+    /// The curve with its levels in the unit of a fit against `im` (`pga`
+    /// in g, `pgv` in m/s): OpenQuake's IMT must be that IM's
+    /// ([`Im::from_openquake`]: PGA in g, PGV in cm/s, converted); a plain
+    /// file is taken to be in the fit's unit already.
     ///
     /// Errors: [`Error::Conflict`] naming the file, its IMT and the fit's IM
     /// when they differ.
-    pub fn in_unit_of(mut self, im: &str) -> Result<HazardCurve> {
+    pub fn in_unit_of(mut self, im: Im) -> Result<HazardCurve> {
         let HazardSource::OpenQuake { imt, .. } = &self.source else {
             self.check_plain_unit(im)?;
             return Ok(self);
         };
-        let scale = match (imt.as_str(), im) {
-            // (OpenQuake's PGA is its ground-motion models', for most the
-            // RotD50 of the two components: a pair's pga-rotd50 is that)
-            ("PGA", "pga" | "pga-rotd50") => 1.0,
-            // OpenQuake's PGV is in cm/s, the fit's in m/s.
-            ("PGV", "pgv" | "pgv-rotd50") => 0.01,
-            _ => {
-                return Err(Error::Conflict {
-                    path: self.path.clone(),
-                    message: format!(
-                        "the hazard curve is for imt='{imt}' but the fragility was fitted \
-                         against {im}; give a hazard curve for {} (or refit the fragility \
-                         with --im matching the hazard)",
-                        openquake_name(im)
-                    ),
-                });
-            }
+        let Some(scale) = im.from_openquake(imt) else {
+            return Err(Error::Conflict {
+                path: self.path.clone(),
+                message: format!(
+                    "the hazard curve is for imt='{imt}' but the fragility was fitted \
+                     against {im}; give a hazard curve for {} (or refit the fragility \
+                     with --im matching the hazard)",
+                    im.openquake_hint()
+                ),
+            });
         };
         self.iml.iter_mut().for_each(|x| *x *= scale);
         Ok(self)
@@ -122,15 +116,11 @@ impl HazardCurve {
     /// Refuses a plain file whose levels cannot be in the unit of a fit
     /// against `im` ([`PLAIN_MIN_LEVEL`], [`PLAIN_MAX_LEVEL`]), naming the
     /// levels and the likely unit; PGA/(g tan θc) is not checked.
-    fn check_plain_unit(&self, im: &str) -> Result<()> {
-        let (unit, likely) = match im {
-            "pga" | "pga-rotd50" | "pfa" => (
-                "g",
-                "cm/s² (gal; divide by 981 for g) or m/s² (divide by 9.81)",
-            ),
-            "pgv" | "pgv-rotd50" | "pfv" => ("m/s", "cm/s (divide by 100 for m/s)"),
-            _ => return Ok(()),
+    fn check_plain_unit(&self, im: Im) -> Result<()> {
+        let Some(likely) = im.other_units() else {
+            return Ok(());
         };
+        let unit = im.unit();
         let (lo, hi) = (self.iml[0], self.iml[self.iml.len() - 1]);
         if lo < PLAIN_MIN_LEVEL && hi <= PLAIN_MAX_LEVEL {
             return Ok(());
@@ -225,20 +215,6 @@ pub fn write_used_hazard(path: &Path, hazard: &HazardCurve) -> Result<()> {
         Ok(())
     })
     .map_err(Error::io(path))
-}
-
-/// OpenQuake's name of a fit's IM, for messages.
-fn openquake_name(im: &str) -> &str {
-    match im {
-        "pga" | "pga-rotd50" => "PGA (g)",
-        "pgv" | "pgv-rotd50" => "PGV (cm/s)",
-        "pfa" | "pfv" => {
-            "the floor's peak: OpenQuake computes ground hazard only, so give a plain \
-             iml,annual_rate file of the floor's peak (e.g. a floor spectrum hazard), or refit \
-             against pga"
-        }
-        _ => "the fit's IM (no OpenQuake IMT matches it; use a plain iml,annual_rate file)",
-    }
 }
 
 /// Reads a hazard curve: OpenQuake's hazard-curve CSV (a first comment line

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use crate::case::Case;
 use crate::error::{Error, Result};
 use crate::fragility::{FragilityRow, read_bootstrap_csv, read_fragility_csv};
+use crate::im::Im;
 
 /// One row of `fragility.csv`: a case and limit state and its fit.
 #[derive(Clone, Debug, PartialEq)]
@@ -16,10 +17,8 @@ pub struct FittedCurve {
     pub key: Case,
     /// The limit state's name.
     pub limit_state: String,
-    /// The IM the curve was fitted against (`pga`, `pgv`, `pga-over-tan`).
-    pub im: String,
-    /// Its unit (`g`, `m/s`, `1`).
-    pub im_unit: String,
+    /// The IM the curve was fitted against.
+    pub im: Im,
     /// (θ, β), `None` when the case could not be fitted.
     pub fit: Option<(f64, f64)>,
     /// `ok` or the fit's reason for having no curve.
@@ -43,13 +42,8 @@ pub struct FittedFragility {
 
 impl FittedFragility {
     /// The IM of the fit (every row has the same: one fit writes one IM).
-    pub fn im(&self) -> &str {
-        self.curves.first().map_or("pga", |c| c.im.as_str())
-    }
-
-    /// The IM's unit.
-    pub fn im_unit(&self) -> &str {
-        self.curves.first().map_or("g", |c| c.im_unit.as_str())
+    pub fn im(&self) -> Im {
+        self.curves.first().map_or(Im::PGA, |c| c.im)
     }
 }
 
@@ -101,8 +95,7 @@ pub fn read_fragility(dir: &Path) -> Result<FittedFragility> {
                     ),
                 });
             };
-            if b.case != curve.key || b.limit_state != curve.limit_state || b.im.name() != curve.im
-            {
+            if b.case != curve.key || b.limit_state != curve.limit_state || b.im != curve.im {
                 return Err(Error::Conflict {
                     path: boot_path.clone(),
                     message: format!(
@@ -111,7 +104,7 @@ pub fn read_fragility(dir: &Path) -> Result<FittedFragility> {
                         b.index,
                         b.case,
                         b.limit_state,
-                        b.im.name(),
+                        b.im,
                         curve.key,
                         curve.limit_state,
                         curve.im
@@ -140,8 +133,7 @@ impl FittedCurve {
         FittedCurve {
             key: row.case,
             limit_state: row.limit_state.clone(),
-            im: row.im.name().to_string(),
-            im_unit: row.im.unit().to_string(),
+            im: row.im,
             fit: row.fit(),
             status: row.status.clone(),
             replicates: Vec::new(),

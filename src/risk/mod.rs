@@ -108,4 +108,7 @@ pub use integrate::{
     RELATIVE_TOLERANCE, RiskIntegral, annual_rate, deaggregation, deaggregation_smoothed,
     risk_integral,
 };
-pub use output::{RISK_HEADER, describe_hazard, summary_section, survival_cell, write_risk_csv};
+pub use output::{
+    RISK_HEADER, RiskCsvRow, describe_hazard, read_risk_csv, summary_section, survival_cell,
+    write_risk_csv,
+};

@@ -5,8 +5,11 @@ use std::path::Path;
 
 use super::assess::{RiskOptions, RiskRow, standing_rows};
 use super::hazard::{HazardCurve, HazardSource};
+use crate::case::Case;
 use crate::error::{Error, Result};
+use crate::im::Im;
 use crate::io_util::{number, sig3, write_atomic};
+use crate::table::Table;
 
 /// Header of `risk.csv`, one row per row of `fragility.csv` (same
 /// `case_id`, case columns and `limit_state`, same order). `median`, `beta` are the fit's
@@ -24,44 +27,152 @@ pub const RISK_HEADER: &str = "case_id,aspect,width,restitution,friction,mu_s,mu
 im_unit,median,beta,annual_rate,annual_rate_lo,annual_rate_hi,return_period,years,poe,peak_im,\
 share_below,share_above,boot_fitted,status";
 
+/// One row of `risk.csv` ([`RISK_HEADER`]), as [`write_risk_csv`] writes
+/// it and [`read_risk_csv`] reads it back: the one place that knows the
+/// file's columns. Numbers are `None` where the file has an empty field.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RiskCsvRow {
+    /// The case (`case_id` and the case columns).
+    pub case: Case,
+    /// The limit state.
+    pub limit_state: String,
+    /// The IM of the fit (`im`, `im_unit`).
+    pub im: Im,
+    /// The fit's median θ and β.
+    pub fit: Option<(f64, f64)>,
+    /// λ_LS, 1/yr.
+    pub annual_rate: Option<f64>,
+    /// The bootstrap percentile band of λ_LS.
+    pub band: Option<(f64, f64)>,
+    /// 1/λ_LS, years (+∞ for a rate of 0, written `inf`).
+    pub return_period: Option<f64>,
+    /// The exposure time N, years.
+    pub years: f64,
+    /// 1 − exp(−λ_LS·N).
+    pub poe: Option<f64>,
+    /// Where the rate's density over ln im peaks (unit of `im`).
+    pub peak_im: Option<f64>,
+    /// Fractions of λ_LS from beyond the lowest and highest hazard levels.
+    pub shares: Option<(f64, f64)>,
+    /// Bootstrap replicates behind the band (`None` without a rate).
+    pub boot_fitted: Option<usize>,
+    /// The fit's status (`ok`, a caveat, or why there is no curve).
+    pub status: String,
+}
+
+impl RiskCsvRow {
+    /// The row of `r` over an exposure of `years`.
+    pub fn of(r: &RiskRow, years: f64) -> RiskCsvRow {
+        let c = &r.curve;
+        RiskCsvRow {
+            case: c.key,
+            limit_state: c.limit_state.clone(),
+            im: c.im,
+            fit: c.fit,
+            annual_rate: r.rate(),
+            band: r.band.map(|b| (b.lo, b.hi)),
+            return_period: r.return_period(),
+            years,
+            poe: r.poe(years),
+            peak_im: r.integral.map(|i| i.peak_im),
+            shares: r.shares(),
+            boot_fitted: r.integral.map(|_| c.replicates.len()),
+            status: c.status.clone(),
+        }
+    }
+
+    /// The row's line, without its newline.
+    pub fn line(&self) -> String {
+        let opt = |x: Option<f64>| x.filter(|v| v.is_finite()).map_or(String::new(), number);
+        let fields = [
+            self.case.id(),
+            self.case.fields(),
+            self.limit_state.clone(),
+            self.im.name(),
+            self.im.unit().to_string(),
+            opt(self.fit.map(|f| f.0)),
+            opt(self.fit.map(|f| f.1)),
+            opt(self.annual_rate),
+            opt(self.band.map(|b| b.0)),
+            opt(self.band.map(|b| b.1)),
+            // +∞ (a rate of 0) as `inf`: never.
+            self.return_period.map_or(String::new(), number),
+            number(self.years),
+            opt(self.poe),
+            opt(self.peak_im),
+            opt(self.shares.map(|s| s.0)),
+            opt(self.shares.map(|s| s.1)),
+            self.boot_fitted.map_or(String::new(), |n| n.to_string()),
+            self.status.clone(),
+        ];
+        fields.join(",")
+    }
+}
+
 /// Writes `risk.csv` (header [`RISK_HEADER`]).
 pub fn write_risk_csv(path: &Path, rows: &[RiskRow], options: &RiskOptions) -> Result<()> {
-    let opt = |x: Option<f64>| x.filter(|v| v.is_finite()).map_or(String::new(), number);
     write_atomic(path, |w| {
         writeln!(w, "{RISK_HEADER}")?;
         for r in rows {
-            let c = &r.curve;
-            let shares = r.shares();
-            let fields = [
-                c.key.id(),
-                c.key.fields(),
-                c.limit_state.clone(),
-                c.im.clone(),
-                c.im_unit.clone(),
-                opt(c.fit.map(|f| f.0)),
-                opt(c.fit.map(|f| f.1)),
-                opt(r.rate()),
-                opt(r.band.map(|b| b.lo)),
-                opt(r.band.map(|b| b.hi)),
-                // +∞ (a rate of 0) as `inf`: never.
-                r.return_period().map_or(String::new(), number),
-                number(options.years),
-                opt(r.poe(options.years)),
-                opt(r.integral.map(|i| i.peak_im)),
-                opt(shares.map(|s| s.0)),
-                opt(shares.map(|s| s.1)),
-                if r.integral.is_some() {
-                    c.replicates.len().to_string()
-                } else {
-                    String::new()
-                },
-                c.status.clone(),
-            ];
-            writeln!(w, "{}", fields.join(","))?;
+            writeln!(w, "{}", RiskCsvRow::of(r, options.years).line())?;
         }
         Ok(())
     })
     .map_err(Error::io(path))
+}
+
+/// Reads a `risk.csv` written by [`write_risk_csv`]. Errors name the file,
+/// line, column and value: a header that is not [`RISK_HEADER`], a bad
+/// number, an unknown IM or a unit that is not the IM's.
+pub fn read_risk_csv(path: &Path) -> Result<Vec<RiskCsvRow>> {
+    let names: Vec<&str> = RISK_HEADER.split(',').collect();
+    let (mut table, c) = Table::open_dyn(path, &names, "reading risk.csv")?;
+    let col = |name: &str| {
+        c[names
+            .iter()
+            .position(|n| *n == name)
+            .expect("a risk.csv column")]
+    };
+    let mut rows = Vec::new();
+    while let Some(row) = table.next_row()? {
+        let opt = |name: &str| -> Result<Option<f64>> {
+            let i = col(name);
+            if row.field(i).is_empty() {
+                Ok(None)
+            } else {
+                row.number(i).map(Some)
+            }
+        };
+        let both = |a: &str, b: &str| -> Result<Option<(f64, f64)>> { Ok(opt(a)?.zip(opt(b)?)) };
+        let im: Im = row
+            .field(col("im"))
+            .parse()
+            .map_err(|e: String| row.error(col("im"), &e))?;
+        if row.field(col("im_unit")) != im.unit() {
+            return Err(row.error(col("im_unit"), &format!("{im}'s unit, {}", im.unit())));
+        }
+        let boot = col("boot_fitted");
+        rows.push(RiskCsvRow {
+            case: row.case(true)?,
+            limit_state: row.text(col("limit_state"))?.to_string(),
+            im,
+            fit: both("median", "beta")?,
+            annual_rate: opt("annual_rate")?,
+            band: both("annual_rate_lo", "annual_rate_hi")?,
+            return_period: opt("return_period")?,
+            years: row.number(col("years"))?,
+            poe: opt("poe")?,
+            peak_im: opt("peak_im")?,
+            shares: both("share_below", "share_above")?,
+            boot_fitted: if row.field(boot).is_empty() {
+                None
+            } else {
+                Some(row.integer(boot)? as usize)
+            },
+            status: row.text(col("status"))?.to_string(),
+        });
+    }
+    Ok(rows)
 }
 
 /// One line naming the hazard curve: file, format, IMT, investigation time,
@@ -121,12 +232,9 @@ pub fn survival_cell(row: &RiskRow, years: f64) -> String {
 /// The `## Risk` section of `summary.md`: the hazard used and a table of the
 /// rates, return periods and probabilities over `options.years`.
 pub fn summary_section(rows: &[RiskRow], hazard: &HazardCurve, options: &RiskOptions) -> String {
-    let unit = rows.first().map_or("", |r| r.curve.im_unit.as_str());
-    let unit = if unit.is_empty() || unit == "1" {
-        String::new()
-    } else {
-        format!(" ({unit})")
-    };
+    let unit = rows
+        .first()
+        .map_or(String::new(), |r| r.curve.im.unit_suffix());
     let pct = (options.confidence * 100.0).round();
     let years = number(options.years);
     let mut s = format!(

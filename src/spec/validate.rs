@@ -16,7 +16,8 @@ use super::study::{
 use super::uncertainty::uncertainty;
 use crate::case::Param;
 use crate::error::{Error, Result, number};
-use crate::fragility::{FragilityOptions, IntensityMeasure};
+use crate::fragility::FragilityOptions;
+use crate::im::{At, Im};
 use crate::motion::{Floor, G_STANDARD, PRESETS, SynthesisSettings, preset};
 use crate::outcomes_csv::{STATS, TIME_IN_MODE};
 use crate::solver::{
@@ -126,13 +127,34 @@ impl SpecFile {
         let adaptive = adaptive(&spec, grid.range, self.fragility.as_ref())?;
         let mut fragility_options = self.fragility;
         // A study of record pairs is fitted against the pair's RotD50 PGA
-        // (what hazard models give) unless the spec names a measure.
+        // (what hazard models give) unless the spec names a measure; any
+        // other against PGA.
         if let Some(options) = &mut fragility_options
-            && motions.orientation().is_some()
-            && options.im == IntensityMeasure::Pga
-            && !names_fragility_im(text)
+            && options.im.is_none()
         {
-            options.im = IntensityMeasure::PgaRotd50;
+            options.im = Some(if motions.orientation().is_some() {
+                Im::PGA_ROTD50
+            } else {
+                Im::PGA
+            });
+        }
+        // An IM the study's motions will not have is refused now, not
+        // after every analysis has run.
+        if let Some(im) = fragility_options.as_ref().and_then(|o| o.im) {
+            let missing = match im.at() {
+                At::Floor if floor.is_ground() => Some("a study on a floor ([support] floor)"),
+                At::RotD50 if motions.orientation().is_none() => {
+                    Some("a study of record pairs (components = 2, or record pairs)")
+                }
+                _ => None,
+            };
+            if let Some(needs) = missing {
+                return Err(spec.bad(
+                    "fragility.im",
+                    &im,
+                    &format!("an IM of this study's motions: {im} needs {needs}"),
+                ));
+            }
         }
         if let Some(infer) = &self.infer {
             infer.validate().map_err(|e| spec.nested("", e))?;
@@ -365,16 +387,6 @@ fn no_ensemble(
         }
     }
     Ok(())
-}
-
-/// Whether the spec's text names `[fragility] im` (the raw form cannot
-/// tell a default from a value written).
-fn names_fragility_im(text: &str) -> bool {
-    toml::from_str::<toml::Table>(text).is_ok_and(|t| {
-        t.get("fragility")
-            .and_then(toml::Value::as_table)
-            .is_some_and(|f| f.contains_key("im"))
-    })
 }
 
 /// Whether an `[uncertainty]` table gives nothing but its seed (once the

@@ -36,12 +36,16 @@ pub(crate) mod plan;
 mod progress;
 mod single;
 mod source;
+mod measure;
+mod compare;
 mod space;
 mod summary;
 mod tally;
 
+pub use compare::{IMS_HEADING, ImFit, compare_ims, ims_section};
 pub use lock::RunLock;
 pub use manifest::{Finished, Manifest, clear_previous, record_outputs};
+pub use measure::{measure_records, measure_study_records};
 pub use merge::{merge, merge_into};
 pub use plan::{Shard, Unit, unit_count};
 use single::analyse;

@@ -11,6 +11,7 @@ use super::plan::{self, Unit};
 use super::source::{Source, UnitMotion};
 use crate::case::Case;
 use crate::error::{Error, Result, number};
+use crate::im::ImValues;
 use crate::motion::Record;
 use crate::outcome::Outcome;
 use crate::outcomes_csv::{Columns, RecordInfo};
@@ -212,17 +213,12 @@ pub(super) fn analyse(
     file: Option<&str>,
 ) -> (Analysed, String) {
     let made = motion.as_ref().ok();
-    let pair = made.and_then(|m| m.pair);
+    let none = ImValues::new();
     let info = RecordInfo {
         index: unit.record,
         level: study.intensity.levels()[unit.level],
-        pga_g: made.map(|m| m.pga_g),
-        pgv: made.map(|m| m.pgv),
-        pga_rotd50_g: pair.map(|p| p.0[0]),
-        pgv_rotd50: pair.map(|p| p.0[1]),
-        phi: pair.map(|p| p.1),
-        pfa_g: made.and_then(|m| m.pfa_g),
-        pfv: made.and_then(|m| m.pfv),
+        measured: made.map_or(&none, |m| &m.measured),
+        phi: made.and_then(UnitMotion::phi),
         file,
     };
     let (own, analysis) = plan::analysis(study, case.0, case.1, unit);

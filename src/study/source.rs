@@ -17,6 +17,7 @@
 //! the ground's, and the blocks feel the floor ([`Source::motion`]).
 
 use crate::error::{Error, Result};
+use crate::im::{Felt, Im, ImValues};
 use crate::motion::{
     MeasuredPair, Natural, Pair, Record, Synthesizer, floor_record, read_record,
     second_component_seed,
@@ -87,7 +88,7 @@ pub enum Source {
     /// Recorded motions, as read (unscaled).
     Files(Arc<Vec<Record>>),
     /// Record pairs, as read (unscaled), and the directions the blocks face.
-    Pairs(Arc<(Vec<MeasuredPair>, Orientation)>),
+    Pairs(Arc<(Vec<Arc<MeasuredPair>>, Orientation)>),
 }
 
 /// Refuses two record files with the same motion (time step and every
@@ -173,7 +174,7 @@ impl Source {
                             name: format!("record pair {} + {}", h1.given, h2.given),
                             message: e.to_string(),
                         })?;
-                        MeasuredPair::new(pair)
+                        MeasuredPair::new(pair).map(Arc::new)
                     })
                     .collect::<Result<Vec<_>>>()?;
                 Ok(Source::Pairs(Arc::new((pairs, orientation.clone()))))
@@ -209,17 +210,17 @@ impl Source {
             ) => {
                 let r = synthetic(synth, *seed, members.as_deref(), record, g)?;
                 let pgv = r.pgv();
-                scaled(r, level, pgv, "PGV")
+                scaled(r, level, pgv, &Im::PGV.short())
             }
             (Source::Files(records), Intensity::Pga(_)) => {
                 let r = records[record].clone();
                 let pga = r.pga();
-                scaled(r, level * g, pga, "PGA")
+                scaled(r, level * g, pga, &Im::PGA.short())
             }
             (Source::Files(records), Intensity::Pgv(_)) => {
                 let r = records[record].clone();
                 let pgv = r.pgv();
-                scaled(r, level, pgv, "PGV")
+                scaled(r, level, pgv, &Im::PGV.short())
             }
             (Source::Files(records), Intensity::Scale(_)) => {
                 Ok(records[record].clone().scaled(level))
@@ -240,21 +241,20 @@ impl Source {
     /// Member `record` of a study of pairs at intensity `level`: the pair
     /// (read, or generated at the model's own amplitude) scaled to the
     /// level's RotD50 (or by the factor) and turned to the member's
-    /// direction; with the scaled pair's RotD50 PGA (m/s²) and PGV (m/s),
-    /// and the direction φ (degrees). Single components: an error.
+    /// direction; with the pair, the factor k it was scaled by and the
+    /// direction φ (degrees). Single components: an error.
     fn turned(
         &mut self,
         intensity: &Intensity,
         level: f64,
         record: usize,
         g: f64,
-    ) -> Result<(Record, [f64; 2], f64)> {
-        let generated;
+    ) -> Result<(Record, Arc<MeasuredPair>, f64, f64)> {
         let (pair, phi) = match self {
             Source::Pairs(pairs) => {
                 let (pairs, orientation) = &**pairs;
                 let (p, phi) = orientation.member(record);
-                (&pairs[p], phi)
+                (pairs[p].clone(), phi)
             }
             Source::SyntheticPairs {
                 synth,
@@ -264,8 +264,7 @@ impl Source {
                 let (p, phi) = orientation.member(record);
                 let h1 = synth.generate_natural(*seed, p as u64)?;
                 let h2 = synth.generate_natural(second_component_seed(*seed), p as u64)?;
-                generated = MeasuredPair::new(Pair::new(h1, h2)?)?;
-                (&generated, phi)
+                (Arc::new(MeasuredPair::new(Pair::new(h1, h2)?)?), phi)
             }
             Source::Synthetic { .. } | Source::Files(_) => {
                 unreachable!("only a source of pairs turns a pair")
@@ -283,7 +282,7 @@ impl Source {
             });
         }
         let k = target / peak;
-        Ok((pair.felt(k, phi)?, [k * pair.pga, k * pair.pgv], phi))
+        Ok((pair.felt(k, phi)?, pair, k, phi))
     }
 }
 
@@ -350,23 +349,51 @@ impl Source {
     }
 }
 
-/// What the blocks of one unit feel, and the peaks measured on the way.
+/// What the blocks of one unit feel, and the intensities measured on it.
 #[derive(Clone, Debug)]
 pub struct UnitMotion {
     /// The motion the blocks feel: the scaled ground record, or the floor's
     /// absolute motion under it.
     pub felt: Record,
-    /// Measured PGA of the scaled ground record, g.
-    pub pga_g: f64,
-    /// Measured PGV of the scaled ground record, m/s.
-    pub pgv: f64,
-    /// RotD50 PGA (g) and PGV (m/s) of the scaled pair, and the direction
-    /// φ (degrees) the blocks face (`None` without pairs).
-    pub pair: Option<([f64; 2], f64)>,
-    /// Peak floor acceleration, g (`None` on the ground).
-    pub pfa_g: Option<f64>,
-    /// Peak floor velocity, m/s (`None` on the ground).
-    pub pfv: Option<f64>,
+    /// The scaled ground record under the floor (`None` on the ground,
+    /// where it is `felt`).
+    pub ground: Option<Record>,
+    /// The record pair, the factor it was scaled by and the direction φ
+    /// (degrees) the blocks face (`None` without pairs).
+    pub pair: Option<(Arc<MeasuredPair>, f64, f64)>,
+    /// Gravity of the study, m/s².
+    pub g: f64,
+    /// The intensities of [`Im::COLUMNS`] this motion has (the ground's
+    /// peaks; a pair's RotD50; the floor's peaks), measured once.
+    pub measured: ImValues,
+}
+
+impl UnitMotion {
+    /// The scaled ground record (of a pair: the component the blocks face).
+    pub fn ground(&self) -> &Record {
+        self.ground.as_ref().unwrap_or(&self.felt)
+    }
+
+    /// The motion as [`Im::on`] reads it.
+    pub fn view(&self) -> Felt<'_> {
+        Felt {
+            ground: self.ground(),
+            floor: self.ground.as_ref().map(|_| &self.felt),
+            pair: self.pair.as_ref().map(|(p, k, _)| (&**p, *k)),
+            g: self.g,
+        }
+    }
+
+    /// Intensity measure `im` of this motion: measured once for those of
+    /// [`Im::COLUMNS`], else measured now (`None` where it is not defined).
+    pub fn im(&self, im: Im) -> Option<f64> {
+        self.measured.get(im).or_else(|| im.on(&self.view()))
+    }
+
+    /// The direction φ (degrees) the blocks face, for a pair.
+    pub fn phi(&self) -> Option<f64> {
+        self.pair.as_ref().map(|p| p.2)
+    }
 }
 
 impl Source {
@@ -377,31 +404,26 @@ impl Source {
     pub fn motion(&mut self, study: &Study, level: f64, record: usize) -> Result<UnitMotion> {
         let (ground, pair) = match self {
             Source::Pairs(_) | Source::SyntheticPairs { .. } => {
-                let (r, [pga, pgv], phi) = self.turned(&study.intensity, level, record, study.g)?;
-                (r, Some(([pga / study.g, pgv], phi)))
+                let (r, pair, k, phi) = self.turned(&study.intensity, level, record, study.g)?;
+                (r, Some((pair, k, phi)))
             }
             _ => (self.record(&study.intensity, level, record, study.g)?, None),
         };
-        let (pga_g, pgv) = (ground.pga() / study.g, ground.pgv());
-        if study.floor.is_ground() {
-            return Ok(UnitMotion {
-                felt: ground,
-                pga_g,
-                pgv,
-                pair,
-                pfa_g: None,
-                pfv: None,
-            });
-        }
-        let felt = floor_record(&ground, &study.floor)?;
-        Ok(UnitMotion {
-            pfa_g: Some(felt.pga() / study.g),
-            pfv: Some(felt.pgv()),
+        let (ground, felt) = if study.floor.is_ground() {
+            (None, ground)
+        } else {
+            let felt = floor_record(&ground, &study.floor)?;
+            (Some(ground), felt)
+        };
+        let mut motion = UnitMotion {
             felt,
-            pga_g,
-            pgv,
+            ground,
             pair,
-        })
+            g: study.g,
+            measured: ImValues::new(),
+        };
+        motion.measured = ImValues::of(&Im::COLUMNS, &motion.view());
+        Ok(motion)
     }
 }
 
@@ -473,10 +495,7 @@ mod tests {
                 };
                 assert_eq!(bits(&a.felt), bits(&b.felt), "{grid}, unit {u}");
                 assert_eq!(a.felt.name, b.felt.name);
-                assert_eq!(
-                    (a.pga_g.to_bits(), a.pgv.to_bits()),
-                    (b.pga_g.to_bits(), b.pgv.to_bits())
-                );
+                assert_eq!(a.measured, b.measured);
             }
             let mut one_level = Source::new(&study).unwrap();
             one_level.prepare(&study, &units[..4]);

@@ -28,6 +28,7 @@ use crate::case::Case;
 use crate::fragility::{
     Caveat, FragilityRow, caveat_words, first_inversion, unfit_advice, unfit_words,
 };
+use crate::im::Im;
 use crate::io_util::sig3;
 use crate::spec::{Intensity, Motions, Orientation, Study, Uncertainty};
 use crate::uncertainty::{Distribution, Property, Value};
@@ -298,20 +299,9 @@ pub fn fragility_section(fits: &[FragilityRow]) -> String {
         return format!("{FRAGILITY_HEADING}\n\nNo curves: `fragility.csv` has no rows.\n");
     };
     let im = first.im;
-    let unit = match im.unit() {
-        "1" => String::new(),
-        u => format!(" ({u})"),
-    };
+    let unit = im.unit_suffix();
     let replicates = fits.iter().filter_map(|f| f.boot_replicates).max();
-    let im_text = match im.name() {
-        "pga" => "the PGA in g",
-        "pgv" => "the PGV in m/s",
-        "pfa" => "the floor's peak acceleration PFA in g",
-        "pfv" => "the floor's peak velocity PFV in m/s",
-        "pga-rotd50" => "the RotD50 PGA of the record pair in g",
-        "pgv-rotd50" => "the RotD50 PGV of the record pair in m/s",
-        _ => "PGA/(g tan θc), dimensionless",
-    };
+    let im_text = im.description();
     let mut s = format!(
         "{FRAGILITY_HEADING}\n\nLognormal curves P(limit state | IM) = Φ(ln(IM/θ)/β), IM {im_text}, \
          fitted by maximum likelihood over the stripes (`fragility.csv`; \
@@ -613,13 +603,14 @@ fn floor_text(floor: &crate::motion::Floor) -> String {
 
 /// The name and unit of a study's levels in a table heading: `PGA`, `PGV`
 /// (a record pair's RotD50 for studies of pairs) or `scale`.
-fn level_heading(study: &Study) -> (&'static str, &'static str) {
+fn level_heading(study: &Study) -> (String, String) {
     let pairs = study.motions.orientation().is_some();
-    match study.intensity {
-        Intensity::Pga(_) if pairs => ("RotD50 PGA", " (g)"),
-        Intensity::Pga(_) => ("PGA", " (g)"),
-        Intensity::Pgv(_) if pairs => ("RotD50 PGV", " (m/s)"),
-        Intensity::Pgv(_) => ("PGV", " (m/s)"),
-        Intensity::Scale(_) => ("scale", ""),
-    }
+    let im = match (&study.intensity, pairs) {
+        (Intensity::Pga(_), true) => Im::PGA_ROTD50,
+        (Intensity::Pga(_), false) => Im::PGA,
+        (Intensity::Pgv(_), true) => Im::PGV_ROTD50,
+        (Intensity::Pgv(_), false) => Im::PGV,
+        (Intensity::Scale(_), _) => return ("scale".into(), String::new()),
+    };
+    (im.short(), im.unit_suffix())
 }

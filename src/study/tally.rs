@@ -106,7 +106,7 @@ impl Tally {
             "the study's summary",
         )?;
         let names = cols.names();
-        if table.header().iter().ne(names.iter().copied()) {
+        if table.header().iter().ne(names.iter().map(|n| n.as_ref())) {
             return Err(table.header_error(format!(
                 "header is not the study's: expected {}",
                 names.join(",")
