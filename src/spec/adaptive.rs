@@ -5,7 +5,8 @@ use super::locate::Origin;
 use super::raw::LevelRange;
 use super::study::Adaptive;
 use crate::error::Result;
-use crate::fragility::{FragilityOptions, IntensityMeasure};
+use crate::fragility::FragilityOptions;
+use crate::im::Im;
 
 /// The most analyses per case an adaptive study may ask for.
 const MAX_ANALYSES: usize = 10_000_000;
@@ -71,13 +72,14 @@ pub(super) fn adaptive(
             "at least 200 replicates: an adaptive run judges its band by the bootstrap",
         ));
     }
-    if !matches!(
-        options.im,
-        IntensityMeasure::Pga | IntensityMeasure::PgaRotd50
-    ) {
+    // unset: the levels' own IM (PGA, or its RotD50 for pairs)
+    if let Some(im) = options
+        .im
+        .filter(|im| ![Im::PGA, Im::PGA_ROTD50].contains(im))
+    {
         return Err(spec.bad(
             "fragility.im",
-            &format!("\"{}\"", options.im.name()),
+            &format!("\"{}\"", im.name()),
             "\"pga\" (an adaptive run places PGA levels and judges the fit on them)",
         ));
     }
