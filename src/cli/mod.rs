@@ -15,6 +15,7 @@ mod paper;
 mod risk;
 mod run;
 mod simulate;
+mod stack;
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};
