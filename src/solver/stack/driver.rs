@@ -384,6 +384,9 @@ impl<'a> Run<'a> {
                     self.time_in_modes(t1 - t0);
                     self.t = t1;
                     self.y = step.y1;
+                    if self.out.failure.is_some() {
+                        return None;
+                    }
                     if self.hist.is_some() {
                         self.push_row(false);
                     }
@@ -631,6 +634,28 @@ impl<'a> Run<'a> {
                 Touch::Open => 0.0,
             };
             b.slip_max = b.slip_max.max(slip.abs());
+            // a corner on the face below must stay on it: running off its
+            // edge (a body slipping off its support) is not modelled
+            if k > 0 && m.touch != Touch::Open {
+                let (sp, cp) = ch.rtrig[k];
+                let (bk, hk) = (self.sc.b[k], self.sc.h[k]);
+                let edge = self.sc.b[k - 1] * (1.0 + 1e-9);
+                let off = [-1.0, 1.0].into_iter().any(|side| {
+                    let touching = match m.touch {
+                        Touch::Corner(c) => c == side,
+                        _ => true,
+                    };
+                    touching && corner_rel(&rel, sp, cp, bk, hk, side)[0].abs() > edge
+                });
+                if off {
+                    self.fail(format!(
+                        "body {} reached the edge of the body below (slip {:.4} m): a body \
+                         running off its support is not modelled",
+                        k + 1,
+                        slip.abs()
+                    ));
+                }
+            }
         }
     }
 
