@@ -16,6 +16,7 @@ mod risk;
 mod run;
 mod simulate;
 mod size;
+mod stack;
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};

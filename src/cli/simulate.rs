@@ -176,6 +176,49 @@ pub struct SimulateArgs {
     /// Write the time history (CSV `t,mode,theta,theta_dot,x,x_dot,y,y_dot,N,F`).
     #[arg(long, value_name = "FILE")]
     pub history: Option<PathBuf>,
+    /// Solve a stack of blocks instead of one block: each body's width 2B
+    /// and height 2H in m, bottom first, e.g. `0.8x1.0,0.3x1.2` (a statue
+    /// on a pedestal). --restitution, --mu-s and --mu-k are the ground
+    /// interface's; the motion options keep their meaning.
+    #[arg(long, value_name = "WxH,WxH[,WxH]", conflicts_with_all = [
+        "study", "model", "rock_impact", "theta0", "theta_dot0", "sensitivity", "audit_energy",
+        "motion2", "orientation",
+    ])]
+    pub stack: Option<String>,
+    /// With --stack: the bodies' masses, relative, bottom first [default:
+    /// width × height, the same density].
+    #[arg(long, value_name = "M,M[,M]", requires = "stack")]
+    pub masses: Option<String>,
+    /// With --stack: each body's horizontal offset (m) from the centre of
+    /// the body below [default: 0, centred].
+    #[arg(
+        long,
+        value_name = "X,X[,X]",
+        requires = "stack",
+        allow_hyphen_values = true
+    )]
+    pub offsets: Option<String>,
+    /// With --stack: each interface's friction, bottom first: `inf`, μs, or
+    /// μs:μk (the first is the ground's, overriding --mu-s).
+    #[arg(long = "interface-mu", value_name = "MU,MU[,MU]", requires = "stack")]
+    pub interface_mu: Option<String>,
+    /// With --stack: each interface's coefficient of restitution, bottom
+    /// first [default: --restitution for all].
+    #[arg(
+        long = "interface-restitution",
+        value_name = "E,E[,E]",
+        requires = "stack"
+    )]
+    pub interface_restitution: Option<String>,
+    /// With --stack: each body's initial rotation (rad) relative to the body
+    /// below, about the corner on the side of its sign [default: 0].
+    #[arg(
+        long,
+        value_name = "RAD,RAD[,RAD]",
+        requires = "stack",
+        allow_hyphen_values = true
+    )]
+    pub tilts: Option<String>,
     /// Print the outcome as one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -262,6 +305,26 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     } else {
         motion::floor_record(&ground, &floor)?
     };
+    if let Some(spec) = &args.stack {
+        let flags = super::stack::StackFlags {
+            spec: spec.clone(),
+            masses: args.masses.clone(),
+            offsets: args.offsets.clone(),
+            interface_mu: args.interface_mu.clone(),
+            interface_restitution: args.interface_restitution.clone(),
+            tilts: args.tilts.clone(),
+            restitution: args.restitution,
+            mu_s: args.mu_s,
+            mu_k: args.mu_k,
+            g: args.g,
+            impact: args.impact,
+            rtol: args.rtol,
+            settle_tol: args.settle_tol,
+            json: args.json,
+            history: args.history.clone(),
+        };
+        return super::stack::run(&flags, &record);
+    }
     let block = Block::new(args.width, args.aspect, args.g)?;
     let mut analysis = Analysis::new(block, args.restitution);
     if let Some(mu_s) = args.mu_s {

@@ -265,9 +265,11 @@ pub fn corner_impact_friction(
 
 /// Integrates the impulse along the normal impulse p for Stronge's energetic
 /// restitution with Coulomb friction; returns (P_t, P_n), or `None` if the
-/// compression cannot end (u_n does not increase along p).
+/// compression cannot end (u_n does not increase along p). [[a, b], [b, c]]
+/// is the contact's inverse-mass matrix in (t, n): a corner's on the ground
+/// here, a contact's effective one in the stack solver.
 #[allow(clippy::too_many_arguments)]
-fn stronge(
+pub(super) fn stronge(
     a: f64,
     b: f64,
     c: f64,

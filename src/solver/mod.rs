@@ -34,6 +34,7 @@ mod roots;
 mod scan;
 pub mod sensitivity;
 mod settings;
+pub mod stack;
 mod taylor;
 
 pub use block::{ASPECT_RANGE, Block, WIDTH_RANGE, aspect_expected, width_expected};
