@@ -217,3 +217,32 @@ fn a_spec_fitting_against_an_im_its_motions_lack_is_refused() {
     let ok = format!("{base}\n[fragility]\nim = \"sa-avg(0.5,2)\"\n");
     assert!(Study::from_toml(&ok, Path::new("s.toml")).is_ok());
 }
+
+/// `rockfrag fragility DIR` without `--im` refits against the IM the
+/// study's spec asked for (`[fragility] im = "pgv"` here), so a refit of a
+/// finished folder gives the run's own fragility.csv, byte for byte. Before
+/// issue 38's IM type, a refit always fell back to PGA: the hospital pairs
+/// study's refit read 0.608 g (PGA) where its run had fitted 0.568 g (RotD50).
+#[test]
+fn a_refit_without_im_keeps_the_studys_own_im() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(spec())
+        .unwrap()
+        .replace("aspect = [4, 6]", "aspect = [6]")
+        .replace("pga = [0.4, 0.8]", "pga = [0.2, 0.5, 1.0, 2.0]")
+        + "\n[fragility]\nim = \"pgv\"\nbootstrap = 0\n";
+    let path = dir.path().join("small.toml");
+    std::fs::write(&path, text).unwrap();
+    let out = dir.path().join("small");
+    let o = run_spec(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let fitted = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
+    assert!(
+        fitted.lines().skip(1).all(|l| l.contains(",pgv,")),
+        "the run did not fit against pgv:\n{fitted}"
+    );
+    let o = rockfrag(&["fragility", out.to_str().unwrap(), "--bootstrap", "0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let refit = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
+    assert_eq!(fitted, refit, "the refit changed the study's fit");
+}
