@@ -145,6 +145,17 @@ pub fn move_into(from: &Path, to: &Path) -> std::io::Result<()> {
     std::fs::remove_file(from)
 }
 
+/// A text field for a CSV line joined by commas (RFC 4180): quoted, its
+/// quotes doubled, when it holds a comma, quote or line break (an IM
+/// named `sa-avg(0.2,2.0)`), else as it is.
+pub fn csv_field(text: String) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text
+    }
+}
+
 /// The folder of `path` (`.` for a bare file name).
 fn parent(path: &Path) -> &Path {
     match path.parent() {

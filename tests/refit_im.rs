@@ -246,3 +246,67 @@ fn a_refit_without_im_keeps_the_studys_own_im() {
     let refit = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
     assert_eq!(fitted, refit, "the refit changed the study's fit");
 }
+
+/// An IM whose name holds a comma (`sa-avg(0.2,2.0)`) is quoted in the CSV
+/// files (RFC 4180), so fragility.csv reads back with as many fields as
+/// its header and its readers get to the IM itself: `export openquake`
+/// refuses the IM by name (OpenQuake has no IMT for it), not with a CSV
+/// error. Before, the bare comma gave 37 fields under a 36-field header and
+/// every reader of the folder failed.
+#[test]
+fn an_im_named_with_a_comma_is_quoted_in_the_csv_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(spec())
+        .unwrap()
+        .replace("aspect = [4, 6]", "aspect = [6]")
+        .replace("pga = [0.4, 0.8]", "pga = [0.2, 0.5, 1.0, 2.0]");
+    let path = dir.path().join("small.toml");
+    std::fs::write(&path, text).unwrap();
+    let out = dir.path().join("small");
+    let o = run_spec(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let folder = out.to_str().unwrap();
+    let o = rockfrag(&[
+        "fragility",
+        folder,
+        "--im",
+        "sa-avg(0.2,2)",
+        "--bootstrap",
+        "0",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for file in ["fragility.csv", "fragility_curves.csv"] {
+        let mut reader = csv::Reader::from_path(out.join(file)).unwrap();
+        let width = reader.headers().unwrap().len();
+        for row in reader.records() {
+            let row = row.unwrap_or_else(|e| panic!("{file}: {e}"));
+            assert_eq!(row.len(), width, "{file}: {row:?}");
+            assert!(
+                row.iter().any(|f| f == "sa-avg(0.2,2.0)"),
+                "{file}: {row:?}"
+            );
+        }
+    }
+    let oq = dir.path().join("oq");
+    let hazard = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/hazard/hazard_curve-mean-PGA_example.csv"
+    );
+    let o = rockfrag(&[
+        "export",
+        "openquake",
+        folder,
+        "--hazard",
+        hazard,
+        "--site",
+        "0",
+        "--out",
+        oq.to_str().unwrap(),
+    ]);
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("sa-avg(0.2,2.0)") && !err.contains("CSV error"),
+        "{err}"
+    );
+}

@@ -100,8 +100,9 @@ pub fn export_openquake(
         return Err(Error::invalid(
             "fragility.im",
             im,
-            "pga or pgv for OpenQuake, whose hazard is the ground's (refit with --im pga; \
-             a floor's curve against the ground's PGA is what OpenQuake integrates)",
+            "an IM OpenQuake's hazard has: pga, pgv or sa(T) of the ground (or their RotD50) \
+             (refit with --im pga or --im \"sa(1.0)\"; a floor's curve against the ground's \
+             PGA is what OpenQuake integrates)",
         ));
     };
     let factor = oq.factor;

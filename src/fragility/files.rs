@@ -196,7 +196,7 @@ impl FragilityRow {
             self.case.id(),
             self.case.fields(),
             self.limit_state.clone(),
-            self.im.name(),
+            crate::io_util::csv_field(self.im.name()),
             opt(self.median),
             opt(self.beta),
             opt(self.median_band.map(|b| b.0)),
@@ -375,7 +375,7 @@ impl CurveRow {
             self.index,
             self.case.fields(),
             self.limit_state,
-            self.im.name(),
+            crate::io_util::csv_field(self.im.name()),
             number(self.im_value),
             number(self.p)
         )
@@ -470,7 +470,7 @@ impl BootstrapRow {
             self.index,
             self.case.fields(),
             self.limit_state,
-            self.im.name(),
+            crate::io_util::csv_field(self.im.name()),
             self.replicate
         )
     }

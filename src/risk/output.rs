@@ -88,7 +88,7 @@ impl RiskCsvRow {
             self.case.id(),
             self.case.fields(),
             self.limit_state.clone(),
-            self.im.name(),
+            crate::io_util::csv_field(self.im.name()),
             self.im.unit().to_string(),
             opt(self.fit.map(|f| f.0)),
             opt(self.fit.map(|f| f.1)),
