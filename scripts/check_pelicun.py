@@ -39,12 +39,22 @@ def find_db(folder):
     return csvs[0], (js if os.path.exists(js) else None)
 
 
-def pelicun_probabilities(db, ids, pga, n, sampling, seed, tmp):
+def demand_edp(demand_type):
+    """pelicun's EDP name for a DB's Demand-Type, as pelicun forms it
+    (`Peak Ground Acceleration` -> `PGA`, `Peak Spectral Acceleration|1.00`
+    -> `SA_1.00`): the demand sample's column must carry it."""
+    from pelicun.base import EDP_to_demand_type
+    name, _, sub = demand_type.partition("|")
+    edp = EDP_to_demand_type[name]
+    return "%s_%s" % (edp, sub) if sub else edp
+
+
+def pelicun_probabilities(db, ids, pga, n, sampling, seed, tmp, edp="PGA", unit="g"):
     import pandas as pd
     from pelicun.assessment import Assessment
     demand = os.path.join(tmp, "demand.csv")
     with open(demand, "w") as f:
-        f.write(",1-PGA-1-1\nUnits,g\n")
+        f.write(",1-%s-1-1\nUnits,%s\n" % (edp, unit))
         f.write("".join("%d,%r\n" % (i, pga) for i in range(n)))
     a = Assessment({"PrintLog": False, "Seed": seed, "Sampling": {"SamplingMethod": sampling}})
     a.demand.load_sample(demand)
@@ -112,13 +122,18 @@ def main(argv=None):
         lines.append("note: no %s.json beside the CSV (pelicun 3.10 does not read it)" % os.path.basename(db)[:-4])
 
     pgas = [float(x) for x in a.pga.split(",")]
+    # the demand the DB asks for (PGA, SA_1.00, PFA, ...), in its unit:
+    # the values of --pga are taken in that unit
+    edp = demand_edp(str(table["Demand-Type"].iloc[0]))
+    unit = str(table["Demand-Unit"].iloc[0])
     worst = 0.0
     crossed = 0
     lines.append("%-40s %-5s %6s %9s %9s %9s" % ("component", "LS", "PGA g", "rockfrag", "pelicun", "diff"))
     with tempfile.TemporaryDirectory() as tmp:
         for x in pgas:
             probs, missing = pelicun_probabilities(db, [i for i in ids if i in expect], x,
-                                                   a.samples, a.sampling, a.seed, tmp)
+                                                   a.samples, a.sampling, a.seed, tmp,
+                                                   edp, unit)
             for cid in missing:
                 lines.append("DROPPED  %s: pelicun left it out (Incomplete or no parameters)" % cid)
                 fails += 1

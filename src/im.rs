@@ -534,16 +534,26 @@ impl Im {
     }
 
     /// pelicun's demand type and unit for curves against this IM (FEMA
-    /// P-58's names); `None` when pelicun has none.
-    pub fn pelicun(self) -> Option<(&'static str, &'static str)> {
+    /// P-58's names, pelicun 3.10's vocabulary); `None` when pelicun has
+    /// none. Sa(T) of the ground is `Peak Spectral Acceleration|T` (pelicun
+    /// reads it as the EDP `SA_T`, e.g. `SA_1.00` with the period written
+    /// to two decimals when that is exact, as pelicun's own examples do).
+    pub fn pelicun(self) -> Option<(String, &'static str)> {
+        let named = |name: &str, unit| Some((name.to_string(), unit));
         match (self.measure, self.at) {
-            (Measure::Pga, At::Ground | At::RotD50) => Some(("Peak Ground Acceleration", "g")),
-            (Measure::Pgv, At::Ground | At::RotD50) => Some(("Peak Ground Velocity", "mps")),
+            (Measure::Pga, At::Ground | At::RotD50) => named("Peak Ground Acceleration", "g"),
+            (Measure::Pgv, At::Ground | At::RotD50) => named("Peak Ground Velocity", "mps"),
             // pelicun's floor demands, at the floor the block stands on
-            (Measure::Pga, At::Floor) => Some(("Peak Floor Acceleration", "g")),
-            (Measure::Pgv, At::Floor) => Some(("Peak Floor Velocity", "mps")),
-            (Measure::PgaOverTan | Measure::Sa { .. } | Measure::SaAvg { .. }, _) => None,
-            (Measure::PgvOverPga, _) => None,
+            (Measure::Pga, At::Floor) => named("Peak Floor Acceleration", "g"),
+            (Measure::Pgv, At::Floor) => named("Peak Floor Velocity", "mps"),
+            (Measure::Sa { period }, At::Ground | At::RotD50) => {
+                let two = format!("{period:.2}");
+                let exact = two.parse::<f64>() == Ok(period);
+                let t = if exact { two } else { format!("{period}") };
+                Some((format!("Peak Spectral Acceleration|{t}"), "g"))
+            }
+            (Measure::Sa { .. }, At::Floor) => None,
+            (Measure::PgaOverTan | Measure::SaAvg { .. } | Measure::PgvOverPga, _) => None,
         }
     }
 }

@@ -216,3 +216,46 @@ fn openquake_rate(
         })
         .sum()
 }
+
+/// Curves fitted against Sa(T) go to pelicun as the demand type pelicun
+/// 3.10 knows, `Peak Spectral Acceleration|T` in g (pelicun forms the EDP
+/// `SA_T` from it; `scripts/check-clients.sh --pelicun` runs pelicun on
+/// such a DB: worst |P − Φ| 6.8e-4 on the small study refitted at
+/// sa(1.0)). The period is written to two decimals when that is exact
+/// (`1.00`, as pelicun's own examples), else in full (`1.125`, not a
+/// rounded `1.13` that would name another period). Before, export refused
+/// every Sa fit.
+#[test]
+fn sa_curves_go_to_pelicun_as_peak_spectral_acceleration() {
+    use rockfrag::im::Im;
+    let demand = |name: &str| name.parse::<Im>().unwrap().pelicun();
+    assert_eq!(
+        demand("sa(1.0)"),
+        Some(("Peak Spectral Acceleration|1.00".to_string(), "g"))
+    );
+    assert_eq!(
+        demand("sa(1.125)"),
+        Some(("Peak Spectral Acceleration|1.125".to_string(), "g"))
+    );
+    // Sa of the floor's motion is no demand pelicun knows
+    assert_eq!(demand("sa(1.0)-floor"), None);
+    let dir = tempfile::tempdir().unwrap();
+    fitted_study(dir.path());
+    let study = dir.path().join("study");
+    let refit = common::rockfrag(&[
+        "fragility",
+        study.to_str().unwrap(),
+        "--im",
+        "sa(0.5)",
+        "--bootstrap",
+        "0",
+        "--limit-state",
+        "overturning=overturned",
+    ]);
+    assert!(refit.status.success(), "{}", common::stderr(&refit));
+    let out = dir.path().join("pelicun");
+    let db = export_pelicun(&study, &out, "rockfrag_test", "test", &[]).unwrap();
+    let text = std::fs::read_to_string(&db.csv).unwrap();
+    let row = text.lines().nth(1).unwrap();
+    assert!(row.contains(",Peak Spectral Acceleration|0.50,g,"), "{row}");
+}

@@ -42,12 +42,13 @@ pub struct PelicunDatabase {
 }
 
 /// pelicun's demand type and unit for curves fitted against `im`.
-pub fn demand(im: Im) -> Result<(&'static str, &'static str)> {
+pub fn demand(im: Im) -> Result<(String, &'static str)> {
     im.pelicun().ok_or_else(|| {
         Error::invalid(
             "fragility.im",
             im,
-            "pga or pgv for pelicun (refit with --im pga)",
+            "an IM pelicun has a demand type for: pga, pgv, sa(T) (or their RotD50), \
+             pfa or pfv (refit with --im pga)",
         )
     })
 }
