@@ -268,3 +268,49 @@ fn precision_flag_sizes_a_fixed_grid_from_a_pilot() {
     assert!(!refused.status.success());
     assert!(common::stderr(&refused).contains("is adaptive"));
 }
+
+/// The manifest's counts of an adaptive run are those of its
+/// outcomes.csv: uplifts (and "overturned or uplifted", the seed paper's
+/// count) included. Before, an adaptive run wrote `uplifted = 0` and
+/// `overturned_or_uplifted = 0` beside 62 overturned analyses. The small
+/// study's H/B 4 block at e = 0, μ = ∞ lifts off in about a third of its
+/// analyses, so the check cannot pass on zeros.
+#[test]
+fn the_manifest_counts_uplifts_of_an_adaptive_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = dir.path().join("ad.toml");
+    std::fs::write(
+        &spec,
+        "name = \"ad\"\nseed = 5\nrecords = 200\n[motion]\nduration = 10.0\n[grid]\n\
+         width = [0.5]\naspect = [4]\nrestitution = [0.0]\nfriction = [\"inf\"]\n\
+         pga = { min = 0.05, max = 3.0 }\n[fragility]\nprecision = { median = 0.1, beta = 0.3 }\n",
+    )
+    .unwrap();
+    let out = dir.path().join("ad");
+    let o = common::run_spec(&spec, &out);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let mut reader = csv::Reader::from_path(out.join("outcomes.csv")).unwrap();
+    let header = reader.headers().unwrap().clone();
+    let at = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (ot, up) = (at("overturned"), at("uplifted"));
+    let yes = |v: &str| v == "true" || v == "1";
+    let (mut n, mut overturned, mut uplifted, mut either) = (0u64, 0u64, 0u64, 0u64);
+    for row in reader.records() {
+        let row = row.unwrap();
+        n += 1;
+        overturned += yes(&row[ot]) as u64;
+        uplifted += yes(&row[up]) as u64;
+        either += (yes(&row[ot]) || yes(&row[up])) as u64;
+    }
+    assert!(
+        uplifted > 0 && overturned > 0,
+        "{uplifted} uplifted, {overturned} overturned"
+    );
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("manifest.json")).unwrap()).unwrap();
+    let counts = &manifest["counts"];
+    assert_eq!(counts["analyses"], n);
+    assert_eq!(counts["overturned"], overturned);
+    assert_eq!(counts["uplifted"], uplifted);
+    assert_eq!(counts["overturned_or_uplifted"], either);
+}

@@ -279,7 +279,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         rounds: round,
     };
     write_adaptive_csv(&dir.join(ADAPTIVE_CSV), &report)?;
-    let counts = count(&partial, study)?;
+    let counts = count(&partial)?;
     manifest.threads = threads;
     manifest.set_times(started, manifest::now_unix());
     manifest.analyses_run = analyses_run;
@@ -665,24 +665,28 @@ fn write_checkpoint(path: &Path, ckpt: &Checkpoint) -> Result<()> {
     .map_err(Error::io(path))
 }
 
-/// The counts of the rows in `path`: analyses, failed, overturned, uplifted.
-fn count(path: &Path, study: &Study) -> Result<super::Counts> {
-    let outcomes = read_outcomes_for(
+/// The counts of the rows in `path`: analyses, failed, overturned,
+/// uplifted and either (as [`super::Tally`] counts a fixed grid's; the
+/// rows of an adaptive run are not in a fixed grid's order, so they are
+/// counted here without its checks of place).
+fn count(path: &Path) -> Result<super::Counts> {
+    use crate::outcomes_csv::{Column, OutcomesFile};
+    let mut table = OutcomesFile::open(
         path,
-        &FragilityOptions {
-            im: study
-                .fragility
-                .as_ref()
-                .map_or_else(Default::default, |f| f.im),
-            pool: study.drawn(),
-            ..FragilityOptions::default()
-        },
+        &[Column::Status, Column::Overturned, Column::Uplifted],
+        "the study's counts",
     )?;
     let mut c = super::Counts::default();
-    for case in &outcomes.cases {
-        c.failed += case.failed as u64;
-        c.analyses += (case.trials.len() + case.failed) as u64;
-        c.overturned += case.trials.iter().filter(|t| t.overturned).count() as u64;
+    while let Some((_, row)) = table.next_row()? {
+        c.analyses += 1;
+        match &row.result {
+            Ok(o) => {
+                c.overturned += o.overturned as u64;
+                c.uplifted += o.uplifted as u64;
+                c.overturned_or_uplifted += (o.overturned || o.uplifted) as u64;
+            }
+            Err(_) => c.failed += 1,
+        }
     }
     Ok(c)
 }
