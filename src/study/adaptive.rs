@@ -22,7 +22,9 @@
 
 use super::single::analyse;
 use super::source::{Source, UnitMotion};
-use super::{RunOptions, RunReport, Shard, files, manifest, plan};
+use super::{
+    RunOptions, RunReport, Shard, files, manifest, plan, read_checkpoint, write_checkpoint,
+};
 use crate::case::Case;
 use crate::detmath as dm;
 use crate::error::{Error, Result};
@@ -157,7 +159,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
     let started = manifest::now_unix();
     // rows of an earlier invocation of the same analyses: replayed, not solved
     let mut done: BTreeMap<(usize, usize, usize), String> = BTreeMap::new();
-    match read_checkpoint(&ckpt_path)? {
+    match read_checkpoint::<Checkpoint>(&ckpt_path)? {
         Some(old) if old.analyses_hash == manifest.analyses_hash => {
             done.extend(old.rows.into_iter().map(|(l, r, c, t)| ((l, r, c), t)));
         }
@@ -638,28 +640,6 @@ fn write_rows(
         for text in rows.values() {
             w.write_all(text.as_bytes())?;
         }
-        Ok(())
-    })
-    .map_err(Error::io(path))
-}
-
-fn read_checkpoint(path: &Path) -> Result<Option<Checkpoint>> {
-    match std::fs::read_to_string(path) {
-        Ok(text) => serde_json::from_str(&text)
-            .map(Some)
-            .map_err(|e| Error::Parse {
-                path: path.to_path_buf(),
-                line: e.line(),
-                message: format!("unreadable checkpoint ({e}); delete it to start over"),
-            }),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        Err(e) => Err(Error::io(path)(e)),
-    }
-}
-
-fn write_checkpoint(path: &Path, ckpt: &Checkpoint) -> Result<()> {
-    crate::io_util::write_atomic(path, |w| {
-        serde_json::to_writer(&mut *w, ckpt)?;
         Ok(())
     })
     .map_err(Error::io(path))

@@ -219,7 +219,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
         bytes: 0,
         started_unix: manifest::now_unix(),
     };
-    let (mut ckpt, mut file) = match read_checkpoint(&ckpt_path)? {
+    let (mut ckpt, mut file) = match read_checkpoint::<Checkpoint>(&ckpt_path)? {
         Some(old) => {
             // Only what decides the analyses must match: a change to the
             // post-processing ([fragility], output.summary, ...) resumes.
@@ -414,7 +414,7 @@ pub fn require_finished(dir: &Path) -> Result<()> {
         "no such folder: expected the output folder of a `rockfrag run` (with its outcomes.csv)"
             .to_string()
     } else if dir.join(files::CHECKPOINT).exists() || dir.join(files::PARTIAL).exists() {
-        let done = read_checkpoint(&dir.join(files::CHECKPOINT))
+        let done = read_checkpoint::<Checkpoint>(&dir.join(files::CHECKPOINT))
             .ok()
             .flatten()
             .map(|c| c.units_done);
@@ -600,7 +600,9 @@ fn solve_units(
         .collect()
 }
 
-fn read_checkpoint(path: &Path) -> Result<Option<Checkpoint>> {
+/// Reads a checkpoint (this module's or an adaptive run's), `None` when
+/// there is none.
+pub(super) fn read_checkpoint<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Option<T>> {
     match std::fs::read_to_string(path) {
         Ok(text) => serde_json::from_str(&text)
             .map(Some)
@@ -614,7 +616,8 @@ fn read_checkpoint(path: &Path) -> Result<Option<Checkpoint>> {
     }
 }
 
-fn write_checkpoint(path: &Path, ckpt: &Checkpoint) -> Result<()> {
+/// Writes a checkpoint atomically.
+pub(super) fn write_checkpoint<T: Serialize>(path: &Path, ckpt: &T) -> Result<()> {
     crate::io_util::write_atomic(path, |w| {
         serde_json::to_writer(&mut *w, ckpt)?;
         Ok(())
