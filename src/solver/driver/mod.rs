@@ -343,9 +343,10 @@ enum Event {
 }
 
 /// Ground acceleration on one sample interval: ẍg = a0 + a1 (t − t0),
-/// ÿg = v0 + v1 (t − t0).
+/// ÿg = v0 + v1 (t − t0). Shared by the single block's driver and the
+/// stack's.
 #[derive(Clone, Copy, Debug)]
-struct Segment {
+pub(in crate::solver) struct Segment {
     t0: f64,
     a0: f64,
     a1: f64,
@@ -354,8 +355,22 @@ struct Segment {
 }
 
 impl Segment {
+    /// The interval from sample `k` to `k + 1` of a record's acceleration
+    /// `acc` (and vertical acceleration `acc_v`, zero without one),
+    /// sampled every `dt`: linear between samples.
     #[inline]
-    fn at(&self, t: f64) -> (f64, f64) {
+    pub(in crate::solver) fn of(acc: &[f64], acc_v: Option<&[f64]>, dt: f64, k: usize) -> Segment {
+        let t0 = k as f64 * dt;
+        let (a0, a1) = (acc[k], (acc[k + 1] - acc[k]) / dt);
+        let (v0, v1) = match acc_v {
+            Some(v) => (v[k], (v[k + 1] - v[k]) / dt),
+            None => (0.0, 0.0),
+        };
+        Segment { t0, a0, a1, v0, v1 }
+    }
+
+    #[inline]
+    pub(in crate::solver) fn at(&self, t: f64) -> (f64, f64) {
         let tau = t - self.t0;
         (self.a0 + self.a1 * tau, self.v0 + self.v1 * tau)
     }
@@ -521,13 +536,7 @@ impl<'a> Run<'a> {
 
     #[inline]
     fn segment(&self, k: usize) -> Segment {
-        let t0 = k as f64 * self.dt;
-        let (a0, a1) = (self.acc[k], (self.acc[k + 1] - self.acc[k]) / self.dt);
-        let (v0, v1) = match self.acc_v {
-            Some(v) => (v[k], (v[k + 1] - v[k]) / self.dt),
-            None => (0.0, 0.0),
-        };
-        Segment { t0, a0, a1, v0, v1 }
+        Segment::of(self.acc, self.acc_v, self.dt, k)
     }
 
     fn initial_state(&self) -> State {

@@ -38,6 +38,7 @@ use super::select::{Exclude, NoState, select, tolerances};
 use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::solver::dopri::{Stepper, Tolerance, attempt};
+use crate::solver::driver::Segment;
 use crate::solver::roots::brent;
 use crate::solver::settings::{Model, RockImpact, SolverSettings};
 use std::f64::consts::FRAC_PI_2;
@@ -72,25 +73,6 @@ enum Ev {
     Overturn(usize),
     /// The held pivot at interface k is compressed again.
     HoldEnd(usize),
-}
-
-/// Ground acceleration on one sample interval: ẍg = a0 + a1 (t − t0),
-/// ÿg = v0 + v1 (t − t0).
-#[derive(Clone, Copy, Debug)]
-struct Segment {
-    t0: f64,
-    a0: f64,
-    a1: f64,
-    v0: f64,
-    v1: f64,
-}
-
-impl Segment {
-    #[inline]
-    fn at(&self, t: f64) -> (f64, f64) {
-        let tau = t - self.t0;
-        (self.a0 + self.a1 * tau, self.v0 + self.v1 * tau)
-    }
 }
 
 /// Solves one analysis of a stack under a record: every body's response,
@@ -191,15 +173,7 @@ impl<'a> Run<'a> {
     }
 
     fn segment(&self, i: usize) -> Segment {
-        let dt = self.rec.dt;
-        let acc = &self.rec.acc;
-        let t0 = i as f64 * dt;
-        let (a0, a1) = (acc[i], (acc[i + 1] - acc[i]) / dt);
-        let (v0, v1) = match &self.rec.acc_v {
-            Some(v) => (v[i], (v[i + 1] - v[i]) / dt),
-            None => (0.0, 0.0),
-        };
-        Segment { t0, a0, a1, v0, v1 }
+        Segment::of(&self.rec.acc, self.rec.acc_v.as_deref(), self.rec.dt, i)
     }
 
     fn fail(&mut self, message: String) {
