@@ -736,7 +736,7 @@ fn pga_range(spec: &Origin, r: LevelRange, pgv: bool) -> Result<Intensity> {
             "grid.pga.max",
             &r.max,
             &format!(
-                "a peak ground acceleration in (0, {MAX_PGA_G}] g at least 1.5 times grid.pga.min                  ({}): the range an adaptive run places its levels in",
+                "a peak ground acceleration in (0, {MAX_PGA_G}] g at least 1.5 times grid.pga.min ({}): the range an adaptive run places its levels in",
                 r.min
             ),
         ));
