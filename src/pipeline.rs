@@ -149,8 +149,9 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
 /// What a complete adaptive study folder gets: the fit of its
 /// `outcomes.csv` (as a fixed grid's) and a `summary.md` of the study, the
 /// precision each case reached ([`study::adaptive::summary_section`]) and
-/// the fitted curves. No figures yet: they are drawn from a fixed grid's
-/// stripes (said in the summary).
+/// the fitted curves, and the figures a fixed grid's folder gets
+/// (`output.figures`): the stripes an adaptive run placed are drawn as a
+/// fixed grid's are.
 fn finish_adaptive(
     study: &Study,
     dir: &Path,
@@ -180,17 +181,19 @@ fn finish_adaptive(
         let rows = crate::fragility::read_fragility_csv(&dir.join("fragility.csv"))?;
         text.push('\n');
         text.push_str(&study::fragility_section(&rows));
-        if study.output.figures {
-            text.push_str(
-                "\nNo figures: `output.figures` draws a fixed grid's stripes; an adaptive \
-                 run's are not drawn yet.\n",
-            );
-        }
         let path = dir.join(files::SUMMARY);
         crate::io_util::write_atomic(&path, |w| std::io::Write::write_all(w, text.as_bytes()))
             .map_err(Error::io(&path))?;
         study::record_outputs(dir, &[&path])?;
         report.summary = Some(path);
+    }
+    if study.output.figures {
+        report.figures = Some(figures(
+            study,
+            dir,
+            &dir.join("figures"),
+            &FigureOptions::for_study(study),
+        )?);
     }
     Ok(report)
 }

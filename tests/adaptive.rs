@@ -99,10 +99,12 @@ fn same_bytes_on_one_and_two_threads_and_after_a_kill() {
 
 /// A case stops when its bootstrap band is below 95 % of the target (the
 /// margin), after at least 100 analyses; the band it reports is the one
-/// fragility.csv has, and the analyses went mostly near the median.
+/// fragility.csv has, and the analyses went mostly near the median. With
+/// `output.figures` the run draws the fragility figure of its stripes, as
+/// a fixed grid's run does.
 #[test]
 fn a_case_stops_when_its_band_meets_the_target() {
-    let s = study(VASE);
+    let s = study(&format!("{VASE}\n[output]\nfigures = true\n"));
     let tmp = tempfile::tempdir().unwrap();
     let report = pipeline::run(&s, &opts(tmp.path(), 2)).unwrap();
     let a = report.adaptive.unwrap();
@@ -135,6 +137,9 @@ fn a_case_stops_when_its_band_meets_the_target() {
     );
     let summary = String::from_utf8(read(tmp.path(), "summary.md")).unwrap();
     assert!(summary.contains("## Precision") && summary.contains("| met |"));
+    let figure = tmp.path().join("figures").join("fragility.svg");
+    let svg = std::fs::read_to_string(&figure).unwrap_or_else(|e| panic!("{figure:?}: {e}"));
+    assert!(svg.contains("<svg"), "{figure:?} is an SVG");
 }
 
 /// A vase that cannot overturn below 0.12 g: the case stops early, with a
