@@ -381,3 +381,48 @@ fn no_source_file_is_over_a_thousand_lines() {
         .collect();
     assert!(long.is_empty(), "{}", long.join("\n"));
 }
+
+/// A message split over source lines without a `\` continuation keeps the
+/// next line's indentation inside the sentence ("to place its
+/// <18 spaces>levels in"): no string literal in src/ has a run of six or
+/// more spaces between a word and a lower-case word after the first word
+/// (a one-word label aligned before its value stays allowed).
+#[test]
+fn no_message_carries_a_source_line_indentation() {
+    let mut bad = Vec::new();
+    for file in files_of(&src()) {
+        let text = std::fs::read_to_string(&file).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            let chars: Vec<char> = line.chars().collect();
+            let mut quoted = false;
+            let mut opened = 0;
+            let mut i = 0;
+            while i < chars.len() {
+                let c = chars[i];
+                if c == '"' && (i == 0 || chars[i - 1] != '\\') {
+                    quoted = !quoted;
+                    opened = i;
+                } else if quoted
+                    && c == ' '
+                    && i > 0
+                    && !chars[i - 1].is_whitespace()
+                    && chars[opened..i].contains(&' ')
+                {
+                    let run = chars[i..].iter().take_while(|&&s| s == ' ').count();
+                    let next = chars.get(i + run).copied().unwrap_or(' ');
+                    if run >= 6 && (next.is_lowercase() || next == '…' || next == '[') {
+                        bad.push(format!("{}:{}: {}", file.display(), n + 1, line.trim()));
+                    }
+                    i += run;
+                    continue;
+                }
+                i += 1;
+            }
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "indentation inside messages:\n{}",
+        bad.join("\n")
+    );
+}

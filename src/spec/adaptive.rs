@@ -26,14 +26,14 @@ pub(super) fn adaptive(
             return Err(spec.bad(
                 "fragility.precision",
                 &format!("{{ median = {}, beta = {} }}", p.median, p.beta),
-                "a PGA range in [grid] (pga = { min = …, max = … }) for the run to place its                  levels in; a list of levels is a fixed grid",
+                "a PGA range in [grid] (pga = { min = …, max = … }) for the run to place its levels in; a list of levels is a fixed grid",
             ));
         }
         if let Some(n) = max_analyses {
             return Err(spec.bad(
                 "fragility.max_analyses",
                 &n,
-                "to be left out without an adaptive run (grid.pga = { min = …, max = … } and                  [fragility] precision)",
+                "to be left out without an adaptive run (grid.pga = { min = …, max = … } and [fragility] precision)",
             ));
         }
         return Ok(None);
@@ -43,14 +43,14 @@ pub(super) fn adaptive(
         return Err(spec.bad(
             "grid.pga",
             &shown,
-            "a list of levels, or with a range a [fragility] table with precision = { median =              …, beta = … }: the run places levels until the fit's band is that narrow",
+            "a list of levels, or with a range a [fragility] table with precision = { median = …, beta = … }: the run places levels until the fit's band is that narrow",
         ));
     };
     let Some(precision) = precision else {
         return Err(spec.bad(
             "grid.pga",
             &shown,
-            "a list of levels, or with a range [fragility] precision = { median = …, beta = … }:              the run places levels until the fit's band is that narrow",
+            "a list of levels, or with a range [fragility] precision = { median = …, beta = … }: the run places levels until the fit's band is that narrow",
         ));
     };
     precision.validate().map_err(|e| spec.nested("", e))?;
