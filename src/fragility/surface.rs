@@ -119,7 +119,7 @@ impl SurfaceFit {
     /// β = √(1 + b₂²σ²)/(b₁ + b₂γ). `None` when b₁ + b₂γ ≤ 0.
     pub fn equivalent(&self, (alpha, gamma, sigma): (f64, f64, f64)) -> Option<(f64, f64)> {
         let slope = self.b1 + self.b2 * gamma;
-        if !(slope > 0.0) {
+        if slope.is_nan() || slope <= 0.0 {
             return None;
         }
         let median = dm::exp(-(self.a + self.b2 * alpha) / slope);
@@ -218,10 +218,10 @@ fn evaluate(groups: &[Group], p: [f64; 3]) -> (f64, [f64; 3], [[f64; 3]; 3]) {
             s -= m * r;
             w += m * r * (r - eta);
         }
-        for i in 0..3 {
+        for (i, row) in info.iter_mut().enumerate() {
             score[i] += s * g.x[i];
-            for j in 0..3 {
-                info[i][j] += w * g.x[i] * g.x[j];
+            for (j, cell) in row.iter_mut().enumerate() {
+                *cell += w * g.x[i] * g.x[j];
             }
         }
     }
@@ -475,9 +475,9 @@ mod tests {
             let (ep, em) = (evaluate(&groups, pp), evaluate(&groups, pm));
             let d = (ep.0 - em.0) / (2.0 * h);
             assert!((d - score[i]).abs() < 1e-6 * score[i].abs().max(1.0));
-            for j in 0..3 {
+            for (j, &cell) in info[i].iter().enumerate() {
                 let dd = -(ep.1[j] - em.1[j]) / (2.0 * h);
-                assert!((dd - info[i][j]).abs() < 1e-6 * info[i][j].abs().max(1.0));
+                assert!((dd - cell).abs() < 1e-6 * cell.abs().max(1.0));
             }
         }
     }

@@ -313,7 +313,7 @@ fn relation(pairs: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
     let mx = logs.iter().map(|l| l.0).sum::<f64>() / n;
     let my = logs.iter().map(|l| l.1).sum::<f64>() / n;
     let sxx: f64 = logs.iter().map(|l| (l.0 - mx) * (l.0 - mx)).sum();
-    if !(sxx > 0.0) {
+    if sxx.is_nan() || sxx <= 0.0 {
         return None;
     }
     let sxy: f64 = logs.iter().map(|l| (l.0 - mx) * (l.1 - my)).sum();
