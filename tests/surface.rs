@@ -210,6 +210,21 @@ fn a_study_fits_its_surface_and_a_refit_adds_or_removes_it() {
     let summary = std::fs::read_to_string(two.join("summary.md")).unwrap();
     assert!(summary.contains("## Fragility surface"), "{summary}");
     rockfrag::fragility::check_set(&two).unwrap();
+    // `rockfrag figures` draws one surface figure per row
+    let figures = dir.path().join("figures");
+    let o = rockfrag(&[
+        "figures",
+        two.to_str().unwrap(),
+        "--out",
+        figures.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("surface: skipped"), "{}", stderr(&o));
+    for r in &rows {
+        let svg = figures.join(format!("surface_{}_{}.svg", r.case.id(), r.limit_state));
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(text.contains("P = 0.5"), "{}", svg.display());
+    }
     let after = (
         std::fs::read(&outcomes).unwrap(),
         std::fs::metadata(&outcomes).unwrap().modified().unwrap(),
