@@ -427,6 +427,104 @@ impl<'de> serde::Deserialize<'de> for Im {
     }
 }
 
+/// The two IMs of a fragility surface P(LS | IM1, IM2): distinct, in the
+/// order given (`IM1` is the one the one-IM curves are fitted against).
+/// Written `pga,pgv` on the command line (commas inside a name's
+/// parentheses, as in `sa-avg(0.5,2.0)`, do not split it) and
+/// `["pga", "pgv"]` in a spec.
+///
+/// ```
+/// use rockfrag::im::{Im, ImPair};
+/// let pair = ImPair::parse("PGA, sa-avg(0.5,2)").unwrap().unwrap();
+/// assert_eq!((pair.first(), pair.second().name()), (Im::PGA, "sa-avg(0.5,2.0)".to_string()));
+/// assert_eq!(pair.to_string(), "pga,sa-avg(0.5,2.0)");
+/// assert!(ImPair::parse("sa-avg(0.5,2)").is_none()); // one IM, not a pair
+/// assert!(ImPair::parse("pga,pga").unwrap().is_err());
+/// assert!(ImPair::parse("pga,pgv,pfa").unwrap().is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ImPair {
+    first: Im,
+    second: Im,
+}
+
+impl ImPair {
+    /// The pair, if the two differ. Errors: what was expected.
+    pub fn new(first: Im, second: Im) -> Result<ImPair, String> {
+        if first == second {
+            return Err(format!(
+                "two different intensity measures for a fragility surface, not {first} twice"
+            ));
+        }
+        Ok(ImPair { first, second })
+    }
+
+    /// The first IM (the surface's IM1; the one-IM curves' IM).
+    pub fn first(self) -> Im {
+        self.first
+    }
+
+    /// The second IM (IM2).
+    pub fn second(self) -> Im {
+        self.second
+    }
+
+    /// Reads `IM1,IM2`: `None` when `text` has no comma outside
+    /// parentheses (it names one IM, or nothing); else the pair, or why
+    /// not (not two parts, a part that is no IM, the same IM twice).
+    pub fn parse(text: &str) -> Option<Result<ImPair, String>> {
+        let parts = split_top_level(text);
+        if parts.len() < 2 {
+            return None;
+        }
+        Some(ImPair::from_names(&parts))
+    }
+
+    /// The pair named by `names` (exactly two IMs). Errors: what was
+    /// expected, naming the values.
+    pub fn from_names<S: AsRef<str>>(names: &[S]) -> Result<ImPair, String> {
+        let shown: Vec<&str> = names.iter().map(AsRef::as_ref).collect();
+        if names.len() != 2 {
+            return Err(format!(
+                "one intensity measure, or exactly two (a fragility surface P(LS | IM1, \
+                 IM2)), not {} ({})",
+                names.len(),
+                shown.join(", ")
+            ));
+        }
+        let im = |s: &str| {
+            s.parse::<Im>()
+                .map_err(|e| format!("two intensity measures, and `{}` is not {e}", s.trim()))
+        };
+        ImPair::new(im(shown[0])?, im(shown[1])?)
+    }
+}
+
+impl fmt::Display for ImPair {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{},{}", self.first, self.second)
+    }
+}
+
+/// `text` split at the commas outside parentheses.
+fn split_top_level(text: &str) -> Vec<&str> {
+    let mut parts = Vec::new();
+    let (mut depth, mut start) = (0i32, 0);
+    for (i, c) in text.char_indices() {
+        match c {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            ',' if depth == 0 => {
+                parts.push(&text[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    parts.push(&text[start..]);
+    parts
+}
+
 /// An OpenQuake intensity measure type and how an intensity in rockfrag's
 /// unit becomes one in OpenQuake's.
 #[derive(Clone, Debug, PartialEq)]

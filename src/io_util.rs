@@ -521,6 +521,38 @@ pub fn replace_section(
     })
 }
 
+/// Removes the section of the markdown file at `path` that starts with
+/// the line `heading` and runs to the next `## ` heading, with the blank
+/// lines before it; a file without it is left as it is. Atomic.
+pub fn remove_section(path: &Path, heading: &str) -> std::io::Result<()> {
+    let text = std::fs::read_to_string(path)?;
+    let lines: Vec<&str> = text.lines().collect();
+    let Some(i) = lines.iter().position(|l| l.trim_end() == heading) else {
+        return Ok(());
+    };
+    let end = lines[i + 1..]
+        .iter()
+        .position(|l| l.starts_with("## "))
+        .map_or(lines.len(), |j| i + 1 + j);
+    let mut head = lines[..i].to_vec();
+    while head.last().is_some_and(|l| l.trim().is_empty()) {
+        head.pop();
+    }
+    let mut out = head;
+    if end < lines.len() {
+        if !out.is_empty() {
+            out.push("");
+        }
+        out.extend(&lines[end..]);
+    }
+    write_atomic(path, |w| {
+        for l in &out {
+            writeln!(w, "{l}")?;
+        }
+        Ok(())
+    })
+}
+
 /// The shortest text that reads back as exactly `x`, with an exponent for
 /// tiny and huge values: the one rule of files and messages, defined with
 /// the messages in [`crate::error::number`].

@@ -110,9 +110,11 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
     let mut report = FinishReport::default();
     if let Some(options) = &study.fragility {
         let mut options = options.clone();
-        if let Some(im) = options.im.filter(|im| !im.stored() && im.of_record()) {
-            let values = study::measure_study_records(study, dir, im)?;
-            options.measured = Some(std::sync::Arc::new(values));
+        for im in options.im.into_iter().chain(options.surface) {
+            if !im.stored() && im.of_record() {
+                let values = study::measure_study_records(study, dir, im)?;
+                options.measured.push(std::sync::Arc::new(values));
+            }
         }
         report.fit = Some(fit_and_write(dir, dir, &options)?);
     }
@@ -141,6 +143,9 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
         record_fit(dir, dir)?;
     }
     if let Some(summary) = &report.summary {
+        if let Some(fit) = &report.fit {
+            surface_summary(summary, fit)?;
+        }
         study::record_outputs(dir, &[summary])?;
     }
     Ok(report)
@@ -198,12 +203,32 @@ fn finish_adaptive(
     Ok(report)
 }
 
+/// `summary.md`'s `## Fragility surface` for the surfaces of `fit`, or
+/// without it when the fit has none (a refit without a surface).
+fn surface_summary(summary: &Path, fit: &FitReport) -> Result<()> {
+    match &fit.surfaces {
+        Some(rows) => crate::io_util::replace_section(
+            summary,
+            study::SURFACE_HEADING,
+            &study::surface_section(rows),
+            &[study::COUNTS_HEADING],
+        ),
+        None => crate::io_util::remove_section(summary, study::SURFACE_HEADING),
+    }
+    .map_err(Error::io(summary))
+}
+
 /// Lists the fit's files in `out` among the outputs of the run in `dir`
 /// (when `out` is inside it): a run that replaces it removes them.
 fn record_fit(dir: &Path, out: &Path) -> Result<()> {
+    let surface = [crate::fragility::SURFACE_FILE]
+        .into_iter()
+        .filter(|f| out.join(f).is_file());
     let files: Vec<PathBuf> = crate::fragility::SET_FILES
         .iter()
-        .chain([&crate::fragility::SET_FILE])
+        .copied()
+        .chain([crate::fragility::SET_FILE])
+        .chain(surface)
         .map(|name| out.join(name))
         .collect();
     let files: Vec<&Path> = files.iter().map(PathBuf::as_path).collect();
@@ -227,6 +252,7 @@ pub fn refit(dir: &Path, out: &Path, options: &FragilityOptions) -> Result<FitRe
             &[study::COUNTS_HEADING],
         )
         .map_err(Error::io(&summary))?;
+        surface_summary(&summary, &report)?;
         report.wrote = format!(
             "{}; updated {} ({})\n",
             report.wrote.trim_end(),
@@ -266,37 +292,32 @@ pub fn folder_fit_options(dir: &Path, options: &FragilityOptions) -> Result<Frag
     } else {
         options.limit_state.clone()
     };
-    let im = options.im.or_else(|| {
-        let study = study.as_ref()?;
-        match &study.fragility {
-            Some(f) => f.im,
-            None => study
-                .motions
-                .orientation()
-                .map(|_| crate::im::Im::PGA_ROTD50),
-        }
+    let study_im = study.as_ref().and_then(|study| match &study.fragility {
+        Some(f) => Some((f.im, f.surface)),
+        None => study
+            .motions
+            .orientation()
+            .map(|_| (Some(crate::im::Im::PGA_ROTD50), None)),
     });
+    // the IM(s) given, else the study's own (with its surface, if any)
+    let (im, surface) = match options.im {
+        Some(im) => (Some(im), options.surface),
+        None => study_im.unwrap_or((None, None)),
+    };
+    let mut measured = Vec::new();
+    for im in im.into_iter().chain(surface) {
+        if !im.stored() && im.of_record() {
+            measured.push(std::sync::Arc::new(study::measure_records(dir, im)?));
+        }
+    }
     Ok(FragilityOptions {
         im,
-        measured: measured(dir, im)?,
+        surface,
+        measured,
         limit_state,
         pool,
         ..options.clone()
     })
-}
-
-/// An IM `outcomes.csv` does not hold, measured on the records of the study
-/// folder `dir` ([`study::measure_records`]); `None` for the others.
-fn measured(
-    dir: &Path,
-    im: Option<crate::im::Im>,
-) -> Result<Option<std::sync::Arc<crate::fragility::RecordIms>>> {
-    match im {
-        Some(im) if !im.stored() && im.of_record() => {
-            Ok(Some(std::sync::Arc::new(study::measure_records(dir, im)?)))
-        }
-        _ => Ok(None),
-    }
 }
 
 /// The bootstrap replicates of a refit of the study folder `dir` when the

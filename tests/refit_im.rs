@@ -86,7 +86,7 @@ fn a_refit_against_sa_measures_the_records_and_runs_nothing() {
     assert!(e.contains("sa(1.0)") && e.contains("study folder"), "{e}");
     let options = FragilityOptions {
         im: Some(sa),
-        measured: Some(std::sync::Arc::new(measured.clone())),
+        measured: vec![std::sync::Arc::new(measured.clone())],
         ..FragilityOptions::default()
     };
     let outcomes = read_outcomes_for(&outcomes, &options).unwrap();

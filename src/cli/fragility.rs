@@ -9,7 +9,7 @@ use super::args::choice;
 use anyhow::Context;
 use rockfrag::case::Field;
 use rockfrag::fragility::{BootstrapUnit, FragilityOptions, LimitState};
-use rockfrag::im::Im;
+use rockfrag::im::{Im, ImPair};
 
 /// Flags of `rockfrag fragility`.
 #[derive(Debug, clap::Args)]
@@ -26,11 +26,15 @@ pub struct FragilityArgs {
     /// `pgv/pga` in s (each also `-floor`, `-rotd50`: measured on the
     /// records again, outcomes.csv untouched). Repeat the flag to compare
     /// IMs: each is fitted, ranked by β with a sufficiency check in the
-    /// summary's `## Intensity measures`, and the first is written
+    /// summary's `## Intensity measures`, and the first is written.
+    /// Two IMs joined by a comma (`pga,pgv`; a comma inside a name's
+    /// parentheses, as in `sa-avg(0.5,2)`, does not split it) fit a
+    /// fragility surface P(LS | IM1, IM2) beside the curves against IM1,
+    /// into fragility_surface.csv (docs/surface.md); a pair goes first
     /// [default: the study's `[fragility] im`, else pga, or pga-rotd50 for
     /// a study of record pairs]
     #[arg(long, value_name = "IM", value_parser = im_name)]
-    pub im: Vec<Im>,
+    pub im: Vec<ImChoice>,
     /// Bootstrap replicates for the 90 % bands; 0 skips the bootstrap
     /// [default: the study's own `[fragility] bootstrap`, else 1000].
     #[arg(long, value_name = "N", value_parser = bootstrap_replicates)]
@@ -82,9 +86,39 @@ fn bootstrap_replicates(text: &str) -> Result<usize, String> {
     }
 }
 
-/// An intensity measure's name ([`Im`]).
-fn im_name(text: &str) -> Result<Im, String> {
-    text.parse().map_err(|e| format!("expected {e}"))
+/// What one `--im` names: an IM, or the two IMs of a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ImChoice {
+    /// One IM.
+    One(Im),
+    /// A fragility surface's two IMs.
+    Pair(ImPair),
+}
+
+impl ImChoice {
+    /// The IM the curves are fitted against: the pair's first.
+    pub fn first(self) -> Im {
+        match self {
+            ImChoice::One(im) => im,
+            ImChoice::Pair(p) => p.first(),
+        }
+    }
+}
+
+/// An intensity measure's name ([`Im`]), or two joined by a comma
+/// ([`ImPair`]).
+fn im_name(text: &str) -> Result<ImChoice, String> {
+    match text.parse::<Im>() {
+        Ok(im) => Ok(ImChoice::One(im)),
+        Err(e) => match ImPair::parse(text) {
+            Some(pair) => pair
+                .map(ImChoice::Pair)
+                .map_err(|e| format!("expected {e}")),
+            None => Err(format!(
+                "expected {e}, or two joined by a comma for a fragility surface (pga,pgv)"
+            )),
+        },
+    }
 }
 
 /// Parses `NAME=MEASURE>THRESHOLD` or `NAME=MEASURE`.
@@ -114,8 +148,21 @@ impl FragilityArgs {
     /// parameters of the study recorded in `DIR/manifest.json` when there
     /// is one (flags take precedence; pooled parameters add up).
     fn options(&self) -> anyhow::Result<FragilityOptions> {
+        if let Some(later) = self.im.iter().skip(1).find_map(|c| match c {
+            ImChoice::Pair(p) => Some(p),
+            ImChoice::One(_) => None,
+        }) {
+            anyhow::bail!(
+                "--im {later}: a surface's pair of IMs goes first (--im {later} --im …), and \
+                 there is one surface per fit"
+            );
+        }
         let given = FragilityOptions {
-            im: self.im.first().copied(),
+            im: self.im.first().map(|c| c.first()),
+            surface: match self.im.first() {
+                Some(ImChoice::Pair(p)) => Some(p.second()),
+                _ => None,
+            },
             bootstrap: match self.bootstrap {
                 Some(n) => n,
                 None => rockfrag::pipeline::study_bootstrap(&self.dir)?,
@@ -145,7 +192,7 @@ pub fn run(args: FragilityArgs) -> anyhow::Result<()> {
     eprint!("{}{}", report.notes(args.verbose), report.wrote);
     let mut table = report.table.clone();
     let mut ims: Vec<Im> = Vec::new();
-    for &im in &args.im {
+    for im in args.im.iter().map(|c| c.first()) {
         if !ims.contains(&im) {
             ims.push(im);
         }

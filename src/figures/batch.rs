@@ -10,6 +10,7 @@
 //! | `friction_demand` | mean μ_mot and μ_imp against B/H ([`super::friction`]) |
 //! | `restitution` | overturning and θmax/θc against e ([`super::restitution`]) |
 //! | `risk` | annual rate of each limit state at a site ([`super::risk`]), once `rockfrag risk` has run |
+//! | `surface_<case>_<limit state>` | a fragility surface's contours and observed fractions ([`super::surface`]), one per row of `fragility_surface.csv` when the fit has one |
 //!
 //! The sample record and the spectrum come from the study's own motions
 //! (see [`FigureOptions::for_folder`]): for a synthetic study, its generator
@@ -41,6 +42,7 @@ use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
 use super::risk::RiskFigure;
 use super::spectrum::SpectrumFigure;
+use super::surface::SurfaceFigure;
 use crate::case::Field;
 use crate::error::{Error, Result};
 use crate::motion::{Record, SynthesisSettings, Synthesizer, read_record};
@@ -209,6 +211,9 @@ pub struct StudyFigures {
     pub restitution: Option<RestitutionFigure>,
     /// The risk at a site (folders where `rockfrag risk` has run).
     pub risk: Option<RiskFigure>,
+    /// The fragility surfaces, each with its file stem (folders whose fit
+    /// has `fragility_surface.csv`).
+    pub surfaces: Vec<(String, SurfaceFigure)>,
     /// The study's data, for a layer that adds figures of its own.
     pub data: StudyData,
     /// Figures drawn in reduced form or skipped, and why.
@@ -315,6 +320,7 @@ impl StudyFigures {
             Some(RestitutionFigure::from_study(&data))
         };
         let risk = risk_figure(dir, &mut notes);
+        let surfaces = surface_figures(dir, options, &mut notes);
         Ok(StudyFigures {
             motion,
             spectrum,
@@ -323,6 +329,7 @@ impl StudyFigures {
             friction_demand,
             restitution,
             risk,
+            surfaces,
             data,
             notes,
         })
@@ -358,6 +365,9 @@ impl StudyFigures {
         }
         if let Some(f) = &self.risk {
             write(f, file("risk"), &mut report)?;
+        }
+        for (stem, f) in &self.surfaces {
+            write(f, file(stem), &mut report)?;
         }
         Ok(report)
     }
@@ -426,6 +436,29 @@ fn risk_figure(dir: &Path, notes: &mut Vec<String>) -> Option<RiskFigure> {
         return None;
     }
     Some(RiskFigure::new(&rows, &hazard))
+}
+
+/// The surface figures of the folder `dir` (none without
+/// `fragility_surface.csv` in a whole fit set); a note instead when its
+/// analyses cannot be read against both IMs.
+fn surface_figures(
+    dir: &Path,
+    options: &FigureOptions,
+    notes: &mut Vec<String>,
+) -> Vec<(String, SurfaceFigure)> {
+    let csv = dir.join(crate::fragility::SURFACE_FILE);
+    if !csv.is_file() {
+        return Vec::new();
+    }
+    let drawn = (|| -> Result<_> {
+        crate::fragility::check_set(dir)?;
+        let rows = crate::fragility::read_surface_csv(&csv)?;
+        SurfaceFigure::for_rows(dir, options.study.as_ref(), &options.pooled, &rows)
+    })();
+    drawn.unwrap_or_else(|e| {
+        notes.push(format!("surface: skipped, {e}"));
+        Vec::new()
+    })
 }
 
 /// The sample record and spectrum of a study of recorded motions: the first

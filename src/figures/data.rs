@@ -318,6 +318,7 @@ impl StudyData {
             }
             _ => None,
         };
+        let measured: Vec<_> = measured.into_iter().collect();
         let options = FragilityOptions {
             im: Some(im),
             measured,

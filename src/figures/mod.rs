@@ -41,6 +41,7 @@ mod restitution;
 mod risk;
 mod spectrum;
 pub mod style;
+mod surface;
 
 pub use batch::{FigureOptions, FiguresReport, StudyFigures, study_figures, study_of_folder};
 pub use compare::{CompareFigure, CompareSeries};
@@ -57,3 +58,4 @@ pub(crate) use restitution::trend_text;
 pub use risk::{RiskCase, RiskFigure, RiskSeries};
 pub use spectrum::SpectrumFigure;
 pub use style::Style;
+pub use surface::SurfaceFigure;

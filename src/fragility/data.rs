@@ -122,7 +122,7 @@ fn measured_for(options: &FragilityOptions, im: Im) -> Result<Option<&RecordIms>
     if im.stored() || !im.of_record() {
         return Ok(None);
     }
-    match options.measured.as_deref().filter(|m| m.im == im) {
+    match options.measured_of(im) {
         Some(m) => Ok(Some(m)),
         None => Err(Error::invalid(
             "im",

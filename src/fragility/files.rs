@@ -548,6 +548,20 @@ pub struct OutputPaths {
 /// [`check_set`](super::check_set)). The NRML file holds every limit state,
 /// in order (see [`nrml::nrml_string`]).
 pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
+    write_outputs_with(dir, fits, None)
+}
+
+/// As [`write_outputs`], and `fragility_surface.csv` from `surfaces` when
+/// given, as part of the set. A fit without a surface removes the
+/// `fragility_surface.csv` of the fit it replaces (listed in that fit's
+/// set, so written by rockfrag): it is not this fit's.
+pub fn write_outputs_with(
+    dir: &Path,
+    fits: &[CaseFit],
+    surfaces: Option<&[super::surface_files::SurfaceRow]>,
+) -> Result<OutputPaths> {
+    use super::surface_files::SURFACE_FILE;
+    let stale = surfaces.is_none() && super::set::listed(dir).iter().any(|f| f == SURFACE_FILE);
     let paths = OutputPaths {
         fragility: dir.join("fragility.csv"),
         curves: dir.join("fragility_curves.csv"),
@@ -560,7 +574,20 @@ pub fn write_outputs(dir: &Path, fits: &[CaseFit]) -> Result<OutputPaths> {
     write_curves_csv(&paths.curves, fits)?;
     write_bootstrap_csv(&paths.bootstrap, fits)?;
     nrml::write_nrml(&paths.nrml, fits)?;
-    super::set::complete(dir)?;
+    let surface = dir.join(SURFACE_FILE);
+    match surfaces {
+        Some(rows) => super::surface_files::write_surface_csv(&surface, rows)?,
+        None if stale && surface.is_file() => {
+            std::fs::remove_file(&surface).map_err(Error::io(&surface))?
+        }
+        None => {}
+    }
+    let extra: &[&str] = if surfaces.is_some() {
+        &[SURFACE_FILE]
+    } else {
+        &[]
+    };
+    super::set::complete(dir, extra)?;
     Ok(paths)
 }
 

@@ -243,13 +243,13 @@ pub fn unfit_advice(status: &str, im_range: Option<(f64, f64)>) -> String {
 }
 
 /// Relative tolerance on the Newton step that declares convergence.
-const TOLERANCE: f64 = 1e-12;
+pub(super) const TOLERANCE: f64 = 1e-12;
 /// Iteration cap (Newton on a concave likelihood needs 5–15).
-const MAX_ITERATIONS: u32 = 100;
+pub(super) const MAX_ITERATIONS: u32 = 100;
 /// Steps larger than this (relative) are checked and halved if ℓ drops;
 /// smaller ones are in Newton's quadratic regime, where ℓ changes by less
 /// than its rounding error and the check would only see noise.
-const LINE_SEARCH_ABOVE: f64 = 1e-6;
+pub(super) const LINE_SEARCH_ABOVE: f64 = 1e-6;
 
 /// Fits P(overturn | x) = Φ(a + b ln x) by maximum likelihood.
 ///
@@ -516,7 +516,7 @@ pub fn curves_cross(first: &LognormalFit, second: &LognormalFit, im_range: (f64,
 }
 
 /// Lower-triangular Cholesky factor of a symmetric positive-definite matrix.
-fn cholesky(m: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
+pub(super) fn cholesky(m: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
     let n = m.len();
     let mut l = vec![vec![0.0; n]; n];
     for i in 0..n {
@@ -537,7 +537,7 @@ fn cholesky(m: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
 }
 
 /// Solves L Lᵀ x = g.
-fn cholesky_solve(l: &[Vec<f64>], g: &[f64]) -> Vec<f64> {
+pub(super) fn cholesky_solve(l: &[Vec<f64>], g: &[f64]) -> Vec<f64> {
     let n = l.len();
     let mut y = vec![0.0; n];
     for i in 0..n {
@@ -685,7 +685,7 @@ fn invert(m: &[[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
 }
 
 /// ln φ(x).
-fn ln_pdf(x: f64) -> f64 {
+pub(super) fn ln_pdf(x: f64) -> f64 {
     const LN_SQRT_2PI: f64 = 0.918_938_533_204_672_7;
     -0.5 * x * x - LN_SQRT_2PI
 }
@@ -693,7 +693,7 @@ fn ln_pdf(x: f64) -> f64 {
 /// ln Φ(x), accurate in both tails: ln(1 − Φ(−x)) for x > 0 and the
 /// asymptotic series Φ(x) = φ(x)/|x| (1 − 1/x² + 3/x⁴ − …) below −30, where
 /// Φ(x) < 5e-198 nears underflow.
-fn ln_cdf(x: f64) -> f64 {
+pub(super) fn ln_cdf(x: f64) -> f64 {
     if x > 0.0 {
         dm::ln_1p(-dm::norm_cdf(-x))
     } else if x >= -30.0 {

@@ -84,6 +84,8 @@ mod options;
 mod precision;
 mod report;
 mod set;
+mod surface;
+mod surface_files;
 
 pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile};
 pub use case::{
@@ -94,6 +96,7 @@ pub use data::{CaseData, Outcomes, Trial, read_outcomes, read_outcomes_for};
 pub use files::{
     BOOTSTRAP_HEADER, BootstrapRow, CURVES_HEADER, CurveRow, FRAGILITY_HEADER, FragilityRow,
     OutputPaths, read_bootstrap_csv, read_curves_csv, read_fragility_csv, write_outputs,
+    write_outputs_with,
 };
 pub use fit::{
     LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal, unfit_advice,
@@ -113,3 +116,10 @@ pub use precision::{
 };
 pub use report::{FitReport, fit_and_write};
 pub use set::{SET_FILE, SET_FILES, check_set};
+pub use surface::{
+    SurfaceFit, SurfacePoint, SurfaceUnfit, fit_surface, surface_status, surface_words,
+};
+pub use surface_files::{
+    ObservedBin, SURFACE_FILE, SURFACE_HEADER, SurfaceRow, fit_surfaces, observed_bins,
+    read_surface_csv,
+};

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::case::Field;
 use crate::error::{Error, Result};
-use crate::im::Im;
+use crate::im::{Im, ImPair};
 use crate::outcomes_csv::{Column, MeasureKind};
 
 /// Most limit states a fit accepts (each analysis keeps its exceedances as
@@ -98,19 +98,24 @@ pub const MAX_BOOTSTRAP: usize = 100_000;
 pub const MAX_GRID_POINTS: usize = 10_000;
 
 /// Settings of the fragility fit. Plain data with documented defaults.
+/// Read from and written to a spec's `[fragility]` table (through a
+/// private mirror whose `im` is one name or a list of two).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(from = "OptionsFile", into = "OptionsFile")]
 pub struct FragilityOptions {
     /// Intensity measure ([`Im`]; default: PGA in g, or a record pair's
     /// RotD50 PGA for a study of pairs, which the spec's validation fills
-    /// in when the spec names none).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// in when the spec names none). With [`FragilityOptions::surface`],
+    /// the surface's IM1 (spec: the first of `im = ["pga", "pgv"]`).
     pub im: Option<Im>,
+    /// The second IM of a fragility surface P(LS | IM1, IM2) fitted beside
+    /// the curves (spec: the second of `im = ["pga", "pgv"]`; command
+    /// line: `--im pga,pgv`); `None` (the default): no surface.
+    pub surface: Option<Im>,
     /// The values of an IM `outcomes.csv` does not hold (`sa(T)`, …),
     /// measured on the study's records by `study::measure_records`; not
-    /// part of a spec.
-    #[serde(skip)]
-    pub measured: Option<std::sync::Arc<RecordIms>>,
+    /// part of a spec. Holds `im`'s and, for a surface, the second IM's.
+    pub measured: Vec<std::sync::Arc<RecordIms>>,
     /// Bootstrap replicates, at most [`MAX_BOOTSTRAP`]; 0 skips the
     /// bootstrap and leaves the bands empty (default: 1000).
     pub bootstrap: usize,
@@ -128,28 +133,139 @@ pub struct FragilityOptions {
     /// Limit states in order of increasing severity, one fit per case and
     /// limit state (spec: `[[fragility.limit_state]]`; default: none, which
     /// means overturning alone, see [`FragilityOptions::limit_states`]).
-    #[serde(rename = "limit_state", skip_serializing_if = "Vec::is_empty")]
     pub limit_state: Vec<LimitState>,
     /// Case parameters pooled into one curve: those a study draws per
     /// analysis (its `[uncertainty]`, filled in when the spec is read), or
     /// any a user chooses (`rockfrag fragility --pool`). Not a spec field.
-    #[serde(skip)]
     pub pool: Vec<Field>,
     /// The precision an adaptive run stops at (with `grid.pga = { min, max }`;
     /// [`super::precision::Precision`], docs/adaptive.md). Default: none, a fixed grid.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub precision: Option<super::precision::Precision>,
     /// The most analyses an adaptive run spends on one case (default with
     /// `precision`: [`super::precision::DEFAULT_MAX_ANALYSES`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_analyses: Option<usize>,
+}
+
+/// `[fragility]` as a spec writes it: [`FragilityOptions`]' spec fields,
+/// in their order, with `im` one name or a list of two.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct OptionsFile {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    im: Option<ImField>,
+    bootstrap: usize,
+    unit: BootstrapUnit,
+    seed: u64,
+    confidence: f64,
+    grid_points: usize,
+    #[serde(rename = "limit_state", skip_serializing_if = "Vec::is_empty")]
+    limit_state: Vec<LimitState>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    precision: Option<super::precision::Precision>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_analyses: Option<usize>,
+}
+
+impl Default for OptionsFile {
+    fn default() -> Self {
+        FragilityOptions::default().into()
+    }
+}
+
+impl From<OptionsFile> for FragilityOptions {
+    fn from(f: OptionsFile) -> FragilityOptions {
+        let (im, surface) = match f.im {
+            None => (None, None),
+            Some(ImField::One(im)) => (Some(im), None),
+            Some(ImField::Pair(pair)) => (Some(pair.first()), Some(pair.second())),
+        };
+        FragilityOptions {
+            im,
+            surface,
+            bootstrap: f.bootstrap,
+            unit: f.unit,
+            seed: f.seed,
+            confidence: f.confidence,
+            grid_points: f.grid_points,
+            limit_state: f.limit_state,
+            precision: f.precision,
+            max_analyses: f.max_analyses,
+            ..FragilityOptions::default()
+        }
+    }
+}
+
+impl From<FragilityOptions> for OptionsFile {
+    fn from(o: FragilityOptions) -> OptionsFile {
+        let im = match (o.im, o.surface) {
+            (Some(first), Some(second)) => ImPair::new(first, second).ok().map(ImField::Pair),
+            (im, _) => im.map(ImField::One),
+        };
+        OptionsFile {
+            im,
+            bootstrap: o.bootstrap,
+            unit: o.unit,
+            seed: o.seed,
+            confidence: o.confidence,
+            grid_points: o.grid_points,
+            limit_state: o.limit_state,
+            precision: o.precision,
+            max_analyses: o.max_analyses,
+        }
+    }
+}
+
+/// A spec's `im`: one name (`"pga"`), or a list of two for a surface
+/// (`["pga", "pgv"]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ImField {
+    One(Im),
+    Pair(ImPair),
+}
+
+impl Serialize for ImField {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            ImField::One(im) => im.serialize(s),
+            ImField::Pair(p) => [p.first(), p.second()].serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for ImField {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<ImField, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Given {
+            One(String),
+            List(Vec<String>),
+        }
+        let given = Given::deserialize(d).map_err(|_| {
+            serde::de::Error::custom(
+                "expected an intensity measure (\"pga\") or a list of two for a fragility \
+                 surface ([\"pga\", \"pgv\"])",
+            )
+        })?;
+        match given {
+            Given::One(name) => Im::try_from(name)
+                .map(ImField::One)
+                .map_err(serde::de::Error::custom),
+            Given::List(names) => {
+                let quoted: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+                ImPair::from_names(&names).map(ImField::Pair).map_err(|e| {
+                    serde::de::Error::custom(format!("[{}]: expected {e}", quoted.join(", ")))
+                })
+            }
+        }
+    }
 }
 
 impl Default for FragilityOptions {
     fn default() -> Self {
         FragilityOptions {
             im: None,
-            measured: None,
+            surface: None,
+            measured: Vec::new(),
             bootstrap: 1000,
             unit: BootstrapUnit::Records,
             seed: 1,
@@ -169,6 +285,16 @@ impl FragilityOptions {
         self.im.unwrap_or_default()
     }
 
+    /// The two IMs of the fragility surface asked for, if any.
+    pub fn surface_pair(&self) -> Option<ImPair> {
+        ImPair::new(self.im(), self.surface?).ok()
+    }
+
+    /// The measured values of `im` among [`FragilityOptions::measured`].
+    pub fn measured_of(&self, im: Im) -> Option<&RecordIms> {
+        self.measured.iter().map(|m| &**m).find(|m| m.im == im)
+    }
+
     /// The limit states fitted: those given, or overturning alone.
     pub fn limit_states(&self) -> Vec<LimitState> {
         if self.limit_state.is_empty() {
@@ -184,6 +310,15 @@ impl FragilityOptions {
     /// overturning (if named) last: an overturned analysis exceeds every
     /// limit state, so none can be more severe.
     pub fn validate(&self) -> Result<()> {
+        if let Some(second) = self.surface
+            && second == self.im()
+        {
+            return Err(Error::invalid(
+                "fragility.im",
+                format!("[\"{second}\", \"{second}\"]"),
+                "two different intensity measures for a fragility surface",
+            ));
+        }
         if !(self.confidence > 0.0 && self.confidence < 1.0) {
             return Err(Error::invalid(
                 "fragility.confidence",

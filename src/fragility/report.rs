@@ -8,9 +8,11 @@ use std::path::{Path, PathBuf};
 use super::bootstrap::Interval;
 use super::case::{BetaModel, CaseFit, caveat_note, fit_cases};
 use super::data::read_outcomes_for;
-use super::files::write_outputs;
+use super::files::write_outputs_with;
 use super::fit::{unfit_advice, unfit_words};
 use super::options::FragilityOptions;
+use super::surface::surface_words;
+use super::surface_files::{SURFACE_FILE, SurfaceRow, fit_surfaces};
 use crate::error::{Error, Result};
 use crate::io_util::{aligned, sig3};
 
@@ -41,6 +43,12 @@ pub struct FitReport {
     pub fragility_csv: PathBuf,
     /// The fits, one per case and limit state.
     pub fits: Vec<CaseFit>,
+    /// The fragility surfaces, one per case and limit state, when the fit
+    /// asked for one ([`FragilityOptions::surface`]).
+    pub surfaces: Option<Vec<SurfaceRow>>,
+    /// One line per surface that could not be fitted or cannot be read as
+    /// a surface in both IMs (`fragility_surface.csv`'s status not `ok`).
+    pub surface_notes: Vec<String>,
 }
 
 impl FitReport {
@@ -50,6 +58,7 @@ impl FitReport {
     pub fn notes(&self, verbose: bool) -> String {
         let mut text = self.unfitted.concat();
         text.push_str(&self.caveats.concat());
+        text.push_str(&self.surface_notes.concat());
         if verbose {
             text.push_str(&self.case_notes.concat());
         } else {
@@ -66,8 +75,16 @@ impl FitReport {
         } else {
             ""
         };
+        let surface = match &self.surfaces {
+            Some(rows) => format!(
+                ", {SURFACE_FILE} ({} of {} surfaces fitted)",
+                rows.iter().filter(|r| r.is_fitted()).count(),
+                rows.len()
+            ),
+            None => String::new(),
+        };
         format!(
-            "fragility: {} of {} curves fitted; wrote {}{see}, fragility_curves.csv, fragility_bootstrap.csv, fragility.xml\n",
+            "fragility: {} of {} curves fitted; wrote {}{see}, fragility_curves.csv, fragility_bootstrap.csv, fragility.xml{surface}\n",
             self.fitted,
             self.curves,
             self.fragility_csv.display()
@@ -89,7 +106,19 @@ pub fn fit_and_write(dir: &Path, out: &Path, options: &FragilityOptions) -> Resu
         });
     }
     let fits = fit_cases(&outcomes, options)?;
-    let paths = write_outputs(out, &fits)?;
+    let surfaces = match options.surface_pair() {
+        Some(pair) => {
+            let second = FragilityOptions {
+                im: Some(pair.second()),
+                surface: None,
+                ..options.clone()
+            };
+            let against_second = read_outcomes_for(&input, &second)?;
+            Some(fit_surfaces(&outcomes, &against_second)?)
+        }
+        None => None,
+    };
+    let paths = write_outputs_with(out, &fits, surfaces.as_deref())?;
 
     let failed: usize = fits.iter().map(|f| f.n_failed).sum();
     let failed_note = if failed > 0 {
@@ -97,8 +126,30 @@ pub fn fit_and_write(dir: &Path, out: &Path, options: &FragilityOptions) -> Resu
     } else {
         String::new()
     };
+    let mut table = table(&fits, options);
+    if let Some(rows) = &surfaces {
+        table.push('\n');
+        table.push_str(&surface_table(rows));
+    }
+    let surface_notes = surfaces
+        .iter()
+        .flatten()
+        .filter(|r| r.status != "ok")
+        .map(|r| {
+            format!(
+                "surface: {} {}: {}\n",
+                r.case.id(),
+                r.limit_state,
+                surface_words(&r.status, &r.ims.first().short(), &r.ims.second().short())
+            )
+        })
+        .collect();
+    let surface_file = match &surfaces {
+        Some(_) => format!(", {}", out.join(SURFACE_FILE).display()),
+        None => String::new(),
+    };
     Ok(FitReport {
-        table: table(&fits, options),
+        table,
         case_notes: case_notes(&fits),
         bootstrap_line: bootstrap_line(&fits, &paths.fragility, options.confidence),
         unfitted: unfitted_notes(&fits),
@@ -114,7 +165,7 @@ pub fn fit_and_write(dir: &Path, out: &Path, options: &FragilityOptions) -> Resu
             .collect(),
         failed_note,
         wrote: format!(
-            "wrote {}, {}, {}, {}\n",
+            "wrote {}, {}, {}, {}{surface_file}\n",
             paths.fragility.display(),
             paths.curves.display(),
             paths.bootstrap.display(),
@@ -124,7 +175,54 @@ pub fn fit_and_write(dir: &Path, out: &Path, options: &FragilityOptions) -> Resu
         curves: fits.len(),
         fragility_csv: paths.fragility.clone(),
         fits,
+        surfaces,
+        surface_notes,
     })
+}
+
+/// The surfaces as a table for the terminal: per case and limit state,
+/// the slopes with their standard errors, the median IM1 at the median
+/// IM2 and the status.
+fn surface_table(rows: &[SurfaceRow]) -> String {
+    let Some(first) = rows.first() else {
+        return String::new();
+    };
+    let (im1, im2) = (first.ims.first(), first.ims.second());
+    let mut out = vec![vec![
+        "case".to_string(),
+        "limit state".to_string(),
+        format!("b1 (ln {})", im1.short()),
+        format!("b2 (ln {})", im2.short()),
+        format!(
+            "{} at median {}{}",
+            im1.short(),
+            im2.short(),
+            im1.unit_suffix()
+        ),
+        "LR chi2".to_string(),
+        "status".to_string(),
+    ]];
+    let pm = |r: &SurfaceRow, i: usize| match (r.coefficients, r.se) {
+        (Some(c), Some(s)) => format!("{} ± {}", sig3(c[i]), sig3(s[i])),
+        _ => "-".to_string(),
+    };
+    for r in rows {
+        out.push(vec![
+            r.case.to_string(),
+            r.limit_state.clone(),
+            pm(r, 1),
+            pm(r, 2),
+            r.median_im1_at_im2_median.map_or("-".into(), sig3),
+            r.lr_chi2.map_or("-".into(), sig3),
+            r.status.clone(),
+        ]);
+    }
+    format!(
+        "fragility surface P = Φ(a + b1 ln {} + b2 ln {}) ({SURFACE_FILE}):\n{}",
+        im1.short(),
+        im2.short(),
+        aligned(&out)
+    )
 }
 
 /// One line per curve that could not be fitted: its case id, limit state,

@@ -13,7 +13,8 @@
 //! that is not the one its fit wrote (changed, replaced or removed since),
 //! is refused with the advice to rerun `rockfrag fragility`. A folder fitted
 //! by a rockfrag older than the set file (no `fragility_set.json`) is read as
-//! before.
+//! before. A fit with a fragility surface writes `fragility_surface.csv`
+//! too, after the four, and lists it in the set.
 
 use std::path::Path;
 
@@ -72,10 +73,21 @@ pub(crate) fn begin(dir: &Path) -> Result<()> {
     )
 }
 
-/// Records the fit's files, now written in `dir`, as one set.
-pub(crate) fn complete(dir: &Path) -> Result<()> {
+/// The files the set in `dir` lists (none when there is no readable set
+/// file).
+pub(crate) fn listed(dir: &Path) -> Vec<String> {
+    std::fs::read_to_string(dir.join(SET_FILE))
+        .ok()
+        .and_then(|t| serde_json::from_str::<FitSet>(&t).ok())
+        .map_or_else(Vec::new, |s| s.files.into_iter().map(|f| f.name).collect())
+}
+
+/// Records the fit's files, now written in `dir`, as one set: those of
+/// [`SET_FILES`] and `extra` (a surface's `fragility_surface.csv`).
+pub(crate) fn complete(dir: &Path, extra: &[&str]) -> Result<()> {
     let files = SET_FILES
         .iter()
+        .chain(extra)
         .map(|name| {
             let path = dir.join(name);
             let bytes = std::fs::read(&path).map_err(Error::io(&path))?;

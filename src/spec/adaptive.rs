@@ -72,6 +72,14 @@ pub(super) fn adaptive(
             "at least 200 replicates: an adaptive run judges its band by the bootstrap",
         ));
     }
+    if let (Some(im), Some(second)) = (options.im, options.surface) {
+        return Err(spec.bad(
+            "fragility.im",
+            &format!("[\"{im}\", \"{second}\"]"),
+            "one IM: an adaptive run fits curves against PGA, not a surface (refit the \
+             finished folder with `rockfrag fragility DIR --im pga,pgv`)",
+        ));
+    }
     // unset: the levels' own IM (PGA, or its RotD50 for pairs)
     if let Some(im) = options
         .im

@@ -140,7 +140,10 @@ impl SpecFile {
         }
         // An IM the study's motions will not have is refused now, not
         // after every analysis has run.
-        if let Some(im) = fragility_options.as_ref().and_then(|o| o.im) {
+        let ims = fragility_options
+            .as_ref()
+            .map_or_else(Vec::new, |o| o.im.into_iter().chain(o.surface).collect());
+        for im in ims {
             let missing = match im.at() {
                 At::Floor if floor.is_ground() => Some("a study on a floor ([support] floor)"),
                 At::RotD50 if motions.orientation().is_none() => {

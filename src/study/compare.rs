@@ -51,12 +51,13 @@ pub fn compare_ims(dir: &Path, options: &FragilityOptions, ims: &[Im]) -> Result
     let mut all: Vec<Vec<ImFit>> = Vec::new();
     for &im in ims {
         let measured = if im.stored() || !im.of_record() {
-            None
+            Vec::new()
         } else {
-            Some(std::sync::Arc::new(measure_records(dir, im)?))
+            vec![std::sync::Arc::new(measure_records(dir, im)?)]
         };
         let opts = FragilityOptions {
             im: Some(im),
+            surface: None,
             measured,
             ..options.clone()
         };

@@ -40,6 +40,7 @@ mod measure;
 mod compare;
 mod space;
 mod summary;
+mod surface;
 mod tally;
 
 pub use compare::{IMS_HEADING, ImFit, compare_ims, ims_section};
@@ -55,6 +56,7 @@ pub use single::{
 pub use source::{Source, UnitMotion};
 pub use space::{SAY_FROM_BYTES, SpaceEstimate, free_bytes};
 pub use summary::{COUNTS_HEADING, FRAGILITY_HEADING, fragility_section};
+pub use surface::{SURFACE_HEADING, surface_section};
 pub use tally::{Counts, Tally};
 
 use crate::case::Case;
