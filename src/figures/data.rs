@@ -309,7 +309,7 @@ impl StudyData {
         let path = dir.join("outcomes.csv");
         let mut data = StudyData::fits(dir, stripes_im(&path)?)?;
         data.study = study.cloned();
-        data.observed = data.observed(dir, study, pooled)?;
+        data.observed = data.observed(dir, study, pooled);
         let (outcomes, _) = read_pooled(&path, pooled)?;
         data.outcomes = outcomes;
         Ok(data)
@@ -317,18 +317,13 @@ impl StudyData {
 
     /// The observed fractions of [`StudyData::load_study`], for the fit
     /// and IM already in `self`.
-    fn observed(
-        &self,
-        dir: &Path,
-        study: Option<&Study>,
-        pooled: &[Field],
-    ) -> Result<Vec<ObservedStripe>> {
+    fn observed(&self, dir: &Path, study: Option<&Study>, pooled: &[Field]) -> Vec<ObservedStripe> {
         let mut observed = Vec::new();
         // Without a study, only a fit against another IM than the stripes'
         // needs the fractions counted here (overturning's); else the
         // figure counts them from the rows.
         if study.is_none() && self.fit_on_stripes() {
-            return Ok(observed);
+            return observed;
         }
         let im = self.curve_im();
         let measured = match study {
@@ -350,7 +345,7 @@ impl StudyData {
         };
         // A spec whose limit states the file cannot count draws without them.
         let Ok(outcomes) = read_outcomes_for(&dir.join("outcomes.csv"), &options) else {
-            return Ok(observed);
+            return observed;
         };
         let on_stripes = self.fit_on_stripes();
         for case in &outcomes.cases {
@@ -418,7 +413,7 @@ impl StudyData {
                 );
             }
         }
-        Ok(observed)
+        observed
     }
 }
 
