@@ -224,16 +224,45 @@ impl Figure for SurfaceFigure {
         }
         let r = layout::marker_px(style, true) + style.ipx(1.0) as i32;
         let font = style.tick_font();
-        for b in &self.bins {
+        // a bin's k/n is written beside its marker only where it overlaps
+        // no marker and no label already written (dense stripes would
+        // otherwise print over each other; the shade still gives the
+        // fraction)
+        let at: Vec<(i32, i32)> = self
+            .bins
+            .iter()
+            .map(|b| chart.backend_coord(&(b.im1, b.im2)))
+            .collect();
+        let mut taken: Vec<(i32, i32, i32, i32)> = at
+            .iter()
+            .map(|&(x, y)| (x - r, y - r, x + r, y + r))
+            .collect();
+        let overlaps = |a: &(i32, i32, i32, i32), b: &(i32, i32, i32, i32)| {
+            a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
+        };
+        for (i, b) in self.bins.iter().enumerate() {
             let f = b.exceeded as f64 / b.trials as f64;
             let fill = shade(f).filled();
             let edge = black.stroke_width(style.ipx(super::style::AXIS_PT));
-            let label = format!("{}/{}", b.exceeded, b.trials);
             chart.draw_series(std::iter::once(
                 EmptyElement::at((b.im1, b.im2))
                     + Circle::new((0, 0), r, fill)
-                    + Circle::new((0, 0), r, edge)
-                    + Text::new(label, (r + 1, -r), font.clone()),
+                    + Circle::new((0, 0), r, edge),
+            ))?;
+            let label = format!("{}/{}", b.exceeded, b.trials);
+            let (w, h) = chart
+                .plotting_area()
+                .estimate_text_size(&label, &font)
+                .unwrap_or((0, 0));
+            let (x, y) = at[i];
+            let rect = (x + r + 1, y - r, x + r + 1 + w as i32, y - r + h as i32);
+            let mine = (x - r, y - r, x + r, y + r);
+            if taken.iter().any(|t| *t != mine && overlaps(t, &rect)) {
+                continue;
+            }
+            taken.push(rect);
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((b.im1, b.im2)) + Text::new(label, (r + 1, -r), font.clone()),
             ))?;
         }
         Ok(())
