@@ -209,6 +209,8 @@ pub struct StudyFigures {
     pub restitution: Option<RestitutionFigure>,
     /// The risk at a site (folders where `rockfrag risk` has run).
     pub risk: Option<RiskFigure>,
+    /// Every case's curves side by side, per body (studies with stacks).
+    pub stacks: Option<super::compare::CompareFigure>,
     /// The study's data, for a layer that adds figures of its own.
     pub data: StudyData,
     /// Figures drawn in reduced form or skipped, and why.
@@ -315,6 +317,14 @@ impl StudyFigures {
             Some(RestitutionFigure::from_study(&data))
         };
         let risk = risk_figure(dir, &mut notes);
+        let stacks = super::compare::CompareFigure::of_cases(&data);
+        if stacks.is_some() {
+            notes.push(
+                "fragility: a stack's case is drawn by its top block's H/B, e and μ there; \
+                 stacks.* draws each case and body apart"
+                    .to_string(),
+            );
+        }
         Ok(StudyFigures {
             motion,
             spectrum,
@@ -323,6 +333,7 @@ impl StudyFigures {
             friction_demand,
             restitution,
             risk,
+            stacks,
             data,
             notes,
         })
@@ -358,6 +369,9 @@ impl StudyFigures {
         }
         if let Some(f) = &self.risk {
             write(f, file("risk"), &mut report)?;
+        }
+        if let Some(f) = &self.stacks {
+            write(f, file("stacks"), &mut report)?;
         }
         Ok(report)
     }
