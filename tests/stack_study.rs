@@ -314,3 +314,30 @@ fn an_immovable_base_gives_the_top_the_single_blocks_outcomes_in_a_study() {
         "{overturned} of 16 overturned"
     );
 }
+
+/// The statue on its pedestal with infinite friction at both interfaces,
+/// as `studies/statue-on-pedestal.toml` had it first: at 0.8 g, record 5
+/// of seed 40, the pedestal's flat contact ends while the statue rocks on
+/// its right corner, and the contact-state selection found no state
+/// consistent ("no contact state of the 2 bodies is consistent … after
+/// Flat(0)"): the tie at the event's instant, where the pedestal's rocking
+/// about its corner holds with equality. The analysis must run on.
+#[test]
+fn the_pedestal_lifting_under_a_rocking_statue_is_not_a_dead_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = "name = \"tie\"\nseed = 40\nrecords = 30\n[motion]\nduration = 12.0\n[grid]\n\
+         pga = [0.8, 0.9]\n\
+         [[grid.stack]]\nname = \"statue_on_pedestal\"\n\
+         blocks = [{ width = 0.6, height = 1.0 }, { width = 0.3, height = 1.2 }]\n\
+         interfaces = [{ restitution = 0 }, { restitution = 0 }]\n";
+    let study = load(dir.path(), "tie.toml", spec).unwrap();
+    for (level, record) in [(0.8, 5), (0.8, 15), (0.8, 20), (0.8, 28), (0.9, 20)] {
+        let r = rockfrag::study::reanalyse(&study, "stack_statue_on_pedestal", level, record, None)
+            .unwrap();
+        assert!(
+            r.analysed.result.is_ok(),
+            "{level} g, record {record}: {:?}",
+            r.analysed.result
+        );
+    }
+}
