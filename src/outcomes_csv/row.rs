@@ -311,17 +311,16 @@ impl OutcomesFile {
                 }
                 Column::Error => error = text.to_string(),
                 Column::Status => {}
-                Column::Stack => {
-                    if !text.is_empty() {
-                        let name = crate::case::StackName::new(text).ok_or_else(|| {
-                            row.error(i, "a stack's name (letters, digits, _) or empty")
-                        })?;
-                        out.case.stack = Some(name);
-                        if let Ok(o) = out.result.as_mut() {
-                            o.stack = Some(Default::default());
-                        }
+                Column::Stack if !text.is_empty() => {
+                    let name = crate::case::StackName::new(text).ok_or_else(|| {
+                        row.error(i, "a stack's name (letters, digits, _) or empty")
+                    })?;
+                    out.case.stack = Some(name);
+                    if let Ok(o) = out.result.as_mut() {
+                        o.stack = Some(Default::default());
                     }
                 }
+                Column::Stack => {}
                 Column::Sensitive => {
                     out.sensitive = match text {
                         "" => None,
