@@ -257,6 +257,24 @@ fn a_two_block_study_runs_with_columns_and_limit_states_by_body() {
     // rocking past θc/2 comes at lower shaking than falling
     let rocks = fit("top-rocks").median.expect("fitted");
     assert!(rocks < median, "{rocks} vs {median}");
+    // the figures: every body's curves side by side; no history drawn of a
+    // stack as if it were its top block alone
+    let options = rockfrag::figures::FigureOptions::for_folder(&out).unwrap();
+    let report = rockfrag::figures::study_figures(&out, &out.join("figs"), &options).unwrap();
+    assert!(
+        out.join("figs/stacks.svg").is_file(),
+        "{:?}",
+        report.written
+    );
+    assert!(!out.join("figs/history.svg").exists());
+    assert!(
+        report
+            .notes
+            .iter()
+            .any(|n| n.starts_with("history: skipped")),
+        "{:?}",
+        report.notes
+    );
     // every fall here is the top's, so any.overturned is the top's curve
     if !ok.iter().any(|r| r["base.overturned"] == "true") {
         assert_eq!(fit("any-falls").median, falls.median);
