@@ -136,7 +136,8 @@ impl std::str::FromStr for Field {
 /// The case columns of every file that carries a case, in order.
 pub const CASE_COLUMNS: [&str; 6] = ["aspect", "width", "restitution", "friction", "mu_s", "mu_k"];
 
-/// One block configuration (see the [module docs](self)).
+/// One block configuration (see the [module docs](self)), or the stack of a
+/// study named by [`Case::stack`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Case {
     /// Aspect ratio H/B (> 0).
@@ -147,6 +148,101 @@ pub struct Case {
     pub restitution: Param<f64>,
     /// Friction model; drawn friction is Coulomb with drawn μs and μk.
     pub friction: Param<Friction>,
+    /// The stack this case is (`[[grid.stack]]`, by its name), `None` for
+    /// one block on the ground. A stack's other four fields are its top
+    /// body's aspect and width and the restitution and friction of the
+    /// interface under that body (the six case columns of its rows); the
+    /// stack itself is the study's ([`crate::spec::Study::stacks`]).
+    pub stack: Option<StackName>,
+}
+
+/// The name of a study's stack (`[[grid.stack]] name`): 1 to
+/// [`StackName::MAX`] ASCII letters, digits or `_` (what a case id may
+/// hold: the case id is `stack_NAME`), held inline so a
+/// [`Case`] stays `Copy`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct StackName {
+    len: u8,
+    bytes: [u8; StackName::MAX],
+}
+
+impl StackName {
+    /// The longest name, in bytes.
+    pub const MAX: usize = 32;
+
+    /// The name `text`, if it is one (1 to [`StackName::MAX`] ASCII
+    /// letters, digits or `_`).
+    pub fn new(text: &str) -> Option<StackName> {
+        let ok = !text.is_empty()
+            && text.len() <= StackName::MAX
+            && text.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
+        if !ok {
+            return None;
+        }
+        let mut bytes = [0u8; StackName::MAX];
+        bytes[..text.len()].copy_from_slice(text.as_bytes());
+        Some(StackName {
+            len: text.len() as u8,
+            bytes,
+        })
+    }
+
+    /// The name as text.
+    pub fn as_str(&self) -> &str {
+        std::str::from_utf8(&self.bytes[..self.len as usize]).expect("ASCII by construction")
+    }
+
+    /// The stack name in a case id (`stack_NAME`), if `id` is
+    /// one: how a file that carries a case by its `case_id` names a stack.
+    pub fn from_case_id(id: &str) -> Option<StackName> {
+        id.strip_prefix("stack_").and_then(StackName::new)
+    }
+}
+
+impl std::fmt::Debug for StackName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:?}", self.as_str())
+    }
+}
+
+impl std::fmt::Display for StackName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// What one analysis simulates, made from its [`Case`] (drawn values
+/// drawn): one block on the ground, solved by the single block's solver,
+/// or a stack, solved by the stack solver.
+#[derive(Clone, Debug)]
+pub enum Scene {
+    /// One block.
+    Block(crate::solver::Analysis),
+    /// A stack of two or three blocks.
+    Stack(crate::solver::stack::Stack),
+}
+
+impl Scene {
+    /// The block, `None` for a stack.
+    pub fn block(&self) -> Option<&crate::solver::Analysis> {
+        match self {
+            Scene::Block(a) => Some(a),
+            Scene::Stack(_) => None,
+        }
+    }
+
+    /// The block, for a caller whose studies are of blocks only (the
+    /// paper's); a stack is refused.
+    pub fn into_block(self) -> crate::error::Result<crate::solver::Analysis> {
+        match self {
+            Scene::Block(a) => Ok(a),
+            Scene::Stack(_) => Err(crate::error::Error::invalid(
+                "scene",
+                "a stack",
+                "one block (this command takes no stacks)",
+            )),
+        }
+    }
 }
 
 // A case's numbers are never NaN (parsing and validation refuse it), so
@@ -169,6 +265,7 @@ impl Hash for Case {
             }
             Param::Drawn => 2u8.hash(state),
         }
+        self.stack.hash(state);
     }
 }
 
@@ -180,6 +277,7 @@ impl Case {
             width: Param::Fixed(width),
             restitution: Param::Fixed(restitution),
             friction: Param::Fixed(friction),
+            stack: None,
         }
     }
 
@@ -254,6 +352,10 @@ impl Case {
             .then(self.width.total_cmp(&other.width))
             .then(self.restitution.total_cmp(&other.restitution))
             .then(cmp_friction(&self.friction, &other.friction))
+            .then_with(|| {
+                let name = |c: &Case| c.stack.map(|s| s.as_str().to_string());
+                name(self).cmp(&name(other))
+            })
     }
 
     /// The case's id, the same in every output that names a case (the
@@ -263,6 +365,9 @@ impl Case {
     /// `a5_wdrawn_edrawn_mudrawn`. Numbers are written in their shortest
     /// form with `.` as `p` (and an exponent's `-` as `m`).
     pub fn id(&self) -> String {
+        if let Some(stack) = self.stack {
+            return format!("stack_{stack}");
+        }
         let num = |x: Param<f64>| -> String {
             x.text()
                 .chars()
@@ -364,6 +469,7 @@ impl Case {
             width,
             restitution,
             friction,
+            stack: None,
         })
     }
 }
@@ -372,6 +478,9 @@ impl std::fmt::Display for Case {
     /// `H/B=4 2B=0.5 e=0 inf`, or `… coulomb μs=0.7 μk=0.6`; a drawn
     /// parameter reads `drawn` (`e=drawn`, `coulomb μs=drawn μk=drawn`).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(stack) = self.stack {
+            return write!(f, "stack {stack}");
+        }
         write!(
             f,
             "H/B={} 2B={} e={} {}",

@@ -139,9 +139,112 @@ pub struct Outcome {
     pub energy_residual: Option<f64>,
     /// Work counters.
     pub stats: Stats,
+    /// Each body's response when the analysis was of a stack (`None` for
+    /// one block). The fields above then hold the stack's: overturned,
+    /// uplifted, moved if any body did, the first overturning time, the
+    /// largest θmax/θc, slip and μ_imp of the bodies, the stack's impacts
+    /// and events; the ones the stack solver does not compute (`mu_motion`,
+    /// `mu_impact_eq5`, `flights`, `uplifts`, `stick_holds`, `slip_final`,
+    /// the time in each mode and the integrator's counters) are left empty
+    /// in `outcomes.csv` (`outcomes_csv::STACK_EMPTY`).
+    #[serde(skip)]
+    pub stack: Option<StackSummary>,
+}
+
+/// A body of a stack by its place, bottom first: the names of its columns
+/// in `outcomes.csv` (`base.overturned`, `top.theta_max_over_theta_c`) and
+/// of its limit states. A stack of two has a base and a top; of three, a
+/// middle between them. One block on the ground is its own base and top.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Slot {
+    /// The lowest body, on the ground.
+    Base,
+    /// The body between base and top (stacks of three).
+    Middle,
+    /// The highest body.
+    Top,
+}
+
+impl Slot {
+    /// Every slot, bottom first.
+    pub const ALL: [Slot; 3] = [Slot::Base, Slot::Middle, Slot::Top];
+
+    /// The slot's name: `base`, `middle` or `top`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Slot::Base => "base",
+            Slot::Middle => "middle",
+            Slot::Top => "top",
+        }
+    }
+
+    /// The slot named `name`.
+    pub fn from_name(name: &str) -> Option<Slot> {
+        Slot::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// The slot of body `i` (bottom first, from 0) of a stack of `n`
+    /// bodies (2 or 3).
+    pub fn of(i: usize, n: usize) -> Slot {
+        match (i, n) {
+            (0, _) => Slot::Base,
+            (i, n) if i + 1 == n => Slot::Top,
+            _ => Slot::Middle,
+        }
+    }
+
+    /// Index into [`StackSummary::bodies`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// One body's response in a study's row (a stack's
+/// [`crate::solver::stack::BodyOutcome`], the columns `outcomes.csv` keeps).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodySummary {
+    /// Peak |φ|/θc of the body on the face below, over its own θc.
+    pub theta_max_over_theta_c: f64,
+    /// The body overturned (or the body under it did).
+    pub overturned: bool,
+    /// When it overturned (s).
+    pub overturn_time: Option<f64>,
+    /// Peak |slip| on the face below (m).
+    pub slip_max: f64,
+    /// The interface under it opened at least once.
+    pub uplifted: bool,
+    /// It moved relative to the face below.
+    pub moved: bool,
+}
+
+/// The bodies of a stack's analysis, by [`Slot`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StackSummary {
+    /// Which body overturned first.
+    pub first_overturned: Option<Slot>,
+    /// Each slot's body (`None`: the stack has no middle).
+    pub bodies: [Option<BodySummary>; 3],
 }
 
 impl Outcome {
+    /// The response of the body at `slot`: a stack's body, or for one block
+    /// the block itself as its base and top (`None` for a middle it has
+    /// not).
+    pub fn body(&self, slot: Slot) -> Option<BodySummary> {
+        match &self.stack {
+            Some(s) => s.bodies[slot.index()],
+            None if slot == Slot::Middle => None,
+            None => Some(BodySummary {
+                theta_max_over_theta_c: self.theta_max_over_theta_c,
+                overturned: self.overturned,
+                overturn_time: self.overturn_time,
+                slip_max: self.slip_max,
+                uplifted: self.uplifted,
+                moved: self.moved,
+            }),
+        }
+    }
+
     /// The outcome as one JSON object (what `rockfrag simulate --json`
     /// prints, and the Python `simulate` returns): the fields by name, with
     /// `time_in_mode` keyed by mode name ([`Mode::name`]).

@@ -26,6 +26,9 @@ pub struct Table {
     reader: csv::Reader<std::fs::File>,
     header: Vec<String>,
     case: [usize; 6],
+    /// A `case_id` column (files of fitted cases), which names a stack
+    /// (`stack_NAME`, [`crate::case::StackName::from_case_id`]).
+    case_id: Option<usize>,
     status: Option<usize>,
     error: Option<usize>,
     record: csv::StringRecord,
@@ -85,12 +88,13 @@ impl Table {
             .iter()
             .map(|n| find(n).expect("checked above"))
             .collect();
-        let (status, error) = (find("status"), find("error"));
+        let (status, error, case_id) = (find("status"), find("error"), find("case_id"));
         let table = Table {
             path: path.to_path_buf(),
             reader,
             header,
             case,
+            case_id,
             status,
             error,
             record: csv::StringRecord::new(),
@@ -175,8 +179,15 @@ impl Row<'_> {
     /// drawn parameters are empty fields.
     pub fn case(&self, allow_drawn: bool) -> Result<Case> {
         let fields = self.table.case.map(|i| self.field(i));
-        Case::parse(fields, allow_drawn)
-            .map_err(|(k, expected)| self.error(self.table.case[k], expected))
+        let mut case = Case::parse(fields, allow_drawn)
+            .map_err(|(k, expected)| self.error(self.table.case[k], expected))?;
+        // a stack's case is named by its id (outcomes.csv names it in its
+        // `stack` column, read by its own reader)
+        case.stack = self
+            .table
+            .case_id
+            .and_then(|i| crate::case::StackName::from_case_id(self.field(i)));
+        Ok(case)
     }
 
     /// An error at this row's line of the file.

@@ -469,6 +469,8 @@ fn every_outcomes_column_is_documented() {
         stats: true,
         floor: true,
         sensitivity: true,
+        stack: true,
+        middle: true,
     };
     for column in all.list() {
         let name = format!("`{}`", column.name());

@@ -523,9 +523,15 @@ fn run_study(args: &SimulateArgs, path: &std::path::Path) -> anyhow::Result<()> 
                 return Ok(());
             }
             let motion = r.motion.map_err(|e| anyhow::anyhow!("record: {e}"))?;
-            let analysis = r.analysed.analysis.ok_or_else(|| {
-                anyhow::anyhow!("block: {}", r.analysed.result.clone().unwrap_err())
-            })?;
+            let analysis = match r.analysed.analysis {
+                Some(rockfrag::case::Scene::Block(a)) => a,
+                Some(rockfrag::case::Scene::Stack(_)) => anyhow::bail!(
+                    "{id} is a stack: pass --csv for its row of outcomes.csv (every body's \
+                     columns), or solve it with `rockfrag simulate --stack` and its blocks \
+                     for its history"
+                ),
+                None => anyhow::bail!("block: {}", r.analysed.result.clone().unwrap_err()),
+            };
             let outcome = r
                 .analysed
                 .result

@@ -214,6 +214,8 @@ pub struct StudyFigures {
     /// The fragility surfaces, each with its file stem (folders whose fit
     /// has `fragility_surface.csv`).
     pub surfaces: Vec<(String, SurfaceFigure)>,
+    /// Every case's curves side by side, per body (studies with stacks).
+    pub stacks: Option<super::compare::CompareFigure>,
     /// The study's data, for a layer that adds figures of its own.
     pub data: StudyData,
     /// Figures drawn in reduced form or skipped, and why.
@@ -321,6 +323,14 @@ impl StudyFigures {
         };
         let risk = risk_figure(dir, &mut notes);
         let surfaces = surface_figures(dir, options, &mut notes);
+        let stacks = super::compare::CompareFigure::of_cases(&data);
+        if stacks.is_some() {
+            notes.push(
+                "fragility: a stack's case is drawn by its top block's H/B, e and μ there; \
+                 stacks.* draws each case and body apart"
+                    .to_string(),
+            );
+        }
         Ok(StudyFigures {
             motion,
             spectrum,
@@ -330,6 +340,7 @@ impl StudyFigures {
             restitution,
             risk,
             surfaces,
+            stacks,
             data,
             notes,
         })
@@ -368,6 +379,9 @@ impl StudyFigures {
         }
         for (stem, f) in &self.surfaces {
             write(f, file(stem), &mut report)?;
+        }
+        if let Some(f) = &self.stacks {
+            write(f, file("stacks"), &mut report)?;
         }
         Ok(report)
     }

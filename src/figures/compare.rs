@@ -51,6 +51,9 @@ pub struct CompareFigure {
     /// The x axis's label: ground PGA, or a record pair's RotD50 PGA when
     /// the folders are studies of pairs.
     pub x_label: String,
+    /// The y axis's label: `P(overturning)`, or `P(exceeded)` for limit
+    /// states other than overturning.
+    pub y_label: String,
 }
 
 impl CompareFigure {
@@ -133,6 +136,84 @@ impl CompareFigure {
             series,
             im_max,
             x_label,
+            y_label: "P(overturning)".to_string(),
+        })
+    }
+
+    /// The curves of one study folder's cases side by side (a study with
+    /// stacks: the `stacks` figure): one series per case and limit state,
+    /// the fitted curve against PGA with its band and the observed
+    /// fraction exceeding it at each stripe, labelled `case: limit state`.
+    /// A block is its own base and top: of its limit states of a body
+    /// (`top.…`, `base.…`), only the top's are drawn. `None` when the
+    /// folder has no stacks.
+    pub fn of_cases(data: &StudyData) -> Option<CompareFigure> {
+        let study = data.study.as_ref()?;
+        if study.stacks.is_empty() {
+            return None;
+        }
+        let limit_states = study.fragility.as_ref().map_or_else(
+            || vec![crate::fragility::LimitState::overturning()],
+            |f| f.limit_states(),
+        );
+        let curves = match data.fit_on_stripes() {
+            true => data.curves.clone().unwrap_or_default(),
+            false => Vec::new(),
+        };
+        let mut series = Vec::new();
+        let mut im_max = 0.0_f64;
+        for case in crate::study::plan::cases(study) {
+            for ls in &limit_states {
+                let other_body = ls.body().is_some_and(|b| b != crate::outcome::Slot::Top);
+                if case.stack.is_none() && other_body {
+                    continue;
+                }
+                let fit: Vec<(f64, f64, f64, f64)> = curves
+                    .iter()
+                    .filter(|c| c.case == case && c.limit_state == ls.name)
+                    .map(|c| (c.im, c.p, c.p_lo, c.p_hi))
+                    .collect();
+                let observed: Vec<(f64, f64)> = data
+                    .observed
+                    .iter()
+                    .filter(|o| o.case == case && o.limit_state == ls.name && o.trials > 0)
+                    .map(|o| (o.im, o.exceeded as f64 / o.trials as f64))
+                    .collect();
+                im_max = observed
+                    .iter()
+                    .map(|o| o.0)
+                    .chain(fit.last().map(|p| p.0))
+                    .fold(im_max, f64::max);
+                let name = match case.stack {
+                    Some(s) => format!("stack {s}"),
+                    None => format!(
+                        "block H/B {} 2B {} m",
+                        case.aspect.text(),
+                        case.width.text()
+                    ),
+                };
+                series.push(CompareSeries {
+                    label: format!("{name}: {}", ls.name),
+                    fit,
+                    observed,
+                });
+            }
+        }
+        let overturning = limit_states.iter().all(|ls| {
+            ls.column()
+                .is_some_and(|(c, _)| c.name().ends_with("overturned"))
+        });
+        Some(CompareFigure {
+            title: format!("{}: fragility by body", study.name),
+            series,
+            im_max,
+            x_label: format!("ground {}", data.pga_label()),
+            y_label: if overturning {
+                "P(overturning)"
+            } else {
+                "P(exceeded)"
+            }
+            .to_string(),
         })
     }
 
@@ -168,13 +249,7 @@ impl Figure for CompareFigure {
             "90 % band",
         ));
         let frame = Frame::new(root, style, &self.title, &legend, MARGINS)?;
-        let body = layout::side_label(
-            &frame.body,
-            style,
-            "P(overturning)",
-            frame.top,
-            frame.x_area,
-        )?;
+        let body = layout::side_label(&frame.body, style, &self.y_label, frame.top, frame.x_area)?;
         let x_max = if self.im_max > 0.0 { self.im_max } else { 1.0 };
         let mut chart = frame
             .chart(&body, true)

@@ -278,6 +278,7 @@ impl FragilityFigure {
                         width,
                         restitution: e,
                         friction: *f,
+                        stack: None,
                     };
                     let fits: Vec<Vec<(f64, f64, f64, f64)>> = limit_states
                         .iter()

@@ -654,7 +654,17 @@ fn choose_run(
 ) -> Result<ChosenRun> {
     let rows = &data.outcomes;
     // `dedup` as it goes: one copy a run of rows, not one a row
-    let cases: Vec<Case> = super::data::runs(rows.iter().map(|r| r.case), |_, _| true);
+    let all: Vec<Case> = super::data::runs(rows.iter().map(|r| r.case), |_, _| true);
+    // the figure draws one block: a stack's history is not drawn yet
+    let cases: Vec<Case> = all.iter().copied().filter(|c| c.stack.is_none()).collect();
+    if cases.is_empty() || case_id.is_some_and(|id| id.starts_with("stack_")) {
+        return Err(Error::invalid(
+            "history case",
+            case_id.unwrap_or("(a stack)"),
+            "a block's case: the history figure draws one block, not a stack yet (a stack's \
+             history: `rockfrag simulate --stack WxH,… --history FILE`)",
+        ));
+    }
     let case = match case_id {
         Some(id) => *cases.iter().find(|c| c.id() == id).ok_or_else(|| {
             Error::invalid(

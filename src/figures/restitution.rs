@@ -126,6 +126,7 @@ impl RestitutionFigure {
                             width,
                             restitution: Param::Fixed(e),
                             friction: *f,
+                            stack: None,
                         };
                         let at: Vec<_> = rows
                             .iter()

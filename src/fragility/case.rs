@@ -247,7 +247,34 @@ pub fn fit_case(case: &CaseData, options: &FragilityOptions) -> Vec<CaseFit> {
     };
     let im_max = im_range.1;
     let grid = grid(im_max, options.grid_points);
-    let fitted: Vec<usize> = (0..fits.len()).filter(|&k| fits[k].fit.is_ok()).collect();
+    // Limit states are ordered in severity within a body's (a stack's
+    // `top.…`, `base.…`; a block's and the stack-wide ones are one body):
+    // the crossing rule and the caveats apply within each.
+    let mut bodies: Vec<Option<crate::outcome::Slot>> = Vec::new();
+    for ls in &names {
+        if !bodies.contains(&ls.body()) {
+            bodies.push(ls.body());
+        }
+    }
+    for body in bodies {
+        let fitted: Vec<usize> = (0..fits.len())
+            .filter(|&k| fits[k].fit.is_ok() && names[k].body() == body)
+            .collect();
+        fit_ordered(case, options, &mut fits, &fitted, &grid, im_range);
+    }
+    fits
+}
+
+/// The crossing rule and the bootstrap over `fitted`, limit states of one
+/// body in order of severity (see [`fit_case`]).
+fn fit_ordered(
+    case: &CaseData,
+    options: &FragilityOptions,
+    fits: &mut [CaseFit],
+    fitted: &[usize],
+    grid: &[f64],
+    im_range: (f64, f64),
+) {
     let ok = |k: usize| fits[k].fit.as_ref().expect("fitted");
     let cross = fitted.iter().enumerate().any(|(i, &k)| {
         fitted[i + 1..]
@@ -268,8 +295,8 @@ pub fn fit_case(case: &CaseData, options: &FragilityOptions) -> Vec<CaseFit> {
             let boots = (options.bootstrap > 0).then(|| {
                 bootstrap_common_beta(
                     case,
-                    &fitted,
-                    &grid,
+                    fitted,
+                    grid,
                     options.bootstrap,
                     options.unit,
                     options.seed,
@@ -279,20 +306,19 @@ pub fn fit_case(case: &CaseData, options: &FragilityOptions) -> Vec<CaseFit> {
             for (j, (&k, fit)) in fitted.iter().zip(joint).enumerate() {
                 let f = &mut fits[k];
                 f.beta_model = BetaModel::Common;
-                f.curve = Some(curve(&fit, &grid));
+                f.curve = Some(curve(&fit, grid));
                 f.fit = Ok(fit);
                 f.bootstrap = boots.as_ref().map(|b| b[j].clone());
             }
         }
         None if options.bootstrap > 0 => {
-            for &k in &fitted {
-                fits[k].bootstrap = Some(bootstrap_limit_state(case, k, &grid, options));
+            for &k in fitted {
+                fits[k].bootstrap = Some(bootstrap_limit_state(case, k, grid, options));
             }
         }
         None => {}
     }
-    set_caveats(&mut fits, &fitted, im_range);
-    fits
+    set_caveats(fits, fitted, im_range);
 }
 
 /// The caveat of `fits[i]` in words ([`caveat_words`]), naming the milder

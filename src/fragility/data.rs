@@ -259,7 +259,12 @@ fn read_outcomes_with(
         };
         let mut exceeded = 0u64;
         for (k, &(column, kind, threshold)) in measures.iter().enumerate() {
-            let above = outcome.overturned
+            // a body's limit state is exceeded when that body overturned
+            let overturned = match column {
+                Column::Body(slot, _) => outcome.body(slot).is_some_and(|b| b.overturned),
+                _ => outcome.overturned,
+            };
+            let above = overturned
                 || match (kind, column.measure(outcome)) {
                     (MeasureKind::Flag, v) => v == Some(1.0),
                     (MeasureKind::Number, None) => false,

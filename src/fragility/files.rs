@@ -437,7 +437,26 @@ pub fn read_curves_csv(path: &Path) -> Result<Vec<CurveRow>> {
             band,
         });
     }
+    let stacks = stacks_beside(path)?;
+    for r in &mut rows {
+        r.case.stack = stacks.get(r.index).copied().flatten();
+    }
     Ok(rows)
+}
+
+/// The stack of each row of the `fragility.csv` beside `path` (`None` for
+/// a block's; empty without the file): the curves' and replicates' files
+/// name a case by its six columns and its row there (`case`), so a stack,
+/// whose six columns are its top block's, is known by that row's `case_id`.
+fn stacks_beside(path: &Path) -> Result<Vec<Option<crate::case::StackName>>> {
+    let fragility = path.with_file_name("fragility.csv");
+    if !fragility.is_file() {
+        return Ok(Vec::new());
+    }
+    Ok(read_fragility_csv(&fragility)?
+        .into_iter()
+        .map(|f| f.case.stack)
+        .collect())
 }
 
 /// One row of `fragility_bootstrap.csv`: one bootstrap replicate of a case
@@ -526,6 +545,10 @@ pub fn read_bootstrap_csv(path: &Path) -> Result<Vec<BootstrapRow>> {
             replicate: row.integer(replicate)? as usize,
             fit,
         });
+    }
+    let stacks = stacks_beside(path)?;
+    for r in &mut rows {
+        r.case.stack = stacks.get(r.index).copied().flatten();
     }
     Ok(rows)
 }

@@ -46,9 +46,34 @@ impl LimitState {
         }
     }
 
-    /// The measure's column, if `measure` names one that can be a measure.
+    /// The measure's column, if `measure` names one that can be a measure:
+    /// a column of `outcomes.csv`, a body's (`top.overturned`,
+    /// `base.theta_max_over_theta_c`), or `any.` a stack-wide one (`any.X`
+    /// is the column `X`: overturned, uplifted, moved if any body did; the
+    /// largest θmax/θc or slip of the bodies).
     pub fn column(&self) -> Option<(Column, MeasureKind)> {
-        Column::from_name(&self.measure).and_then(|c| c.measure_kind().map(|k| (c, k)))
+        let name = match self.measure.strip_prefix("any.") {
+            Some(rest)
+                if crate::outcomes_csv::BodyField::ALL
+                    .iter()
+                    .any(|f| f.name() == rest) =>
+            {
+                rest
+            }
+            Some(_) => return None,
+            None => &self.measure,
+        };
+        Column::from_name(name).and_then(|c| c.measure_kind().map(|k| (c, k)))
+    }
+
+    /// The body whose limit state this is (`top.overturned`: the top),
+    /// `None` for a block's or a stack-wide one. Limit states are ordered
+    /// in severity within one body's.
+    pub fn body(&self) -> Option<crate::outcome::Slot> {
+        match self.column() {
+            Some((Column::Body(slot, _), _)) => Some(slot),
+            _ => None,
+        }
     }
 }
 
@@ -366,6 +391,28 @@ impl FragilityOptions {
                 ));
             }
             let Some((column, kind)) = ls.column() else {
+                if let Some((body, what)) = ls.measure.split_once('.') {
+                    let slots = crate::outcome::Slot::ALL.map(|s| s.name()).join(", ");
+                    let fields = crate::outcomes_csv::BodyField::ALL
+                        .map(|f| f.name())
+                        .join(", ");
+                    let known = body == "any" || crate::outcome::Slot::from_name(body).is_some();
+                    return Err(Error::invalid(
+                        &field("measure"),
+                        format!("{:?}", ls.measure),
+                        &if known {
+                            format!(
+                                "a body's measure: BODY.FIELD with FIELD one of {fields} (not {what:?})"
+                            )
+                        } else {
+                            format!(
+                                "a body's measure BODY.FIELD with BODY one of {slots} or any \
+                                 (bodies are named by their place, bottom first): no body \
+                                 {body:?}"
+                            )
+                        },
+                    ));
+                }
                 return Err(Error::invalid(
                     &field("measure"),
                     format!("{:?}", ls.measure),

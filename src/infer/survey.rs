@@ -513,6 +513,7 @@ fn model(
         width: Param::Fixed(kind.width),
         restitution,
         friction,
+        stack: None,
     };
     let uncertainty = (restitution.is_drawn() || friction.is_drawn()).then_some(drawn);
     let model = KindModel {

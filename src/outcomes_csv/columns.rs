@@ -9,7 +9,7 @@
 use std::borrow::Cow;
 
 use crate::im::Im;
-use crate::outcome::{Mode, Outcome};
+use crate::outcome::{BodySummary, Mode, Outcome, Slot};
 
 /// One column of `outcomes.csv`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -102,7 +102,89 @@ pub enum Column {
     Sensitive,
     /// Why the analysis failed (empty if it did not).
     Error,
+    /// The stack the analysis is of (studies with `[[grid.stack]]`; empty
+    /// for a block's row): its name.
+    Stack,
+    /// Which body of the stack overturned first (`base`, `middle`, `top`;
+    /// empty if none, or for a block).
+    FirstOverturned,
+    /// One body's response (`top.overturned`, …; empty for a block's row).
+    Body(Slot, BodyField),
 }
+
+/// One body's columns in a stack study's `outcomes.csv`, each named
+/// `SLOT.FIELD` (`base.overturned`, `top.theta_max_over_theta_c`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyField {
+    /// Peak |φ|/θc of the body on the face below, over its own θc.
+    ThetaMaxOverThetaC,
+    /// The body overturned (or the body under it did, and it fell with it).
+    Overturned,
+    /// When it overturned (s; empty if it did not).
+    OverturnTime,
+    /// Peak |slip| on the face below (m).
+    SlipMax,
+    /// The interface under it opened at least once.
+    Uplifted,
+    /// It moved relative to the face below.
+    Moved,
+}
+
+impl BodyField {
+    /// Every field, in column order.
+    pub const ALL: [BodyField; 6] = [
+        BodyField::ThetaMaxOverThetaC,
+        BodyField::Overturned,
+        BodyField::OverturnTime,
+        BodyField::SlipMax,
+        BodyField::Uplifted,
+        BodyField::Moved,
+    ];
+
+    /// The field's name, as a block's column of the same meaning.
+    pub fn name(self) -> &'static str {
+        match self {
+            BodyField::ThetaMaxOverThetaC => "theta_max_over_theta_c",
+            BodyField::Overturned => "overturned",
+            BodyField::OverturnTime => "overturn_time",
+            BodyField::SlipMax => "slip_max",
+            BodyField::Uplifted => "uplifted",
+            BodyField::Moved => "moved",
+        }
+    }
+
+    /// The field of `b` as a measure: a flag 1 or 0, an absent time `None`.
+    fn measure(self, b: &BodySummary) -> Option<f64> {
+        let flag = |x: bool| Some(if x { 1.0 } else { 0.0 });
+        match self {
+            BodyField::ThetaMaxOverThetaC => Some(b.theta_max_over_theta_c),
+            BodyField::Overturned => flag(b.overturned),
+            BodyField::OverturnTime => b.overturn_time,
+            BodyField::SlipMax => Some(b.slip_max),
+            BodyField::Uplifted => flag(b.uplifted),
+            BodyField::Moved => flag(b.moved),
+        }
+    }
+}
+
+/// The outcome columns a stack's row leaves empty: the stack solver does
+/// not compute them (see [`Outcome::stack`]).
+pub const STACK_EMPTY: [Column; 14] = [
+    Column::MuMotion,
+    Column::MuImpactEq5,
+    Column::Flights,
+    Column::Uplifts,
+    Column::StickHolds,
+    Column::SlipFinal,
+    Column::TimeIn(Mode::Rest),
+    Column::TimeIn(Mode::Slide),
+    Column::TimeIn(Mode::Rock),
+    Column::TimeIn(Mode::SlideRock),
+    Column::TimeIn(Mode::Flight),
+    Column::RhsCalls,
+    Column::StepsAccepted,
+    Column::StepsRejected,
+];
 
 /// The case columns: one block configuration ([`crate::case::Case`]).
 pub const CASE: [Column; 6] = [
@@ -193,6 +275,10 @@ impl Column {
     pub fn measure_kind(self) -> Option<MeasureKind> {
         match self {
             Column::Overturned | Column::Uplifted | Column::Moved => Some(MeasureKind::Flag),
+            Column::Body(_, BodyField::Overturned | BodyField::Uplifted | BodyField::Moved) => {
+                Some(MeasureKind::Flag)
+            }
+            Column::Body(..) => Some(MeasureKind::Number),
             c if OUTCOME.contains(&c) || TIME_IN_MODE.contains(&c) || STATS.contains(&c) => {
                 Some(MeasureKind::Number)
             }
@@ -214,13 +300,18 @@ impl Column {
         if let Column::Im(im) = self {
             return Cow::Owned(im.column().unwrap_or_else(|| im.name()));
         }
+        if let Column::Body(slot, field) = self {
+            return Cow::Owned(format!("{}.{}", slot.name(), field.name()));
+        }
         Cow::Borrowed(self.static_name())
     }
 
     /// The name of a column other than an IM's.
     const fn static_name(self) -> &'static str {
         match self {
-            Column::Im(_) => "",
+            Column::Im(_) | Column::Body(..) => "",
+            Column::Stack => "stack",
+            Column::FirstOverturned => "first_overturned",
             Column::Aspect => "aspect",
             Column::Width => "width",
             Column::Restitution => "restitution",
@@ -275,8 +366,32 @@ impl Column {
                 let _ = write!(out, "{v}");
             }
         }
+        if o.stack.is_some() && STACK_EMPTY.contains(&self) {
+            return;
+        }
         let s = &o.stats;
         let _ = match self {
+            Column::FirstOverturned => {
+                if let Some(slot) = o.stack.and_then(|s| s.first_overturned) {
+                    out.push_str(slot.name());
+                }
+                Ok(())
+            }
+            Column::Body(slot, field) => {
+                if let Some(b) = o.stack.and_then(|s| s.bodies[slot.index()]) {
+                    match field {
+                        BodyField::Overturned => write!(out, "{}", b.overturned),
+                        BodyField::Uplifted => write!(out, "{}", b.uplifted),
+                        BodyField::Moved => write!(out, "{}", b.moved),
+                        f => {
+                            opt(out, f.measure(&b));
+                            Ok(())
+                        }
+                    }
+                } else {
+                    Ok(())
+                }
+            }
             Column::Overturned => write!(out, "{}", o.overturned),
             Column::OverturnTime => {
                 opt(out, o.overturn_time);
@@ -334,6 +449,9 @@ impl Column {
             Column::Overturned | Column::Uplifted | Column::Moved | Column::Sensitive => {
                 ValueKind::Flag
             }
+            Column::Body(_, BodyField::Overturned | BodyField::Uplifted | BodyField::Moved) => {
+                ValueKind::Flag
+            }
             Column::Record
             | Column::Impacts
             | Column::Flights
@@ -346,9 +464,12 @@ impl Column {
             | Column::StepsAccepted
             | Column::StepsRejected
             | Column::Events => ValueKind::Count,
-            Column::Friction | Column::RecordFile | Column::Status | Column::Error => {
-                ValueKind::Text
-            }
+            Column::Friction
+            | Column::RecordFile
+            | Column::Status
+            | Column::Error
+            | Column::Stack
+            | Column::FirstOverturned => ValueKind::Text,
             _ => ValueKind::Number,
         }
     }
@@ -376,6 +497,35 @@ impl Column {
             } else {
                 num(t).map(Some)
             }
+        }
+        if o.stack.is_some() && text.is_empty() {
+            // a stack's row leaves empty what the stack solver does not compute
+            return Ok(());
+        }
+        if let Column::Body(slot, field) = self {
+            if text.is_empty() {
+                return Ok(());
+            }
+            let stack = o.stack.get_or_insert_with(Default::default);
+            let b = stack.bodies[slot.index()].get_or_insert_with(Default::default);
+            match field {
+                BodyField::ThetaMaxOverThetaC => b.theta_max_over_theta_c = num(text)?,
+                BodyField::Overturned => b.overturned = flag(text)?,
+                BodyField::OverturnTime => b.overturn_time = opt(text)?,
+                BodyField::SlipMax => b.slip_max = num(text)?,
+                BodyField::Uplifted => b.uplifted = flag(text)?,
+                BodyField::Moved => b.moved = flag(text)?,
+            }
+            return Ok(());
+        }
+        if self == Column::FirstOverturned {
+            if !text.is_empty() {
+                let slot = Slot::from_name(text).ok_or("base, middle, top or empty")?;
+                o.stack
+                    .get_or_insert_with(Default::default)
+                    .first_overturned = Some(slot);
+            }
+            return Ok(());
         }
         let s = &mut o.stats;
         match self {
@@ -412,6 +562,9 @@ impl Column {
     /// measure: a flag is 1 or 0, a count or number itself, an absent time
     /// `None`; `None` for a column that is not an outcome column.
     pub fn measure(self, o: &Outcome) -> Option<f64> {
+        if let Column::Body(slot, field) = self {
+            return o.body(slot).and_then(|b| field.measure(&b));
+        }
         let s = &o.stats;
         let flag = |b: bool| Some(if b { 1.0 } else { 0.0 });
         match self {
@@ -472,6 +625,12 @@ pub struct Columns {
     pub floor: bool,
     /// Whether each analysis is sensitive (`sensitive` column).
     pub sensitivity: bool,
+    /// The study has stacks (`[[grid.stack]]`): the `stack` column first,
+    /// and after the outcome columns `first_overturned` and each body's
+    /// columns (`base.…`, `top.…`).
+    pub stack: bool,
+    /// A stack of three: the `middle.…` columns too.
+    pub middle: bool,
 }
 
 impl Columns {
@@ -486,6 +645,8 @@ impl Columns {
         stats: true,
         floor: true,
         sensitivity: true,
+        stack: true,
+        middle: true,
     };
 
     /// The outcome columns of a successful row, in order: [`OUTCOME`], then
@@ -498,6 +659,14 @@ impl Columns {
         if self.stats {
             v.extend(STATS);
         }
+        if self.stack {
+            v.push(Column::FirstOverturned);
+            for slot in Slot::ALL {
+                if slot != Slot::Middle || self.middle {
+                    v.extend(BodyField::ALL.map(|f| Column::Body(slot, f)));
+                }
+            }
+        }
         v
     }
 
@@ -505,7 +674,11 @@ impl Columns {
     /// floor's), `record` (and `record_file`, `scale`), `status`, the outcome
     /// columns, `sensitive` when present, `error`.
     pub fn list(&self) -> Vec<Column> {
-        let mut v: Vec<Column> = CASE.into_iter().chain(GROUND).collect();
+        let mut v: Vec<Column> = Vec::new();
+        if self.stack {
+            v.push(Column::Stack);
+        }
+        v.extend(CASE.into_iter().chain(GROUND));
         if self.pairs {
             v.extend(ROTD50);
         }
@@ -571,6 +744,8 @@ mod tests {
             stats: true,
             floor: true,
             sensitivity: true,
+            stack: false,
+            middle: false,
         };
         let names = all.names();
         let mut sorted = names.clone();

@@ -48,6 +48,7 @@ mod columns;
 mod row;
 
 pub use columns::{
-    CASE, Column, Columns, FLOOR, MeasureKind, OUTCOME, SENSITIVITY, STATS, TIME_IN_MODE, ValueKind,
+    BodyField, CASE, Column, Columns, FLOOR, MeasureKind, OUTCOME, SENSITIVITY, STACK_EMPTY, STATS,
+    TIME_IN_MODE, ValueKind,
 };
 pub use row::{OutcomeRow, OutcomesFile, RecordInfo};

@@ -166,6 +166,7 @@ impl OutcomeRow {
             Column::Friction => out.push_str(self.case.friction_name()),
             Column::MuS => param(out, self.case.mu_s()),
             Column::MuK => param(out, self.case.mu_k()),
+            Column::Stack => out.push_str(self.case.stack.as_ref().map_or("", |s| s.as_str())),
             Column::Im(im) => num(out, self.ims.get(im)),
             Column::Phi => num(out, self.phi),
             Column::Scale => num(out, self.scale),
@@ -310,6 +311,16 @@ impl OutcomesFile {
                 }
                 Column::Error => error = text.to_string(),
                 Column::Status => {}
+                Column::Stack if !text.is_empty() => {
+                    let name = crate::case::StackName::new(text).ok_or_else(|| {
+                        row.error(i, "a stack's name (letters, digits, _) or empty")
+                    })?;
+                    out.case.stack = Some(name);
+                    if let Ok(o) = out.result.as_mut() {
+                        o.stack = Some(Default::default());
+                    }
+                }
+                Column::Stack => {}
                 Column::Sensitive => {
                     out.sensitive = match text {
                         "" => None,
@@ -364,6 +375,8 @@ mod tests {
                 stats: false,
                 floor: false,
                 sensitivity: false,
+                stack: false,
+                middle: false,
             },
             Columns::ALL,
         ] {

@@ -210,7 +210,8 @@ fn run_ensemble(study: &Study) -> Result<[Cell; CELLS]> {
                     .iter()
                     .enumerate()
                     .map(|(number, case)| {
-                        let analysis = plan::analysis(study, case, number, &unit).1?;
+                        let analysis =
+                            plan::analysis(study, case, number, &unit).1?.into_block()?;
                         let o = simulate(&analysis, &record, &study.solver, None)?;
                         // Cases are aspect-major, then e (one width, one friction).
                         let (ai, ei) = (number / RESTITUTIONS.len(), number % RESTITUTIONS.len());

@@ -92,6 +92,7 @@ pub(crate) fn tables_section(tally: &Tally, study: &Study) -> String {
                             width,
                             restitution: e,
                             friction,
+                            stack: None,
                         };
                         let ci = cases
                             .iter()

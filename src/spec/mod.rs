@@ -25,6 +25,10 @@
 //! friction = ["inf", { mu_s = 0.7, mu_k = 0.6 }]
 //! pga = [0.3, 0.6]            # g; or pgv = [0.2, 0.4] in m/s
 //!
+//! # [[grid.stack]]            # or stacks of 2–3 blocks, bottom first (spec::stack)
+//! # blocks = [{ width = 0.6, height = 1.0 }, { width = 0.3, height = 1.2 }]
+//! # interfaces = [{ restitution = 0.3 }, { restitution = 0.3, mu_s = 0.5, mu_k = 0.4 }]
+//!
 //! # [uncertainty]             # or drawn per analysis, instead of a grid list:
 //! # restitution = { dist = "uniform", min = 0.0, max = 0.9 }
 //!
@@ -36,6 +40,7 @@ mod adaptive;
 mod infer;
 mod locate;
 mod raw;
+mod stack;
 mod study;
 mod uncertainty;
 mod validate;
@@ -43,8 +48,9 @@ mod validate;
 pub use infer::InferSettings;
 pub use raw::{
     FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
-    UncertaintyFile,
+    StackBlockEntry, StackEntry, StackInterfaceEntry, UncertaintyFile,
 };
+pub use stack::StudyStack;
 pub use study::{
     Adaptive, Intensity, MAX_SPEC_BYTES, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN,
     SHENTON_JONES_TOML, Study, Uncertainty, fnv1a64, friction_label,

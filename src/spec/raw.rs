@@ -118,6 +118,12 @@ pub struct GridFile {
     /// `record_files` (default: not used).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scale_factors: Option<Vec<f64>>,
+    /// Stacks of two or three blocks, each a case of its own
+    /// (`[[grid.stack]]`, see `spec::stack`). With stacks, the block
+    /// lists (`width`, `aspect`, `restitution`, `friction`) make cases of
+    /// one block only when `width` or `aspect` is given (default: none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stack: Vec<StackEntry>,
 }
 
 /// `grid.pga` as written: a list of levels, or a range for an adaptive run.
@@ -442,4 +448,61 @@ impl MotionFile {
             g: self.g.unwrap_or(base.g),
         }
     }
+}
+
+/// One `[[grid.stack]]` table as written.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct StackEntry {
+    /// The stack's name in `outcomes.csv`'s `stack` column and its case id
+    /// `stack_NAME` (default: `stack1`, `stack2`, … in the order given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// The blocks, bottom first (2 or 3).
+    pub blocks: Vec<StackBlockEntry>,
+    /// The interface under each block, bottom first (the ground's first).
+    pub interfaces: Vec<StackInterfaceEntry>,
+}
+
+/// One block of a `[[grid.stack]]` as written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct StackBlockEntry {
+    /// Width 2B, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub width: Option<f64>,
+    /// Height 2H, m (or `aspect`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    /// Aspect ratio H/B (or `height`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<f64>,
+    /// Mass relative to the other blocks' (or `density`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Density relative to the other blocks' (default 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Offset of the centre from the centre of the block below, m
+    /// (default 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub offset: Option<f64>,
+}
+
+/// The interface under a block, as written.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct StackInterfaceEntry {
+    /// Coefficient of restitution e in [0, 1].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f64>,
+    /// `"inf"` (the default without `mu_s`, `mu_k`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<String>,
+    /// Static friction coefficient μs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu_s: Option<f64>,
+    /// Kinetic friction coefficient μk ≤ μs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu_k: Option<f64>,
 }

@@ -50,6 +50,9 @@ pub struct Study {
     /// Friction models (or the one [`Param::Drawn`]: Coulomb friction with
     /// μs or μk/μs drawn per analysis).
     pub frictions: Vec<Param<Friction>>,
+    /// Stacks of two or three blocks (`[[grid.stack]]`), each a case after
+    /// the block cases, in the order given.
+    pub stacks: Vec<super::stack::StudyStack>,
     /// Block parameters drawn per analysis, if any.
     pub uncertainty: Option<Uncertainty>,
     /// Solver settings.
@@ -413,8 +416,10 @@ impl Study {
                 .as_ref()
                 .is_some_and(|u| u.get(p).is_some())
         };
+        // a study of stacks alone writes no block lists
+        let blocks = !self.aspects.is_empty();
         let grid_list = |p: Property, v: &[Param<f64>]| {
-            (!drawn(p)).then(|| v.iter().filter_map(|x| x.fixed()).collect())
+            (blocks && !drawn(p)).then(|| v.iter().filter_map(|x| x.fixed()).collect())
         };
         let (pga, pgv, scale_factors) = match &self.intensity {
             _ if self.adaptive.is_some() => {
@@ -441,7 +446,7 @@ impl Study {
                 width: grid_list(Property::Width, &self.widths),
                 aspect: grid_list(Property::Aspect, &self.aspects),
                 restitution: grid_list(Property::Restitution, &self.restitutions),
-                friction: (!drawn(Property::MuS)).then(|| {
+                friction: (blocks && !drawn(Property::MuS)).then(|| {
                     self.frictions
                         .iter()
                         .filter_map(|f| f.fixed().map(FrictionEntry))
@@ -451,6 +456,7 @@ impl Study {
                 pgv,
                 scale_factors,
                 orientation: grid_orientation,
+                stack: self.stacks.iter().map(|s| s.to_entry()).collect(),
             },
             uncertainty: match (&self.uncertainty, drawn_orientation) {
                 (Some(u), orientation) => Some(UncertaintyFile {

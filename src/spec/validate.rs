@@ -19,7 +19,8 @@ use crate::error::{Error, Result, number};
 use crate::fragility::FragilityOptions;
 use crate::im::{At, Im};
 use crate::motion::{Floor, G_STANDARD, PRESETS, SynthesisSettings, preset};
-use crate::outcomes_csv::{STATS, TIME_IN_MODE};
+use crate::outcome::Slot;
+use crate::outcomes_csv::{Column, STATS, TIME_IN_MODE};
 use crate::solver::{
     ASPECT_RANGE, Block, Friction, SolverSettings, WIDTH_RANGE, aspect_expected, width_expected,
 };
@@ -120,10 +121,22 @@ impl SpecFile {
             Motions::Synthetic { seed, .. } => *seed,
             Motions::Files(_) | Motions::Pairs { .. } => 1,
         };
+        let stacks = super::stack::stacks(&spec, &grid_file.stack, g)?;
+        // with stacks, the block lists make cases only when a block is named
+        let blocks = stacks.is_empty() || grid_file.width.is_some() || grid_file.aspect.is_some();
+        if !stacks.is_empty() {
+            super::stack::settings(&spec, &self.solver, uncertainty_file.as_ref(), &grid_file)?;
+        }
         let uncertainty = uncertainty(&spec, uncertainty_file, &grid_file, seed)?;
-        let grid = grid(&spec, grid_file, g, recorded, uncertainty.as_ref())?;
+        let mut grid = grid(&spec, grid_file, g, recorded, uncertainty.as_ref())?;
+        if !blocks {
+            grid.widths.clear();
+            grid.aspects.clear();
+            grid.restitutions.clear();
+            grid.frictions.clear();
+        }
         solver(&spec, &self.solver)?;
-        fragility(&spec, self.fragility.as_ref(), &self.output)?;
+        fragility(&spec, self.fragility.as_ref(), &self.output, &stacks)?;
         let adaptive = adaptive(&spec, grid.range, self.fragility.as_ref())?;
         let mut fragility_options = self.fragility;
         // A study of record pairs is fitted against the pair's RotD50 PGA
@@ -177,6 +190,7 @@ impl SpecFile {
             aspects: grid.aspects,
             restitutions: grid.restitutions,
             frictions: grid.frictions,
+            stacks,
             uncertainty,
             solver: self.solver,
             output: self.output,
@@ -922,7 +936,12 @@ fn solver(spec: &Origin, solver: &SolverSettings) -> Result<()> {
 /// carry the `fragility.` prefix; and a limit state's measure must be a
 /// column this study writes (time in mode and the solver's counters only
 /// when `[output]` asks for them).
-fn fragility(spec: &Origin, options: Option<&FragilityOptions>, output: &OutputFile) -> Result<()> {
+fn fragility(
+    spec: &Origin,
+    options: Option<&FragilityOptions>,
+    output: &OutputFile,
+    stacks: &[super::stack::StudyStack],
+) -> Result<()> {
     let Some(options) = options else {
         return Ok(());
     };
@@ -931,6 +950,33 @@ fn fragility(spec: &Origin, options: Option<&FragilityOptions>, output: &OutputF
         let Some((column, _)) = ls.column() else {
             continue;
         };
+        // a body's measure: a body the study's stacks have
+        if let Column::Body(slot, _) = column {
+            let three = stacks.iter().any(|s| s.stack.bodies.len() == 3);
+            let have = if stacks.is_empty() {
+                None
+            } else if three {
+                Some("base, middle, top or any")
+            } else {
+                Some("base, top or any")
+            };
+            let missing = match have {
+                None => Some(
+                    "a study with stacks ([[grid.stack]]); a block's own column has no body prefix",
+                ),
+                Some(_) if slot == Slot::Middle && !three => Some(
+                    "a body of the study's stacks (base, top or any: no stack has three blocks)",
+                ),
+                _ => None,
+            };
+            if let Some(expected) = missing {
+                return Err(spec.bad(
+                    &format!("fragility.limit_state[{i}].measure"),
+                    &format!("{:?}", ls.measure),
+                    expected,
+                ));
+            }
+        }
         let switch = if TIME_IN_MODE.contains(&column) && !output.time_in_mode {
             "time_in_mode"
         } else if STATS.contains(&column) && !output.stats {

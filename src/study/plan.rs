@@ -9,12 +9,17 @@
 //! theirs. Shard K/N owns the units with `unit mod N = K − 1` (round-robin,
 //! so every shard gets weak and strong levels alike).
 //!
+//! A stack (`[[grid.stack]]`) is a case of its own after the block cases,
+//! in the order given ([`Case::stack`]); its analysis is a
+//! [`Scene::Stack`], solved by the stack solver, where a block's is a
+//! [`Scene::Block`], solved by the single block's.
+//!
 //! A parameter drawn under `[uncertainty]` is [`Param::Drawn`] on its axis
 //! of cases; each analysis draws its own value ([`analysis`]), from a stream
 //! keyed by (seed, record, level, case number), so the draws do not depend
 //! on which thread or shard runs the analysis.
 
-use crate::case::{Case, Param};
+use crate::case::{Case, Param, Scene};
 use crate::error::{Error, Result};
 use crate::outcomes_csv::Columns;
 use crate::solver::{Analysis, Block};
@@ -22,17 +27,26 @@ use crate::spec::{Intensity, Motions, Study};
 use std::fmt;
 use std::str::FromStr;
 
-/// The block's own parameters (every one fixed) on unit `unit` of
+/// The scene's own parameters (every one fixed) on unit `unit` of
 /// `study`, for case `case` (number `number` in canonical order): the
 /// case's values, with the parameters of `[uncertainty]` drawn for this
-/// (record, level, case); and the analysis of that block (at rest), which
-/// fails only if drawn values make no valid block.
+/// (record, level, case); and what is simulated, at rest: the block (which
+/// fails only if drawn values make no valid block) or the study's stack.
 pub fn analysis(
     study: &Study,
     case: &Case,
     number: usize,
     unit: &Unit,
-) -> (Case, crate::error::Result<Analysis>) {
+) -> (Case, crate::error::Result<Scene>) {
+    if let Some(name) = case.stack {
+        let stack = study
+            .stacks
+            .iter()
+            .find(|s| s.name == name)
+            .map(|s| Scene::Stack(s.stack.clone()))
+            .ok_or_else(|| Error::invalid("stack", name.to_string(), "a stack of the study"));
+        return (*case, stack);
+    }
     let own = match &study.uncertainty {
         Some(u) => u.draw(case, unit.record, unit.level, number),
         None => *case,
@@ -45,7 +59,7 @@ pub fn analysis(
     let analysis = Block::new(width, aspect, study.g).map(|block| {
         let mut analysis = Analysis::new(block, e);
         analysis.friction = friction;
-        analysis
+        Scene::Block(analysis)
     });
     (own, analysis)
 }
@@ -61,11 +75,15 @@ pub fn columns(study: &Study) -> Columns {
         stats: study.output.stats,
         floor: !study.floor.is_ground(),
         sensitivity: study.output.sensitivity,
+        stack: !study.stacks.is_empty(),
+        middle: study.stacks.iter().any(|s| s.stack.bodies.len() == 3),
     }
 }
 
 /// Every case of `study`, in canonical order (aspect, then width, then e,
-/// then friction); a case's number is its position here.
+/// then friction; then the stacks, in the order given); a case's number is
+/// its position here. A stack's case holds its top block and the interface
+/// under it ([`Case::stack`]).
 pub fn cases(study: &Study) -> Vec<Case> {
     let mut out = Vec::new();
     for &aspect in &study.aspects {
@@ -77,10 +95,27 @@ pub fn cases(study: &Study) -> Vec<Case> {
                         width,
                         restitution,
                         friction,
+                        stack: None,
                     });
                 }
             }
         }
+    }
+    for s in &study.stacks {
+        let (top, under) = (
+            s.stack.bodies.last().expect("a stack has bodies"),
+            s.stack
+                .interfaces
+                .last()
+                .expect("an interface under each body"),
+        );
+        out.push(Case {
+            aspect: Param::Fixed(top.height / top.width),
+            width: Param::Fixed(top.width),
+            restitution: Param::Fixed(under.restitution),
+            friction: Param::Fixed(under.friction),
+            stack: Some(s.name),
+        });
     }
     out
 }

@@ -9,13 +9,14 @@
 
 use super::plan::{self, Unit};
 use super::source::{Source, UnitMotion};
-use crate::case::Case;
+use crate::case::{Case, Scene};
 use crate::error::{Error, Result, number};
 use crate::im::ImValues;
 use crate::motion::Record;
 use crate::outcome::Outcome;
 use crate::outcomes_csv::{Columns, RecordInfo};
-use crate::solver::{Analysis, Friction, History, Sensitivity, sensitivity, simulate};
+use crate::solver::stack::simulate_stack;
+use crate::solver::{Friction, History, Sensitivity, sensitivity, simulate};
 use crate::spec::Study;
 use std::path::Path;
 
@@ -102,7 +103,7 @@ pub fn reanalyse(
         &motion,
         file.as_deref(),
     );
-    if let (Some(h), Some(analysis), Ok(m)) = (history, &analysed.analysis, &motion) {
+    if let (Some(h), Some(Scene::Block(analysis)), Ok(m)) = (history, &analysed.analysis, &motion) {
         // the row's solve succeeded or failed alone; this one only records
         let _ = crate::solver::simulate(analysis, &m.felt, &study.solver, Some(h));
     }
@@ -237,7 +238,7 @@ pub(super) fn analyse(
             (result, sensitive)
         }
         (Ok(_), Err(e)) => (Err(format!("record: {e}")), None),
-        (Err(e), _) => (Err(format!("block: {e}")), None),
+        (Err(e), _) => (Err(format!("{}: {e}", scene_word(case.0))), None),
     };
     let mut row = cols.row(own, &info, result.clone());
     row.sensitive = sensitive;
@@ -255,28 +256,47 @@ pub(super) fn analyse(
 /// What [`analyse`] solved.
 #[derive(Clone, Debug)]
 pub struct Analysed {
-    /// The block's own parameters (drawn values as drawn).
+    /// The scene's own parameters (drawn values as drawn).
     pub own: Case,
-    /// Its analysis (`None` when the drawn values make no valid block).
-    pub analysis: Option<Analysis>,
+    /// What was simulated (`None` when the drawn values make no valid
+    /// block).
+    pub analysis: Option<Scene>,
     /// Its outcome, or why there is none (`outcomes.csv`'s `error`).
     pub result: std::result::Result<Outcome, String>,
     /// Whether it is sensitive (with `output.sensitivity`).
     pub sensitive: Option<bool>,
 }
 
-/// One analysis; a solver error or panic becomes a message.
+/// `block` or `stack`, for a message about the scene of `case`.
+fn scene_word(case: &Case) -> &'static str {
+    if case.stack.is_some() {
+        "stack"
+    } else {
+        "block"
+    }
+}
+
+/// One analysis, by the solver made for its scene: the single block's, or
+/// the stack's; a solver error or panic becomes a message, and so does a
+/// stack's motion that left the modes the stack solver models (its numbers
+/// up to then are not the run's response).
 fn solve(
-    analysis: &Analysis,
+    analysis: &Scene,
     record: &Record,
     study: &Study,
     history: Option<&mut crate::solver::History>,
 ) -> std::result::Result<Outcome, String> {
-    let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        simulate(analysis, record, &study.solver, history)
+    let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match analysis {
+        Scene::Block(a) => simulate(a, record, &study.solver, history).map(Ok),
+        Scene::Stack(stack) => {
+            simulate_stack(stack, record, &study.solver, None).map(|o| match &o.failure {
+                Some(why) => Err(format!("stack solver: {why} (not modelled)")),
+                None => Ok(o.summary()),
+            })
+        }
     }));
     match attempt {
-        Ok(Ok(o)) => Ok(o),
+        Ok(Ok(o)) => o,
         Ok(Err(e)) => Err(e.to_string()),
         Err(panic) => Err(format!(
             "solver panicked: {}",

@@ -4,7 +4,7 @@
 //! end, why.
 
 use crate::error::Result;
-use crate::outcome::Mode;
+use crate::outcome::{BodySummary, Mode, Outcome, Slot, StackSummary};
 use serde::Serialize;
 use std::path::Path;
 
@@ -69,6 +69,53 @@ pub struct StackOutcome {
 }
 
 impl StackOutcome {
+    /// The outcome as a study's row holds it ([`Outcome::stack`]): each
+    /// body by its [`Slot`], and the stack as a whole in the single block's
+    /// fields (overturned, uplifted, moved if any body did; the first
+    /// overturning; the largest θmax/θc, slip and μ_imp of the bodies; the
+    /// impacts, settles, holds, energy gains and events). The fields the
+    /// stack solver does not compute stay at their defaults (and are left
+    /// empty in `outcomes.csv`).
+    pub fn summary(&self) -> Outcome {
+        let n = self.bodies.len();
+        let mut stack = StackSummary {
+            first_overturned: self.first_overturned.map(|i| Slot::of(i, n)),
+            bodies: [None; 3],
+        };
+        let mut o = Outcome {
+            end_time: self.end_time,
+            impacts: self.impacts,
+            first_impact_time: self.first_impact_time,
+            energy_gains: self.energy_gains,
+            settles: self.settles,
+            liftoff_holds: self.liftoff_holds,
+            ..Outcome::default()
+        };
+        o.stats.events = self.events;
+        for (i, b) in self.bodies.iter().enumerate() {
+            stack.bodies[Slot::of(i, n).index()] = Some(BodySummary {
+                theta_max_over_theta_c: b.theta_max_over_theta_c,
+                overturned: b.overturned,
+                overturn_time: b.overturn_time,
+                slip_max: b.slip_max,
+                uplifted: b.uplifted,
+                moved: b.moved,
+            });
+            o.overturned |= b.overturned;
+            o.uplifted |= b.uplifted;
+            o.moved |= b.moved;
+            o.theta_max_over_theta_c = o.theta_max_over_theta_c.max(b.theta_max_over_theta_c);
+            o.slip_max = o.slip_max.max(b.slip_max);
+            o.mu_impact = o.mu_impact.max(b.mu_impact);
+            o.overturn_time = match (o.overturn_time, b.overturn_time) {
+                (Some(a), Some(t)) => Some(a.min(t)),
+                (a, t) => a.or(t),
+            };
+        }
+        o.stack = Some(stack);
+        o
+    }
+
     /// The outcome as JSON: `{"bodies": [ … ], …}`, bottom first, each body
     /// with the keys of a single block's outcome where they mean the same
     /// (`theta_max_over_theta_c`, `overturned`, `slip_max`, …) and its time
