@@ -29,7 +29,7 @@ from . import _rockfrag
 
 __version__ = _rockfrag.__version__
 __all__ = [
-    "motion", "floor", "rotate", "rotd", "simulate", "simulate_many", "run", "fragility", "risk", "read_outcomes",
+    "motion", "floor", "rotate", "rotd", "simulate", "simulate_many", "simulate_stack", "run", "fragility", "risk", "read_outcomes",
     "fit", "infer", "FitWarning",
 ]
 
@@ -410,6 +410,98 @@ def simulate(
 
 
 simulate.__doc__ = simulate.__doc__ % {"rtol": _RTOL, "settle": _SETTLE_TOL}
+
+def simulate_stack(
+    acc,
+    dt,
+    blocks,
+    *,
+    masses=None,
+    offsets=None,
+    restitution=0.0,
+    friction=None,
+    tilts=None,
+    name="record",
+    rtol=None,
+    g=G_STANDARD,
+):
+    """A stack of one to three blocks under one record: ``rockfrag simulate
+    --stack … --json`` (docs/stack.md).
+
+    Parameters
+    ----------
+    acc, dt
+        Ground acceleration (m/s²) and its sample interval (s), as for
+        :func:`simulate`.
+    blocks : list of (width, height)
+        Each body's 2B and 2H in m, bottom first (e.g. a pedestal and its
+        statue ``[(0.6, 1.0), (0.3, 1.2)]``).
+    masses, offsets : list of float, optional
+        Per body: mass (default: the same density, mass ∝ width × height) and
+        horizontal offset (m) of its centre from the centre of the body below.
+    restitution : float or list of float
+        e of the interface under each body (the ground's first); one number
+        for all.
+    friction : None or list
+        Per interface: ``None`` or ``"inf"`` (no slip), a number μ, or a
+        pair ``(mu_s, mu_k)``; ``None`` for the whole list: no interface slips.
+    tilts : list of float, optional
+        Initial rotation of each body relative to the one below (rad).
+    rtol : float, optional
+        Relative tolerance of the integrator (default: the solver's).
+
+    Returns
+    -------
+    dict
+        ``bodies`` (per body ``theta_max_over_theta_c``, ``overturned``, …),
+        ``first_overturned`` and ``failure``. A ``failure`` (the motion left
+        the modes the stack solver models) is also raised as a
+        ``RuntimeWarning``: the numbers then cover only the motion before it.
+    """
+    n = len(blocks)
+    bodies = []
+    for i, b in enumerate(blocks):
+        try:
+            w, h = b
+            bodies.append((float(w), float(h)))
+        except (TypeError, ValueError):
+            raise ValueError(f"blocks[{i}] = {b!r}: expected (width, height) in m") from None
+    e = [float(restitution)] * n if _np.isscalar(restitution) else [float(x) for x in restitution]
+
+    def one(i, f):
+        if f is None or (isinstance(f, str) and f.lower() == "inf"):
+            return None
+        if _np.isscalar(f):
+            return (float(f), float(f))
+        try:
+            s, k = f
+            return (float(s), float(k))
+        except (TypeError, ValueError):
+            raise ValueError(f"friction[{i}] = {f!r}: expected None, 'inf', mu or (mu_s, mu_k)") from None
+
+    mu = [None] * n if friction is None else [one(i, f) for i, f in enumerate(friction)]
+    floats = lambda v: None if v is None else [float(x) for x in v]
+    out = _rockfrag.simulate_stack(
+        bodies,
+        floats(masses),
+        floats(offsets),
+        e,
+        mu,
+        floats(tilts),
+        _f64(acc, "acc"),
+        float(dt),
+        str(name),
+        _RTOL if rtol is None else float(rtol),
+        float(g),
+    )
+    if out.get("failure"):
+        _warnings.warn(
+            f"the stack's analysis did not finish: {out['failure']}; its numbers cover only the motion before",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    return out
+
 
 _SIMULATE_KEYWORDS = (
     "width", "aspect", "restitution", "mu_s", "mu_k", "vel", "disp", "history", "sensitivity", "name",

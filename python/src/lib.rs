@@ -294,6 +294,86 @@ type RecordArgs<'py> = (
 /// the GIL released; each record is `(acc, dt, vel, disp, name)`; with
 /// `sensitivity`, each outcome carries its `sensitivity` as in
 /// [`simulate_one`].
+/// One stack of blocks (bottom first) under one record: the outcome of
+/// `rockfrag simulate --stack … --json` as a dict (`failure` names why an
+/// analysis that left the modes the stack solver models did not finish).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (bodies, masses, offsets, restitution, friction, tilts, acc, dt, name, rtol, g))]
+fn simulate_stack<'py>(
+    py: Python<'py>,
+    bodies: Vec<(f64, f64)>,
+    masses: Option<Vec<f64>>,
+    offsets: Option<Vec<f64>>,
+    restitution: Vec<f64>,
+    friction: Vec<Option<(f64, f64)>>,
+    tilts: Option<Vec<f64>>,
+    acc: PyReadonlyArray1<'py, f64>,
+    dt: f64,
+    name: String,
+    rtol: f64,
+    g: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    use rockfrag::solver::stack::{Stack, StackBody, StackInterface, simulate_stack};
+    let n = bodies.len();
+    let per_body = |what: &str, k: usize| -> PyResult<()> {
+        if k == n {
+            Ok(())
+        } else {
+            Err(PyValueError::new_err(format!(
+                "{what}: {k} values for {n} bodies (one per body, bottom first)"
+            )))
+        }
+    };
+    per_body("restitution", restitution.len())?;
+    per_body("friction", friction.len())?;
+    let mut stack = Stack::new(
+        bodies.iter().map(|&(w, h)| StackBody::new(w, h)).collect(),
+        0.0,
+        g,
+    );
+    if let Some(m) = masses {
+        per_body("masses", m.len())?;
+        for (b, m) in stack.bodies.iter_mut().zip(m) {
+            b.mass = m;
+        }
+    }
+    if let Some(x) = offsets {
+        per_body("offsets", x.len())?;
+        for (b, x) in stack.bodies.iter_mut().zip(x) {
+            b.offset = x;
+        }
+    }
+    stack.interfaces = restitution
+        .iter()
+        .zip(&friction)
+        .map(|(&e, f)| StackInterface {
+            restitution: e,
+            friction: match *f {
+                None => Friction::Infinite,
+                Some((mu_s, mu_k)) => Friction::Coulomb { mu_s, mu_k },
+            },
+        })
+        .collect();
+    if let Some(t) = tilts {
+        per_body("tilts", t.len())?;
+        stack.initial_tilt = t;
+    }
+    let acc: Vec<f64> = acc.as_array().iter().copied().collect();
+    let r = record(name, dt, acc, None, None).map_err(py_err)?;
+    let settings = SolverSettings {
+        rtol,
+        ..SolverSettings::default()
+    };
+    let json = py
+        .detach(|| simulate_stack(&stack, &r, &settings, None))
+        .map_err(py_err)?
+        .to_json();
+    json_to_py(py, &json)?
+        .cast_into::<PyDict>()
+        .map_err(Into::into)
+}
+
 #[pyfunction]
 #[pyo3(signature = (setup, records, threads, sensitivity))]
 fn simulate_many<'py>(
@@ -843,6 +923,7 @@ fn _rockfrag(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solver_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_one, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_many, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_stack, m)?)?;
     m.add_function(wrap_pyfunction!(motion, m)?)?;
     m.add_function(wrap_pyfunction!(floor, m)?)?;
     m.add_function(wrap_pyfunction!(rotate, m)?)?;

@@ -181,3 +181,30 @@ def test_fit_beyond_the_stripes_warns_as_fitted():
     with pytest.warns(rockfrag.FitWarning, match=r"fitted, but median above the strongest stripe \(0\.600\)"):
         f = rockfrag.fit([0.2, 0.4, 0.6], [0, 1, 3], trials=[10, 10, 10])
     assert f["status"] == "extrapolated-above" and f["median"] > 0.6
+
+
+def test_simulate_stack_with_an_immovable_base_is_the_single_block():
+    # a base 10 m wide, 0.5 m high and 1e12 times heavier cannot move: the
+    # statue on it rocks as the single block on the ground (the solver-level
+    # limit test, tests/stack.rs, holds to 1e-9; 1e-7 here allows for the
+    # record passing through numpy)
+    rec = rockfrag.motion(seed=3, pga=0.4, index=1)
+    out = rockfrag.simulate_stack(
+        rec["acc"], rec["dt"], [(10.0, 0.5), (0.5, 2.0)], masses=[1e12, 1.0], restitution=0.0
+    )
+    one = rockfrag.simulate(rec["acc"], rec["dt"], width=0.5, aspect=4.0, restitution=0.0)
+    assert out["failure"] is None
+    top = out["bodies"][1]
+    assert top["overturned"] == one["overturned"]
+    assert abs(top["theta_max_over_theta_c"] - one["theta_max_over_theta_c"]) < 1e-7
+    assert out["bodies"][0]["theta_max_over_theta_c"] < 1e-6
+
+
+def test_simulate_stack_names_bad_input():
+    rec = rockfrag.motion(seed=3, pga=0.4, index=1)
+    with pytest.raises(ValueError, match="friction: 1 values for 2 bodies"):
+        rockfrag.simulate_stack(rec["acc"], rec["dt"], [(0.6, 1.0), (0.3, 1.2)], friction=[0.5])
+    with pytest.raises(ValueError, match=r"blocks\[1\]"):
+        rockfrag.simulate_stack(rec["acc"], rec["dt"], [(0.6, 1.0), 0.3])
+    with pytest.raises(ValueError, match="height"):
+        rockfrag.simulate_stack(rec["acc"], rec["dt"], [(0.6, 1.0), (0.3, -1.2)])
