@@ -131,14 +131,7 @@ pub fn finish(study: &Study, dir: &Path, tally: Option<&Tally>) -> Result<Finish
         study::write_summary(dir, study, Shard::WHOLE, Some(tally), &extra)?;
         report.summary = Some(dir.join(files::SUMMARY));
     }
-    if study.output.figures {
-        report.figures = Some(figures(
-            study,
-            dir,
-            &dir.join("figures"),
-            &FigureOptions::for_study(study),
-        )?);
-    }
+    report.figures = study_figures(study, dir)?;
     if report.fit.is_some() {
         record_fit(dir, dir)?;
     }
@@ -192,14 +185,7 @@ fn finish_adaptive(
         study::record_outputs(dir, &[&path])?;
         report.summary = Some(path);
     }
-    if study.output.figures {
-        report.figures = Some(figures(
-            study,
-            dir,
-            &dir.join("figures"),
-            &FigureOptions::for_study(study),
-        )?);
-    }
+    report.figures = study_figures(study, dir)?;
     Ok(report)
 }
 
@@ -216,6 +202,21 @@ fn surface_summary(summary: &Path, fit: &FitReport) -> Result<()> {
         None => crate::io_util::remove_section(summary, study::SURFACE_HEADING),
     }
     .map_err(Error::io(summary))
+}
+
+/// The figures `output.figures` asks of a complete study folder, drawn into
+/// `dir/figures` with the study's own options (fixed grid or adaptive).
+fn study_figures(study: &Study, dir: &Path) -> Result<Option<FiguresReport>> {
+    if !study.output.figures {
+        return Ok(None);
+    }
+    figures(
+        study,
+        dir,
+        &dir.join("figures"),
+        &FigureOptions::for_study(study),
+    )
+    .map(Some)
 }
 
 /// Lists the fit's files in `out` among the outputs of the run in `dir`
