@@ -12,6 +12,7 @@ mod common;
 use std::path::Path;
 
 use rockfrag::figures::{Format, RiskFigure, save};
+use rockfrag::fragility::{FitStatus, UnfitKind};
 use rockfrag::im::Im;
 use rockfrag::risk::{
     HazardCurve, HazardSource, RISK_HEADER, RiskOptions, assess, read_fragility, read_hazard,
@@ -485,8 +486,8 @@ fn cli_writes_risk_csv_summary_and_figure() {
     assert_eq!(read[0].boot_fitted, Some(200));
     assert!(read[0].band.is_some_and(|(lo, hi)| lo < hi));
     assert_eq!(
-        (read[1].annual_rate, read[1].status.as_str()),
-        (None, "none-overturned")
+        (read[1].annual_rate, read[1].status),
+        (None, FitStatus::Unfit(UnfitKind::NoneOverturned))
     );
     // a unit that is not the IM's is refused, naming the column and value
     let bad = d.join("bad-risk.csv");
@@ -709,7 +710,7 @@ fn flat_hazard_segments_contribute_nothing_and_a_zero_rate_is_never() {
             limit_state: "overturning".into(),
             im: Im::PGA,
             fit: Some((median, 0.1)),
-            status: "ok".into(),
+            status: FitStatus::Ok,
             replicates: Vec::new(),
             replicates_unfit: 0,
         };

@@ -80,11 +80,6 @@ impl Caveat {
         }
     }
 
-    /// The caveat of a `status` keyword, `None` for `ok` or an unfit one.
-    pub fn from_status(status: &str) -> Option<Caveat> {
-        Caveat::ALL.into_iter().find(|c| c.status() == status)
-    }
-
     /// The caveat of a fit with median `median` over stripes spanning
     /// `im_range`, when its median lies outside them.
     pub fn of_median(median: f64, im_range: Option<(f64, f64)>) -> Option<Caveat> {
