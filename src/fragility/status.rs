@@ -174,6 +174,13 @@ impl fmt::Display for FitStatus {
     }
 }
 
+impl serde::Serialize for FitStatus {
+    /// As its keyword (`inference.json`'s `fit`).
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.keyword())
+    }
+}
+
 impl FromStr for FitStatus {
     type Err = String;
 
