@@ -13,9 +13,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::case::{CaseFit, Caveat};
+use super::case::CaseFit;
 use super::nrml;
-use super::status::{FitStatus, UnfitKind};
+use super::status::{Caveat, FitStatus, UnfitKind};
 use crate::case::Case;
 use crate::error::{Error, Result};
 use crate::im::Im;

@@ -90,7 +90,7 @@ mod surface_files;
 
 pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile};
 pub use case::{
-    BetaModel, CaseFit, Caveat, Curve, ORDER_TOLERANCE, caveat_note, caveat_words, first_inversion,
+    BetaModel, CaseFit, Curve, ORDER_TOLERANCE, caveat_note, caveat_words, first_inversion,
     fit_case, fit_cases, fit_outcomes, out_of_order,
 };
 pub use data::{CaseData, Outcomes, Trial, read_outcomes, read_outcomes_for};
@@ -114,7 +114,7 @@ pub use precision::{
 };
 pub use report::{FitReport, fit_and_write};
 pub use set::{SET_FILE, SET_FILES, check_set};
-pub use status::{FitStatus, UnfitKind, unfit_advice, unfit_words};
+pub use status::{Caveat, FitStatus, UnfitKind, unfit_advice, unfit_words};
 pub use surface::{
     SurfaceFit, SurfacePoint, SurfaceUnfit, fit_surface, surface_status, surface_words,
 };
