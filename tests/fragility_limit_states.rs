@@ -9,8 +9,9 @@ use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rockfrag::case::Case;
 use rockfrag::fragility::{
-    BetaModel, CaseData, CaseFit, Caveat, FragilityOptions, FragilityRow, LimitState, LognormalFit,
-    Trial, curves_cross, fit_case, fit_common_beta, fit_lognormal, nrml_string, read_outcomes_for,
+    BetaModel, CaseData, CaseFit, Caveat, FitStatus, FragilityOptions, FragilityRow, LimitState,
+    LognormalFit, Trial, curves_cross, fit_case, fit_common_beta, fit_lognormal, nrml_string,
+    read_outcomes_for,
 };
 use rockfrag::solver::Friction;
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -421,7 +422,7 @@ fn curves_out_of_order_within_the_stripes_are_flagged_and_left_out_of_the_model(
     assert_eq!(fits[0].caveat, None);
     assert_eq!(fits[1].caveat, Some(Caveat::OutOfOrder));
     let rows: Vec<FragilityRow> = fits.iter().map(FragilityRow::from_fit).collect();
-    assert_eq!(rows[1].status, "out-of-order");
+    assert_eq!(rows[1].status, FitStatus::Caveat(Caveat::OutOfOrder));
     let (m, _) = rows[1]
         .fit()
         .expect("an out-of-order curve keeps its numbers");
@@ -460,7 +461,7 @@ fn limit_states_out_of_order_are_said_and_not_exported() {
     assert!(o.status.success(), "{err}");
     let rows = rockfrag::fragility::read_fragility_csv(&out.join("fragility.csv")).unwrap();
     let severe = rows.iter().find(|r| r.limit_state == "rocks-half").unwrap();
-    assert_eq!(severe.status, "out-of-order");
+    assert_eq!(severe.status, FitStatus::Caveat(Caveat::OutOfOrder));
     let want = "rocks-half: out of order: more likely than slides-5cm (listed as milder)";
     assert!(err.contains(want), "{err}");
     let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();

@@ -12,6 +12,7 @@ mod common;
 use std::path::Path;
 
 use rockfrag::figures::{Format, RiskFigure, save};
+use rockfrag::fragility::{FitStatus, UnfitKind};
 use rockfrag::im::Im;
 use rockfrag::risk::{
     HazardCurve, HazardSource, RISK_HEADER, RiskOptions, assess, read_fragility, read_hazard,
@@ -391,7 +392,8 @@ fn bad_hazard_files_say_where() {
 /// bootstrap replicates; a plain power-law hazard. The rate, return period
 /// and poe follow from the closed form; the band is the 5th–95th
 /// percentiles of the replicates' closed-form rates; summary.md gains one
-/// `## Risk` section however often it runs; the figure is written.
+/// `## Risk` section however often it runs; the figure is written; a
+/// misspelled status in any of the three files is refused.
 #[test]
 fn cli_writes_risk_csv_summary_and_figure() {
     use common::{rockfrag, stderr, stdout};
@@ -485,8 +487,8 @@ fn cli_writes_risk_csv_summary_and_figure() {
     assert_eq!(read[0].boot_fitted, Some(200));
     assert!(read[0].band.is_some_and(|(lo, hi)| lo < hi));
     assert_eq!(
-        (read[1].annual_rate, read[1].status.as_str()),
-        (None, "none-overturned")
+        (read[1].annual_rate, read[1].status),
+        (None, FitStatus::Unfit(UnfitKind::NoneOverturned))
     );
     // a unit that is not the IM's is refused, naming the column and value
     let bad = d.join("bad-risk.csv");
@@ -495,6 +497,41 @@ fn cli_writes_risk_csv_summary_and_figure() {
     assert!(
         e.contains("bad-risk.csv") && e.contains("im_unit") && e.contains("m/s"),
         "{e}"
+    );
+    // A status that is none of the fit's (a typo, a hand edit) is refused in
+    // each of the three files that carry one, naming the file, column and
+    // value: read as "not fitted", it would silently drop a curve.
+    let typo = |name: &str, from: &str, to: &str| {
+        let text = std::fs::read_to_string(d.join(name)).unwrap();
+        assert!(text.contains(from), "{name}");
+        let path = d.join(format!("typo-{name}"));
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        path
+    };
+    let refused = |e: rockfrag::error::Error, file: &str, value: &str| {
+        let e = e.to_string();
+        assert!(
+            e.contains(file) && e.contains("column `status`") && e.contains(value),
+            "{e}"
+        );
+    };
+    let path = typo("risk.csv", ",none-overturned", ",none_overturned");
+    refused(
+        rockfrag::risk::read_risk_csv(&path).unwrap_err(),
+        "typo-risk.csv",
+        "\"none_overturned\"",
+    );
+    let path = typo("fragility.csv", ",ok,g", ",fitted,g");
+    refused(
+        rockfrag::fragility::read_fragility_csv(&path).unwrap_err(),
+        "typo-fragility.csv",
+        "\"fitted\"",
+    );
+    let path = typo("fragility_bootstrap.csv", ",separated", ",seperated");
+    refused(
+        rockfrag::fragility::read_bootstrap_csv(&path).unwrap_err(),
+        "typo-fragility_bootstrap.csv",
+        "\"seperated\"",
     );
     let summary = std::fs::read_to_string(d.join("summary.md")).unwrap();
     assert_eq!(summary.matches("## Risk").count(), 1, "{summary}");
@@ -709,7 +746,7 @@ fn flat_hazard_segments_contribute_nothing_and_a_zero_rate_is_never() {
             limit_state: "overturning".into(),
             im: Im::PGA,
             fit: Some((median, 0.1)),
-            status: "ok".into(),
+            status: FitStatus::Ok,
             replicates: Vec::new(),
             replicates_unfit: 0,
         };

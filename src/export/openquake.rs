@@ -35,7 +35,7 @@ use std::path::{Path, PathBuf};
 
 use crate::detmath as dm;
 use crate::error::{Error, Result};
-use crate::fragility::{Caveat, FragilityRow, IML_SIGMAS, read_fragility_csv};
+use crate::fragility::{Caveat, FitStatus, FragilityRow, IML_SIGMAS, read_fragility_csv};
 use crate::im::Im;
 use crate::io_util::{number, sig3, write_atomic};
 use crate::risk::{HazardCurve, HazardSource, read_hazard, risk_integral};
@@ -127,8 +127,8 @@ pub fn export_openquake(
             let mine = || rows.iter().filter(|o| o.case == r.case);
             let status = mine()
                 .find(|o| o.caveat() == Some(Caveat::OutOfOrder))
-                .or_else(|| mine().find(|o| o.status != "ok"))
-                .map_or(r.status.as_str(), |o| o.status.as_str());
+                .or_else(|| mine().find(|o| o.status != FitStatus::Ok))
+                .map_or(r.status, |o| o.status);
             omitted.push(format!("{id} ({status})"));
             seen.push(id);
         }

@@ -132,7 +132,7 @@ pub fn export_pelicun(
                     let status = case_rows
                         .iter()
                         .find(|r| &r.limit_state == ls)
-                        .map_or("no fit", |r| r.status.as_str());
+                        .map_or("no fit", |r| r.status.keyword());
                     format!("{ls}: {status}")
                 })
                 .collect();

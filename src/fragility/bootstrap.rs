@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use super::data::CaseData;
 use super::fit::{LognormalFit, Observation, Unfit, fit_common_beta, fit_lognormal};
 use super::options::BootstrapUnit;
+use super::status::UnfitKind;
 
 /// A two-sided percentile interval.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,8 +34,8 @@ pub struct BootstrapSummary {
     pub replicates: usize,
     /// Replicates that could be fitted; the intervals come from these alone.
     pub fitted: usize,
-    /// Replicates that could not be fitted, by [`Unfit::status`] keyword.
-    pub unfit: BTreeMap<&'static str, usize>,
+    /// Replicates that could not be fitted, by why (in keyword order).
+    pub unfit: BTreeMap<UnfitKind, usize>,
     /// Percentile interval of θ (`None` with fewer than 2 fitted replicates).
     pub median: Option<Interval>,
     /// Percentile interval of β (`None` with fewer than 2 fitted replicates).
@@ -135,7 +136,7 @@ fn summarise(
     for f in fits {
         match f {
             Ok(fit) => ok.push(fit),
-            Err(reason) => *unfit.entry(reason.status()).or_insert(0) += 1,
+            Err(reason) => *unfit.entry(reason.kind()).or_insert(0) += 1,
         }
     }
     let q = [(1.0 - confidence) / 2.0, (1.0 + confidence) / 2.0];

@@ -9,6 +9,7 @@ use super::bootstrap::{BootstrapSummary, bootstrap, bootstrap_common_beta};
 use super::data::{CaseData, Outcomes, read_outcomes_for};
 use super::fit::{LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal};
 use super::options::FragilityOptions;
+use super::status::Caveat;
 use crate::case::Case;
 use crate::detmath as dm;
 use crate::error::{Error, Result};
@@ -40,61 +41,6 @@ impl BetaModel {
         match self {
             BetaModel::Separate => "separate",
             BetaModel::Common => "common",
-        }
-    }
-}
-
-/// What a fitted curve is to be read with: the `status` of a fitted row of
-/// `fragility.csv` other than `ok` (the numbers are written all the same).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Caveat {
-    /// The median lies above the strongest stripe: the data hold only the
-    /// curve's lower part, the rest is extrapolated.
-    ExtrapolatedAbove,
-    /// The median lies below the weakest stripe: the data hold only the
-    /// curve's upper part.
-    ExtrapolatedBelow,
-    /// More likely than a milder limit state of its case (listed before
-    /// it) somewhere within the stripes, by more than [`ORDER_TOLERANCE`]:
-    /// the limit states are not in order of severity for this case, and
-    /// OpenQuake and pelicun would give the milder one's damage state a
-    /// negative probability. Left out of `fragility.xml` and the exports.
-    OutOfOrder,
-}
-
-impl Caveat {
-    /// Every caveat, in order of precedence (a curve out of order and
-    /// extrapolated is written `out-of-order`).
-    pub const ALL: [Caveat; 3] = [
-        Caveat::OutOfOrder,
-        Caveat::ExtrapolatedAbove,
-        Caveat::ExtrapolatedBelow,
-    ];
-
-    /// Its keyword in `fragility.csv`'s `status` column.
-    pub fn status(self) -> &'static str {
-        match self {
-            Caveat::ExtrapolatedAbove => "extrapolated-above",
-            Caveat::ExtrapolatedBelow => "extrapolated-below",
-            Caveat::OutOfOrder => "out-of-order",
-        }
-    }
-
-    /// The caveat of a `status` keyword, `None` for `ok` or an unfit one.
-    pub fn from_status(status: &str) -> Option<Caveat> {
-        Caveat::ALL.into_iter().find(|c| c.status() == status)
-    }
-
-    /// The caveat of a fit with median `median` over stripes spanning
-    /// `im_range`, when its median lies outside them.
-    pub fn of_median(median: f64, im_range: Option<(f64, f64)>) -> Option<Caveat> {
-        let (lo, hi) = im_range?;
-        if median > hi {
-            Some(Caveat::ExtrapolatedAbove)
-        } else if median < lo {
-            Some(Caveat::ExtrapolatedBelow)
-        } else {
-            None
         }
     }
 }

@@ -13,8 +13,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::case::{CaseFit, Caveat};
+use super::case::CaseFit;
 use super::nrml;
+use super::status::{Caveat, FitStatus, UnfitKind};
 use crate::case::Case;
 use crate::error::{Error, Result};
 use crate::im::Im;
@@ -94,8 +95,8 @@ pub struct FragilityRow {
     pub se_median: Option<f64>,
     /// Standard error of β.
     pub se_beta: Option<f64>,
-    /// `ok`, or why the case has no curve.
-    pub status: String,
+    /// `ok`, a caveat, or why the case has no curve.
+    pub status: FitStatus,
     /// Successful analyses.
     pub n_analyses: usize,
     /// Analyses that overturned.
@@ -142,11 +143,7 @@ impl FragilityRow {
             loglik: fit.map(|x| x.loglik),
             se_median: fit.map(|x| x.se_median()),
             se_beta: fit.map(|x| x.se_beta()),
-            status: match (&f.fit, f.caveat) {
-                (Ok(_), None) => "ok".to_string(),
-                (Ok(_), Some(c)) => c.status().to_string(),
-                (Err(reason), _) => reason.status().to_string(),
-            },
+            status: FitStatus::of(&f.fit, f.caveat),
             n_analyses: f.n_analyses,
             n_overturned: f.n_overturned,
             n_failed: f.n_failed,
@@ -181,12 +178,12 @@ impl FragilityRow {
 
     /// Whether `status` is a fitted curve's: `ok` or a [`Caveat`].
     pub fn is_fitted(&self) -> bool {
-        self.status == "ok" || self.caveat().is_some()
+        self.status.is_fitted()
     }
 
     /// The caveat `status` names, if any.
     pub fn caveat(&self) -> Option<Caveat> {
-        Caveat::from_status(&self.status)
+        self.status.caveat()
     }
 
     /// The row's line, without its newline (columns of [`FRAGILITY_HEADER`]).
@@ -208,7 +205,7 @@ impl FragilityRow {
             opt(self.loglik),
             opt(self.se_median),
             opt(self.se_beta),
-            self.status.clone(),
+            self.status.to_string(),
             self.im.unit().to_string(),
             self.n_analyses.to_string(),
             self.n_overturned.to_string(),
@@ -262,7 +259,10 @@ impl FragilityRow {
             n_stripes: count(9)?.unwrap_or(0),
             loglik: opt(10)?,
             se_median: opt(11)?,
-            status: row.text(required(12))?.to_string(),
+            status: row
+                .text(required(12))?
+                .parse()
+                .map_err(|e: String| row.error(required(12), &e))?,
             se_beta: opt(13)?,
             n_analyses: count(14)?.unwrap_or(0),
             n_overturned: count(15)?.unwrap_or(0),
@@ -474,7 +474,7 @@ pub struct BootstrapRow {
     /// The replicate (0-based).
     pub replicate: usize,
     /// The replicate's (θ, β), or why it could not be fitted.
-    pub fit: std::result::Result<(f64, f64), String>,
+    pub fit: std::result::Result<(f64, f64), UnfitKind>,
 }
 
 impl BootstrapRow {
@@ -482,7 +482,7 @@ impl BootstrapRow {
     pub fn line(&self) -> String {
         let (median, beta, status) = match &self.fit {
             Ok((m, b)) => (number(*m), number(*b), "ok"),
-            Err(reason) => (String::new(), String::new(), reason.as_str()),
+            Err(reason) => (String::new(), String::new(), reason.keyword()),
         };
         format!(
             "{},{},{},{},{},{median},{beta},{status}",
@@ -510,7 +510,7 @@ pub(crate) fn bootstrap_rows(index: usize, fit: &CaseFit) -> Vec<BootstrapRow> {
             limit_state: fit.limit_state.clone(),
             im: fit.im,
             replicate: r,
-            fit: f.map_err(|reason| reason.status().to_string()),
+            fit: f.map_err(|reason| reason.kind()),
         })
         .collect()
 }
@@ -535,7 +535,10 @@ pub fn read_bootstrap_csv(path: &Path) -> Result<Vec<BootstrapRow>> {
         let fit = if row.text(status)? == "ok" {
             Ok((row.positive(median)?, row.positive(beta)?))
         } else {
-            Err(row.field(status).to_string())
+            Err(row
+                .field(status)
+                .parse::<UnfitKind>()
+                .map_err(|e| row.error(status, &format!("ok or {e}")))?)
         };
         rows.push(BootstrapRow {
             index: row.integer(index)? as usize,

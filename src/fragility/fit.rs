@@ -122,21 +122,6 @@ pub enum Unfit {
     },
 }
 
-impl Unfit {
-    /// Short keyword used in the `status` column of `fragility.csv`.
-    pub fn status(&self) -> &'static str {
-        match self {
-            Unfit::NoData => "no-data",
-            Unfit::NoneOverturned => "none-overturned",
-            Unfit::AllOverturned => "all-overturned",
-            Unfit::SingleLevel { .. } => "single-im-level",
-            Unfit::Separated { .. } => "separated",
-            Unfit::Decreasing => "decreasing",
-            Unfit::NoConvergence { .. } => "no-convergence",
-        }
-    }
-}
-
 impl std::fmt::Display for Unfit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -188,57 +173,6 @@ impl std::fmt::Display for Unfit {
                 write!(f, "the fit did not converge in {iterations} iterations")
             }
         }
-    }
-}
-
-/// Why a curve could not be fitted, in words a user reads, from its
-/// `status` keyword ([`Unfit::status`]).
-pub fn unfit_words(status: &str) -> String {
-    match status {
-        "no-data" => "no successful analysis".to_string(),
-        "none-overturned" => "no analysis exceeded it, so its median lies beyond the \
-                              strongest stripe"
-            .to_string(),
-        "all-overturned" => "every analysis exceeded it, so its median lies below the \
-                             weakest stripe"
-            .to_string(),
-        "single-im-level" => "every analysis is at one intensity".to_string(),
-        "separated" => "no analysis exceeded it below some stripe and every one did above, \
-                        so the data say it is a step (β = 0) somewhere between them"
-            .to_string(),
-        "decreasing" => "it becomes less likely as the intensity grows".to_string(),
-        "no-convergence" => "the fit did not converge".to_string(),
-        other => other.to_string(),
-    }
-}
-
-/// What to try for a curve that could not be fitted: its `status` keyword
-/// in words ([`unfit_words`]) and the remedy, naming the intensities the
-/// analyses spanned (`im_range`) where that helps.
-pub fn unfit_advice(status: &str, im_range: Option<(f64, f64)>) -> String {
-    let range = im_range.map_or(String::new(), |(lo, hi)| {
-        format!(
-            " ({}–{} here)",
-            crate::io_util::sig3(lo),
-            crate::io_util::sig3(hi)
-        )
-    });
-    let words = unfit_words(status);
-    match status {
-        "no-data" => "every analysis failed: see the `error` column of outcomes.csv".to_string(),
-        "none-overturned" => {
-            format!("{words}; run stripes above the strongest{range}, where it is exceeded")
-        }
-        "all-overturned" => {
-            format!("{words}; run stripes below the weakest{range}, where it is not")
-        }
-        "single-im-level" => "run at least two intensity levels".to_string(),
-        "separated" => format!(
-            "{words}; run stripes between those two levels, or more records, so that some \
-             stripe has runs on both sides"
-        ),
-        "decreasing" => format!("{words}; check the limit state's measure and threshold"),
-        _ => format!("{words}; refit with more records or stripes"),
     }
 }
 

@@ -84,12 +84,13 @@ mod options;
 mod precision;
 mod report;
 mod set;
+mod status;
 mod surface;
 mod surface_files;
 
 pub use bootstrap::{BootstrapSummary, Interval, bootstrap, percentile};
 pub use case::{
-    BetaModel, CaseFit, Caveat, Curve, ORDER_TOLERANCE, caveat_note, caveat_words, first_inversion,
+    BetaModel, CaseFit, Curve, ORDER_TOLERANCE, caveat_note, caveat_words, first_inversion,
     fit_case, fit_cases, fit_outcomes, out_of_order,
 };
 pub use data::{CaseData, Outcomes, Trial, read_outcomes, read_outcomes_for};
@@ -98,10 +99,7 @@ pub use files::{
     OutputPaths, read_bootstrap_csv, read_curves_csv, read_fragility_csv, write_outputs,
     write_outputs_with,
 };
-pub use fit::{
-    LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal, unfit_advice,
-    unfit_words,
-};
+pub use fit::{LognormalFit, Observation, Unfit, curves_cross, fit_common_beta, fit_lognormal};
 pub use nrml::{
     IML_SIGMAS, NrmlEntry, NrmlFunction, NrmlShape, lognormal_to_moments, model_range,
     moments_to_lognormal, nrml_model_string, nrml_string, write_nrml,
@@ -116,6 +114,7 @@ pub use precision::{
 };
 pub use report::{FitReport, fit_and_write};
 pub use set::{SET_FILE, SET_FILES, check_set};
+pub use status::{Caveat, FitStatus, UnfitKind, unfit_advice, unfit_words};
 pub use surface::{
     SurfaceFit, SurfacePoint, SurfaceUnfit, fit_surface, surface_status, surface_words,
 };

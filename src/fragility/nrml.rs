@@ -55,8 +55,9 @@
 use crate::detmath as dm;
 use std::path::Path;
 
-use super::case::{CaseFit, Caveat, first_inversion};
+use super::case::{CaseFit, first_inversion};
 use super::options::is_nrml_name;
+use super::status::Caveat;
 use crate::error::{Error, Result};
 use crate::im::OpenQuakeImt;
 use crate::io_util::number;

@@ -9,8 +9,8 @@ use super::bootstrap::Interval;
 use super::case::{BetaModel, CaseFit, caveat_note, fit_cases};
 use super::data::read_outcomes_for;
 use super::files::write_outputs_with;
-use super::fit::{unfit_advice, unfit_words};
 use super::options::FragilityOptions;
+use super::status::{UnfitKind, unfit_advice, unfit_words};
 use super::surface::surface_words;
 use super::surface_files::{SURFACE_FILE, SurfaceRow, fit_surfaces};
 use crate::error::{Error, Result};
@@ -235,7 +235,7 @@ fn unfitted_notes(fits: &[CaseFit]) -> Vec<String> {
                 "not fitted: {} {}: {}\n",
                 f.key.id(),
                 f.limit_state,
-                unfit_advice(reason.status(), f.im_range)
+                unfit_advice(reason.kind(), f.im_range)
             ))
         })
         .collect()
@@ -267,11 +267,11 @@ fn case_notes(fits: &[CaseFit]) -> Vec<String> {
 /// bands come from the other replicates …`); empty if none.
 fn bootstrap_line(fits: &[CaseFit], csv: &Path, confidence: f64) -> String {
     // reason -> (curves with it, most replicates of one curve, its replicates)
-    let mut by_reason: std::collections::BTreeMap<&str, (usize, usize, usize)> =
+    let mut by_reason: std::collections::BTreeMap<UnfitKind, (usize, usize, usize)> =
         std::collections::BTreeMap::new();
     for b in fits.iter().filter_map(|f| f.bootstrap.as_ref()) {
         for (reason, &n) in &b.unfit {
-            let e = by_reason.entry(reason).or_insert((0, 0, b.replicates));
+            let e = by_reason.entry(*reason).or_insert((0, 0, b.replicates));
             e.0 += 1;
             if n > e.1 {
                 (e.1, e.2) = (n, b.replicates);
@@ -297,7 +297,7 @@ fn bootstrap_line(fits: &[CaseFit], csv: &Path, confidence: f64) -> String {
         .map(|(reason, (curves, max, of))| {
             let what = if *curves == 1 { "curve" } else { "curves" };
             let why = match *reason {
-                "separated" => {
+                UnfitKind::Separated => {
                     " (separated: none exceeded below some stripe, all above it)".to_string()
                 }
                 other => format!(" ({})", unfit_words(other)),

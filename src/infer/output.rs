@@ -12,6 +12,7 @@ use super::posterior::{Bounds, McError, Posterior, Summary};
 use super::survey::{KindModel, SlideRule, Survey};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
+use crate::fragility::FitStatus;
 use crate::io_util::{number, sig3, write_atomic};
 use crate::spec::Study;
 
@@ -244,7 +245,7 @@ struct KindJson {
     draws: usize,
     median: Option<f64>,
     beta: Option<f64>,
-    fit: String,
+    fit: FitStatus,
 }
 
 /// `inference.json`.
@@ -291,10 +292,7 @@ fn summary_json(inf: &Inference, c: &Context) -> InferenceJson {
             draws: m.draws,
             median: curve.fit.as_ref().ok().map(|f| f.median()),
             beta: curve.fit.as_ref().ok().map(|f| f.beta()),
-            fit: match &curve.fit {
-                Ok(_) => "ok".into(),
-                Err(u) => u.status().into(),
-            },
+            fit: FitStatus::of(&curve.fit, None),
         })
         .collect();
     InferenceJson {

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::case::Case;
 use crate::error::{Error, Result};
-use crate::fragility::{FragilityRow, read_bootstrap_csv, read_fragility_csv};
+use crate::fragility::{FitStatus, FragilityRow, read_bootstrap_csv, read_fragility_csv};
 use crate::im::Im;
 
 /// One row of `fragility.csv`: a case and limit state and its fit.
@@ -21,8 +21,8 @@ pub struct FittedCurve {
     pub im: Im,
     /// (θ, β), `None` when the case could not be fitted.
     pub fit: Option<(f64, f64)>,
-    /// `ok` or the fit's reason for having no curve.
-    pub status: String,
+    /// `ok`, a caveat, or the fit's reason for having no curve.
+    pub status: FitStatus,
     /// The (θ, β) of every fitted bootstrap replicate, in replicate order.
     pub replicates: Vec<(f64, f64)>,
     /// Bootstrap replicates that could not be fitted.
@@ -135,7 +135,7 @@ impl FittedCurve {
             limit_state: row.limit_state.clone(),
             im: row.im,
             fit: row.fit(),
-            status: row.status.clone(),
+            status: row.status,
             replicates: Vec::new(),
             replicates_unfit: 0,
         }

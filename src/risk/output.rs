@@ -7,6 +7,7 @@ use super::assess::{RiskOptions, RiskRow, standing_rows};
 use super::hazard::{HazardCurve, HazardSource};
 use crate::case::Case;
 use crate::error::{Error, Result};
+use crate::fragility::FitStatus;
 use crate::im::Im;
 use crate::io_util::{number, sig3, write_atomic};
 use crate::table::Table;
@@ -57,7 +58,7 @@ pub struct RiskCsvRow {
     /// Bootstrap replicates behind the band (`None` without a rate).
     pub boot_fitted: Option<usize>,
     /// The fit's status (`ok`, a caveat, or why there is no curve).
-    pub status: String,
+    pub status: FitStatus,
 }
 
 impl RiskCsvRow {
@@ -77,7 +78,7 @@ impl RiskCsvRow {
             peak_im: r.integral.map(|i| i.peak_im),
             shares: r.shares(),
             boot_fitted: r.integral.map(|_| c.replicates.len()),
-            status: c.status.clone(),
+            status: c.status,
         }
     }
 
@@ -103,7 +104,7 @@ impl RiskCsvRow {
             opt(self.shares.map(|s| s.0)),
             opt(self.shares.map(|s| s.1)),
             self.boot_fitted.map_or(String::new(), |n| n.to_string()),
-            self.status.clone(),
+            self.status.to_string(),
         ];
         fields.join(",")
     }
@@ -169,7 +170,10 @@ pub fn read_risk_csv(path: &Path) -> Result<Vec<RiskCsvRow>> {
             } else {
                 Some(row.integer(boot)? as usize)
             },
-            status: row.text(col("status"))?.to_string(),
+            status: row
+                .text(col("status"))?
+                .parse()
+                .map_err(|e: String| row.error(col("status"), &e))?,
         });
     }
     Ok(rows)

@@ -13,7 +13,7 @@ use std::path::Path;
 use super::measure::measure_records;
 use crate::detmath as dm;
 use crate::error::Result;
-use crate::fragility::{FragilityOptions, FragilityRow, fit_cases, read_outcomes_for};
+use crate::fragility::{FitStatus, FragilityOptions, FragilityRow, fit_cases, read_outcomes_for};
 use crate::im::Im;
 use crate::io_util::sig3;
 
@@ -39,7 +39,7 @@ pub struct ImFit {
     /// error (ordinary least squares over the analyses).
     pub slope: Option<(f64, f64)>,
     /// `fragility.csv`'s status.
-    pub status: String,
+    pub status: FitStatus,
 }
 
 /// Fits the study folder `dir` against each of `ims` (with `options`
@@ -99,7 +99,7 @@ pub fn compare_ims(dir: &Path, options: &FragilityOptions, ims: &[Im]) -> Result
                 fit: row.fit(),
                 beta_band: row.beta_band,
                 slope,
-                status: row.status.clone(),
+                status: row.status,
             });
         }
         all.push(rows);

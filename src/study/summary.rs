@@ -325,18 +325,22 @@ pub fn fragility_section(fits: &[FragilityRow]) -> String {
     let mut unfitted = Vec::new();
     let mut explain = Vec::new();
     for (i, f) in fits.iter().enumerate() {
-        let (median, beta, notes) = match f.fit() {
-            Some((m, b)) => (
+        let (median, beta, notes) = match (f.fit(), f.status.unfit()) {
+            (Some((m, b)), _) => (
                 format!("{}{}", sig3(m), band(f.median_band)),
                 format!("{}{}", sig3(b), band(f.beta_band)),
                 fit_notes(fits, i, &mut explain),
             ),
-            None => {
+            (None, why) => {
                 unfitted.push(f);
                 (
                     "-".to_string(),
                     "-".to_string(),
-                    format!("not fitted: {}", unfit_words(&f.status)),
+                    // A fitted row always has its numbers (the reader checks).
+                    format!(
+                        "not fitted: {}",
+                        why.map_or_else(|| f.status.to_string(), unfit_words)
+                    ),
                 )
             }
         };
@@ -369,7 +373,9 @@ pub fn fragility_section(fits: &[FragilityRow]) -> String {
                 "- `{}` {}: {}",
                 f.case.id(),
                 f.limit_state,
-                unfit_advice(&f.status, f.im_range)
+                f.status
+                    .unfit()
+                    .map_or_else(|| f.status.to_string(), |why| unfit_advice(why, f.im_range))
             );
         }
     }
