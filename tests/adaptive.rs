@@ -319,3 +319,64 @@ fn the_manifest_counts_uplifts_of_an_adaptive_run() {
     assert_eq!(counts["uplifted"], uplifted);
     assert_eq!(counts["overturned_or_uplifted"], either);
 }
+
+/// A PGV range (m/s) is an adaptive run over PGV levels: the lattice is
+/// PGV's, every analysis is scaled to a lattice PGV, the curve is fitted
+/// against PGV (rocking is governed by it), the summary speaks in m/s, the
+/// canonical spec keeps the range in `grid.pgv`, and a PGA range beside it
+/// is refused naming the field.
+#[test]
+fn a_pgv_range_places_pgv_levels() {
+    let text = VASE.replace(
+        "pga = { min = 0.05, max = 3.0 }",
+        "pgv = { min = 0.05, max = 2.0 }",
+    );
+    let s = study(&text);
+    let toml = s.to_toml();
+    assert!(
+        toml.contains("pgv = { min = 0.05, max = 2.0 }") || toml.contains("[grid.pgv]"),
+        "{toml}"
+    );
+    let back = Study::from_toml_unchecked(&toml, Path::new("vase-adaptive.toml")).unwrap();
+    assert_eq!(back, s);
+    // about 20 levels a decade over 0.05–2 m/s, both ends: ceil(20·log10(40))
+    // = 33 equal steps, 34 levels
+    let levels = s.intensity.levels().to_vec();
+    assert_eq!(levels.len(), 34, "{levels:?}");
+    let tmp = tempfile::tempdir().unwrap();
+    let report = pipeline::run(&s, &opts(tmp.path(), 2)).unwrap();
+    assert_eq!(report.adaptive.unwrap().cases[0].stop.status(), "met");
+    let outcomes = String::from_utf8(read(tmp.path(), "outcomes.csv")).unwrap();
+    let header: Vec<&str> = outcomes.lines().next().unwrap().split(',').collect();
+    let pgv = header.iter().position(|&c| c == "pgv").unwrap();
+    for line in outcomes.lines().skip(1) {
+        let v: f64 = line.split(',').nth(pgv).unwrap().parse().unwrap();
+        // each record scaled to its level's PGV (to rounding of the scale)
+        assert!(
+            levels.iter().any(|l| ((v - l) / l).abs() < 1e-9),
+            "pgv {v} is not a lattice level"
+        );
+    }
+    let fragility = String::from_utf8(read(tmp.path(), "fragility.csv")).unwrap();
+    assert!(
+        fragility
+            .lines()
+            .nth(1)
+            .unwrap()
+            .contains(",overturning,pgv,"),
+        "{fragility}"
+    );
+    let summary = String::from_utf8(read(tmp.path(), "summary.md")).unwrap();
+    assert!(
+        summary.contains("An adaptive run over PGV 0.05 to 2 m/s"),
+        "{summary}"
+    );
+    let both = text.replace("[grid]\n", "[grid]\npga = { min = 0.05, max = 3.0 }\n");
+    let err = Study::from_toml(&both, Path::new("both.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("grid.pgv") && err.contains("grid.pga"),
+        "{err}"
+    );
+}

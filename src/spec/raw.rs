@@ -103,9 +103,10 @@ pub struct GridFile {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pga: Option<Levels>,
     /// Intensity levels as PGV, m/s, each record scaled to it instead of to a
-    /// PGA (default: not used).
+    /// PGA (default: not used); or a range `{ min = 0.05, max = 2.0 }` m/s
+    /// for an adaptive run, as for `pga`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub pgv: Option<Vec<f64>>,
+    pub pgv: Option<Levels>,
     /// Directions φ the blocks face, degrees from the first component of
     /// each record pair towards the second: every pair is run at every
     /// angle, and a case's curve pools them with the pairs (only with
@@ -126,26 +127,28 @@ pub struct GridFile {
     pub stack: Vec<StackEntry>,
 }
 
-/// `grid.pga` as written: a list of levels, or a range for an adaptive run.
+/// `grid.pga` or `grid.pgv` as written: a list of levels, or a range for an
+/// adaptive run (in the field's unit: g, or m/s).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(
     untagged,
-    expecting = "a list of levels [0.1, 0.2, …] or a range { min = …, max = … } (g)"
+    expecting = "a list of levels [0.1, 0.2, …] or a range { min = …, max = … }"
 )]
 pub enum Levels {
-    /// The levels, g.
+    /// The levels (g, or m/s).
     List(Vec<f64>),
-    /// The range an adaptive run places its levels in, g.
+    /// The range an adaptive run places its levels in (g, or m/s).
     Range(LevelRange),
 }
 
-/// A range of intensity levels, g: `{ min = 0.05, max = 3.0 }`.
+/// A range of intensity levels (g for PGA, m/s for PGV):
+/// `{ min = 0.05, max = 3.0 }`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LevelRange {
-    /// Lowest level, g.
+    /// Lowest level.
     pub min: f64,
-    /// Highest level, g.
+    /// Highest level.
     pub max: f64,
 }
 

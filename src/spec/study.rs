@@ -9,6 +9,7 @@ use super::raw::{
 use crate::case::{Case, Field, Param};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
+use crate::im::Im;
 use crate::motion::{Floor, SynthesisSettings};
 use crate::solver::{Friction, SolverSettings};
 use crate::uncertainty::{
@@ -70,11 +71,13 @@ pub struct Study {
 }
 
 /// What an adaptive study asks for (docs/adaptive.md): levels placed in a
-/// range of PGA, records added, until the band of every limit state's
-/// median and β is as narrow as asked, per case.
+/// range of PGA or PGV, records added, until the band of every limit
+/// state's median and β is as narrow as asked, per case.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Adaptive {
-    /// The range of PGA, g.
+    /// The IM of the levels: [`Im::PGA`] (g) or [`Im::PGV`] (m/s).
+    pub im: Im,
+    /// The range of the levels, in the IM's unit.
     pub range: LevelRange,
     /// The target half-widths.
     pub precision: crate::fragility::Precision,
@@ -422,11 +425,14 @@ impl Study {
             (blocks && !drawn(p)).then(|| v.iter().filter_map(|x| x.fixed()).collect())
         };
         let (pga, pgv, scale_factors) = match &self.intensity {
+            _ if self.adaptive.is_some_and(|a| a.im == Im::PGV) => {
+                (None, self.adaptive.map(|a| Levels::Range(a.range)), None)
+            }
             _ if self.adaptive.is_some() => {
                 (self.adaptive.map(|a| Levels::Range(a.range)), None, None)
             }
             Intensity::Pga(v) => (Some(Levels::List(v.clone())), None, None),
-            Intensity::Pgv(v) => (None, Some(v.clone()), None),
+            Intensity::Pgv(v) => (None, Some(Levels::List(v.clone())), None),
             Intensity::Scale(v) => (None, None, Some(v.clone())),
         };
         SpecFile {

@@ -65,7 +65,8 @@ impl SpecFile {
         let motions = if self.record_files.is_empty() {
             // an adaptive run adds records as it needs them: `records` caps
             // those of one level
-            let range = matches!(grid_file.pga, Some(Levels::Range(_)));
+            let range = matches!(grid_file.pga, Some(Levels::Range(_)))
+                || matches!(grid_file.pgv, Some(Levels::Range(_)));
             let records = self.records.or(range.then_some(ADAPTIVE_RECORDS));
             let mut motions = synthetic(&spec, self.motion, self.seed, records, g)?;
             match self.components {
@@ -145,10 +146,12 @@ impl SpecFile {
         if let Some(options) = &mut fragility_options
             && options.im.is_none()
         {
+            // an adaptive run's levels are its fit's IM (PGA or PGV)
+            let levels = adaptive.map_or(Im::PGA, |a| a.im);
             options.im = Some(if motions.orientation().is_some() {
-                Im::PGA_ROTD50
+                levels.taken(At::RotD50).unwrap_or(levels)
             } else {
-                Im::PGA
+                levels
             });
         }
         // An IM the study's motions will not have is refused now, not
@@ -632,8 +635,9 @@ struct Grid {
     restitutions: Vec<Param<f64>>,
     intensity: Intensity,
     frictions: Vec<Param<Friction>>,
-    /// `grid.pga` given as a range (an adaptive run).
-    range: Option<LevelRange>,
+    /// `grid.pga` or `grid.pgv` given as a range (an adaptive run), with
+    /// the IM of its levels.
+    range: Option<(Im, LevelRange)>,
 }
 
 /// `[grid]`: the block lists (every width–aspect pair must make a valid
@@ -689,18 +693,35 @@ fn grid(
             Block::new(w, a, g).map_err(|e| spec.nested("grid.", e))?;
         }
     }
-    let (pga, range) = match grid.pga {
+    let split = |l: Option<Levels>| match l {
         Some(Levels::List(v)) => (Some(v), None),
         Some(Levels::Range(r)) => (None, Some(r)),
         None => (None, None),
     };
+    let (pga, pga_range) = split(grid.pga);
+    let (pgv, pgv_range) = split(grid.pgv);
+    let range = match (pga_range, pgv_range) {
+        (Some(r), _) => Some((Im::PGA, r)),
+        (None, Some(r)) => Some((Im::PGV, r)),
+        (None, None) => None,
+    };
     let intensity = match (grid.scale_factors, range) {
         (Some(factors), _) => {
-            let given = pga.or(range.map(|_| Vec::new()));
-            scale_factors(spec, &factors, &given, &grid.pgv, recorded)?
+            let given = |v: Option<Vec<f64>>, r: Option<LevelRange>| v.or(r.map(|_| Vec::new()));
+            scale_factors(
+                spec,
+                &factors,
+                &given(pga, pga_range),
+                &given(pgv, pgv_range),
+                recorded,
+            )?
         }
-        (None, Some(r)) => pga_range(spec, r, grid.pgv.is_some())?,
-        (None, None) => intensity(spec, pga, grid.pgv)?,
+        (None, Some((im, r))) => {
+            let both = pga_range.is_some() && pgv_range.is_some();
+            let top = if im == Im::PGV { MAX_PGV } else { MAX_PGA_G };
+            super::adaptive::level_range(spec, im, r, pga.is_some() || pgv.is_some() || both, top)?
+        }
+        (None, None) => intensity(spec, pga, pgv)?,
     };
     let frictions = match (grid.friction, uncertain.and_then(|u| u.get(Property::MuS))) {
         (Some(entries), _) => frictions(spec, &entries)?
@@ -728,37 +749,6 @@ fn grid(
         frictions,
         range,
     })
-}
-
-/// `grid.pga = { min, max }`: 0 < min < max ≤ [`MAX_PGA_G`], without
-/// `grid.pgv`; the levels are the lattice an adaptive run chooses from.
-fn pga_range(spec: &Origin, r: LevelRange, pgv: bool) -> Result<Intensity> {
-    if pgv {
-        return Err(spec.bad(
-            "grid.pgv",
-            &"(given)",
-            "to be left out when grid.pga is given (one intensity measure per study)",
-        ));
-    }
-    let ok = |v: f64| v.is_finite() && v > 0.0 && v <= MAX_PGA_G;
-    if !ok(r.min) {
-        return Err(spec.bad(
-            "grid.pga.min",
-            &r.min,
-            &format!("a peak ground acceleration in (0, {MAX_PGA_G}] g"),
-        ));
-    }
-    if !(ok(r.max) && r.max >= 1.5 * r.min) {
-        return Err(spec.bad(
-            "grid.pga.max",
-            &r.max,
-            &format!(
-                "a peak ground acceleration in (0, {MAX_PGA_G}] g at least 1.5 times grid.pga.min ({}): the range an adaptive run places its levels in",
-                r.min
-            ),
-        ));
-    }
-    Ok(Intensity::Pga(crate::fragility::lattice(r.min, r.max)))
 }
 
 /// A list `grid.<name>`: non-empty, every value finite, `ok` and not repeated.

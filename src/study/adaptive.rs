@@ -437,14 +437,16 @@ fn decide(
         };
         let Some(above) = side else { continue };
         if s.rounds >= 2 {
+            let unit = adaptive.im.unit();
+            let field = adaptive.im.name();
             let what = match &f.fit {
-                Ok(fit) => format!("fitted at {:.3} g", fit.median()),
+                Ok(fit) => format!("fitted at {:.3} {}", fit.median(), adaptive.im.unit()),
                 Err(_) if above => "no analysis exceeded it".to_string(),
                 Err(_) => "every analysis exceeded it".to_string(),
             };
             s.stop = Stop::Outside(format!(
-                "case {}: the median of '{}' lies {} the range {} to {} g ({what}, {n} analyses); \
-                 stopped, not extrapolated: widen grid.pga to {}",
+                "case {}: the median of '{}' lies {} the range {} to {} {unit} ({what}, {n} \
+                 analyses); stopped, not extrapolated: widen grid.{field} to {}",
                 s.id,
                 f.limit_state,
                 if above { "above" } else { "below" },
@@ -599,8 +601,9 @@ pub fn progress_line(round: usize, s: &CaseState, adaptive: &Adaptive) -> String
         .iter()
         .map(|(name, b)| match b {
             Some(b) => format!(
-                "{name} median {:.4} g ±{:.1} % (target ±{:.1} %), β {:.3} ±{:.3} (target ±{})",
+                "{name} median {:.4} {} ±{:.1} % (target ±{:.1} %), β {:.3} ±{:.3} (target ±{})",
                 b.median,
+                adaptive.im.unit(),
                 100.0 * b.median_half(),
                 100.0 * t.median,
                 b.beta,
@@ -728,15 +731,18 @@ fn write_adaptive_csv(path: &Path, report: &AdaptiveReport) -> Result<()> {
 /// case and limit state, the analyses used, the band reached and the target.
 pub fn summary_section(report: &AdaptiveReport) -> String {
     let t = report.adaptive.precision;
+    let unit = report.adaptive.im.unit();
     let mut s = format!(
-        "## Precision\n\nAn adaptive run over PGA {} to {} g: {} rounds; each case stops when \
+        "## Precision\n\nAn adaptive run over {} {} to {} {}: {} rounds; each case stops when \
          the 90 % bands of its medians (relative half-width) and of β (absolute) are below {} \
          % of ±{} % and ±{}, after at least {MIN_ROUNDS} rounds and {MIN_ANALYSES} analyses, or \
          at {} analyses (docs/adaptive.md).\n\n\
-         | case | limit state | status | analyses | median, g | band, g | ± median | target | β | \
+         | case | limit state | status | analyses | median, {unit} | band, {unit} | ± median | target | β | \
          ± β | target |\n|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|\n",
+        report.adaptive.im.short(),
         report.adaptive.range.min,
         report.adaptive.range.max,
+        report.adaptive.im.unit(),
         report.rounds,
         (STOP_MARGIN * 100.0).round(),
         t.median * 100.0,
