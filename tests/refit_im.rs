@@ -19,6 +19,24 @@ fn spec() -> &'static Path {
     ))
 }
 
+/// The small study with stripes from none to most overturning (levels
+/// 0.2–2 g; `aspect = [6]` alone when `one_aspect`), plus `extra` spec
+/// lines, run into `dir/small`, which it returns.
+fn striped_study(dir: &Path, one_aspect: bool, extra: &str) -> std::path::PathBuf {
+    let mut text = std::fs::read_to_string(spec())
+        .unwrap()
+        .replace("pga = [0.4, 0.8]", "pga = [0.2, 0.5, 1.0, 2.0]");
+    if one_aspect {
+        text = text.replace("aspect = [4, 6]", "aspect = [6]");
+    }
+    let path = dir.join("small.toml");
+    std::fs::write(&path, text + extra).unwrap();
+    let out = dir.join("small");
+    let o = run_spec(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    out
+}
+
 /// `rockfrag fragility DIR --im "sa(1.0)"` on a finished folder: the fit is
 /// against Sa(1.0 s) (fragility.csv's `im`, fragility.xml's `SA(1.0)`),
 /// each analysis's IM is the 5 %-damped Sa of the record it felt as the
@@ -26,16 +44,7 @@ fn spec() -> &'static Path {
 #[test]
 fn a_refit_against_sa_measures_the_records_and_runs_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    // the small study with stripes from none to most overturning
-    let text = std::fs::read_to_string(spec())
-        .unwrap()
-        .replace("aspect = [4, 6]", "aspect = [6]")
-        .replace("pga = [0.4, 0.8]", "pga = [0.2, 0.5, 1.0, 2.0]");
-    let path = dir.path().join("small.toml");
-    std::fs::write(&path, text).unwrap();
-    let out = dir.path().join("small");
-    let o = run_spec(&path, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let out = striped_study(dir.path(), true, "");
     let outcomes = out.join("outcomes.csv");
     let before = (
         std::fs::read(&outcomes).unwrap(),
@@ -66,7 +75,7 @@ fn a_refit_against_sa_measures_the_records_and_runs_nothing() {
     // each trial's IM is Sa(1.0 s) of its motion, remade by the study's source
     let sa = Im::sa(1.0).unwrap();
     let measured = measure_records(&out, sa).unwrap();
-    let study = Study::load(&path).unwrap();
+    let study = Study::load(&dir.path().join("small.toml")).unwrap();
     assert_eq!(
         measured.len(),
         study.records() * study.intensity.levels().len()
@@ -129,13 +138,7 @@ fn an_im_the_motions_do_not_have_is_refused() {
 #[test]
 fn repeated_im_ranks_the_measures_by_beta() {
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(spec())
-        .unwrap()
-        .replace("pga = [0.4, 0.8]", "pga = [0.2, 0.5, 1.0, 2.0]");
-    let path = dir.path().join("small.toml");
-    std::fs::write(&path, text).unwrap();
-    let out = dir.path().join("small");
-    assert!(run_spec(&path, &out).status.success());
+    let out = striped_study(dir.path(), false, "");
     let outcomes = out.join("outcomes.csv");
     let before = (
         std::fs::read(&outcomes).unwrap(),
@@ -226,16 +229,11 @@ fn a_spec_fitting_against_an_im_its_motions_lack_is_refused() {
 #[test]
 fn a_refit_without_im_keeps_the_studys_own_im() {
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(spec())
-        .unwrap()
-        .replace("aspect = [4, 6]", "aspect = [6]")
-        .replace("pga = [0.4, 0.8]", "pga = [0.2, 0.5, 1.0, 2.0]")
-        + "\n[fragility]\nim = \"pgv\"\nbootstrap = 0\n";
-    let path = dir.path().join("small.toml");
-    std::fs::write(&path, text).unwrap();
-    let out = dir.path().join("small");
-    let o = run_spec(&path, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let out = striped_study(
+        dir.path(),
+        true,
+        "\n[fragility]\nim = \"pgv\"\nbootstrap = 0\n",
+    );
     let fitted = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
     assert!(
         fitted.lines().skip(1).all(|l| l.contains(",pgv,")),
@@ -256,15 +254,7 @@ fn a_refit_without_im_keeps_the_studys_own_im() {
 #[test]
 fn an_im_named_with_a_comma_is_quoted_in_the_csv_files() {
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(spec())
-        .unwrap()
-        .replace("aspect = [4, 6]", "aspect = [6]")
-        .replace("pga = [0.4, 0.8]", "pga = [0.2, 0.5, 1.0, 2.0]");
-    let path = dir.path().join("small.toml");
-    std::fs::write(&path, text).unwrap();
-    let out = dir.path().join("small");
-    let o = run_spec(&path, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let out = striped_study(dir.path(), true, "");
     let folder = out.to_str().unwrap();
     let o = rockfrag(&[
         "fragility",

@@ -180,6 +180,18 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         }
     }
     let resumed = done.len();
+    // what the run reports, stopped between rounds or complete
+    let run_report = |complete: bool, counts: super::Counts, analyses_run: u64| RunReport {
+        out_dir: dir.clone(),
+        complete,
+        counts,
+        resumed_at_unit: resumed,
+        analyses_run,
+        wall_seconds: t0.elapsed().as_secs_f64(),
+        threads,
+        already_finished: false,
+        tally: None,
+    };
     let cols = plan::columns(study);
     let cases = plan::cases(study);
     let levels = study.intensity.levels().to_vec();
@@ -259,20 +271,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         }
         let stop_here = opts.stop_after_units.is_some_and(|n| rounds_here >= n);
         if (stop_here || super::interrupted()) && next.iter().flatten().any(|&n| n > 0) {
-            return Ok((
-                RunReport {
-                    out_dir: dir.clone(),
-                    complete: false,
-                    counts: super::Counts::default(),
-                    resumed_at_unit: resumed,
-                    analyses_run,
-                    wall_seconds: t0.elapsed().as_secs_f64(),
-                    threads,
-                    already_finished: false,
-                    tally: None,
-                },
-                None,
-            ));
+            let counts = super::Counts::default();
+            return Ok((run_report(false, counts, analyses_run), None));
         }
     }
     let report = AdaptiveReport {
@@ -298,20 +298,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         _ => {}
     }
     manifest::record_outputs(dir, &[&dir.join(ADAPTIVE_CSV)])?;
-    Ok((
-        RunReport {
-            out_dir: dir.clone(),
-            complete: true,
-            counts,
-            resumed_at_unit: resumed,
-            analyses_run,
-            wall_seconds: t0.elapsed().as_secs_f64(),
-            threads,
-            already_finished: false,
-            tally: None,
-        },
-        Some(report),
-    ))
+    Ok((run_report(true, counts, analyses_run), Some(report)))
 }
 
 /// The first round: [`COARSE_LEVELS`] lattice levels evenly spread, both
