@@ -61,6 +61,11 @@ pub const MAX_UNFIT_SHARE: f64 = 0.02;
 
 /// The file of per-case results an adaptive run writes beside `outcomes.csv`.
 pub const ADAPTIVE_CSV: &str = "adaptive.csv";
+/// Which lattice level, record and case each row of a finished adaptive
+/// run's `outcomes.csv` is (`level,record,case`, 0-based, in the rows'
+/// order): what lets the same command on a finished folder replay its
+/// rounds without solving them again.
+pub const ADAPTIVE_INDEX: &str = "adaptive-index.csv";
 /// The checkpoint of an adaptive run under way.
 pub const ADAPTIVE_CHECKPOINT: &str = "adaptive-checkpoint.json";
 
@@ -159,6 +164,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
     let started = manifest::now_unix();
     // rows of an earlier invocation of the same analyses: replayed, not solved
     let mut done: BTreeMap<(usize, usize, usize), String> = BTreeMap::new();
+    let mut reused = false;
     match read_checkpoint::<Checkpoint>(&ckpt_path)? {
         Some(old) if old.analyses_hash == manifest.analyses_hash => {
             done.extend(old.rows.into_iter().map(|(l, r, c, t)| ((l, r, c), t)));
@@ -173,13 +179,24 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
                 ),
             });
         }
-        None => {
-            if let manifest::Finished::No = manifest::check_finished(dir, &manifest, opts.force)? {
+        None => match manifest::check_finished(dir, &manifest, opts.force)? {
+            // the same analyses by this build, finished: its rows are
+            // replayed through the same rounds, nothing is solved again
+            manifest::Finished::Same(_) => match read_index(dir)? {
+                Some(rows) => {
+                    done = rows;
+                    reused = true;
+                }
+                None => {
+                    manifest::clear_previous(dir)?;
+                }
+            },
+            manifest::Finished::No => {
                 manifest::clear_previous(dir)?;
             }
-        }
+        },
     }
-    let resumed = done.len();
+    let resumed = if reused { 0 } else { done.len() };
     // what the run reports, stopped between rounds or complete
     let run_report = |complete: bool, counts: super::Counts, analyses_run: u64| RunReport {
         out_dir: dir.clone(),
@@ -189,7 +206,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         analyses_run,
         wall_seconds: t0.elapsed().as_secs_f64(),
         threads,
-        already_finished: false,
+        already_finished: reused,
         tally: None,
     };
     let cols = plan::columns(study);
@@ -243,16 +260,18 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
             }
         }
         write_rows(&partial, &cols, &rows)?;
-        write_checkpoint(
-            &ckpt_path,
-            &Checkpoint {
-                analyses_hash: manifest.analyses_hash.clone(),
-                rows: rows
-                    .iter()
-                    .map(|(&(l, r, c), t)| (l, r, c, t.clone()))
-                    .collect(),
-            },
-        )?;
+        if !reused {
+            write_checkpoint(
+                &ckpt_path,
+                &Checkpoint {
+                    analyses_hash: manifest.analyses_hash.clone(),
+                    rows: rows
+                        .iter()
+                        .map(|(&(l, r, c), t)| (l, r, c, t.clone()))
+                        .collect(),
+                },
+            )?;
+        }
         let fits = pool.install(|| fit_running(&partial, &options, &cases, &state))?;
         next = state
             .iter_mut()
@@ -282,6 +301,21 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
     };
     write_adaptive_csv(&dir.join(ADAPTIVE_CSV), &report)?;
     let counts = count(&partial)?;
+    if reused {
+        // the replay wrote the same rows: the folder's outcomes.csv and
+        // manifest stay as they were
+        std::fs::remove_file(&partial).map_err(Error::io(&partial))?;
+        return Ok((run_report(true, counts, 0), Some(report)));
+    }
+    let index = dir.join(ADAPTIVE_INDEX);
+    crate::io_util::write_atomic(&index, |w| {
+        w.write_all(b"level,record,case\n")?;
+        for (l, r, c) in rows.keys() {
+            writeln!(w, "{l},{r},{c}")?;
+        }
+        Ok(())
+    })
+    .map_err(Error::io(&index))?;
     manifest.threads = threads;
     manifest.set_times(started, manifest::now_unix());
     manifest.analyses_run = analyses_run;
@@ -297,7 +331,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         }
         _ => {}
     }
-    manifest::record_outputs(dir, &[&dir.join(ADAPTIVE_CSV)])?;
+    manifest::record_outputs(dir, &[&dir.join(ADAPTIVE_CSV), &index])?;
     Ok((run_report(true, counts, analyses_run), Some(report)))
 }
 
@@ -617,6 +651,30 @@ pub fn progress_line(round: usize, s: &CaseState, adaptive: &Adaptive) -> String
         s.analyses(),
         bands.join("; ")
     )
+}
+
+/// The rows of the finished run in `dir`, keyed by (level, record, case)
+/// from its [`ADAPTIVE_INDEX`]; `None` when the folder has no index (a
+/// run of an older build) or the index does not match `outcomes.csv` row
+/// for row, so that the run starts over instead of trusting either.
+fn read_index(dir: &Path) -> Result<Option<BTreeMap<(usize, usize, usize), String>>> {
+    let (index, outcomes) = (dir.join(ADAPTIVE_INDEX), dir.join(files::OUTCOMES));
+    let Ok(keys) = std::fs::read_to_string(&index) else {
+        return Ok(None);
+    };
+    let text = std::fs::read_to_string(&outcomes).map_err(Error::io(&outcomes))?;
+    let mut rows = text.split_inclusive('\n').skip(1);
+    let mut out = BTreeMap::new();
+    for line in keys.lines().skip(1) {
+        let key: Vec<usize> = line.split(',').filter_map(|v| v.parse().ok()).collect();
+        let (&[l, r, c], Some(row)) = (key.as_slice(), rows.next()) else {
+            return Ok(None);
+        };
+        if out.insert((l, r, c), row.to_string()).is_some() {
+            return Ok(None);
+        }
+    }
+    Ok(rows.next().is_none().then_some(out))
 }
 
 /// `outcomes.csv`'s text of `rows` (header first), written atomically.
