@@ -929,8 +929,8 @@ impl Figure for FragilityFigure {
                     };
                     let filled = s.friction == 0;
                     if let Some((_, most)) = self.sized {
-                        let r = marker_px(&style, filled);
-                        let ms = marker_style(&style, colour, filled);
+                        let r = marker_px(style, filled);
+                        let ms = marker_style(style, colour, filled);
                         chart.draw_series(observed.iter().map(|o| {
                             let ri = sized_radius(r, o.2, most);
                             let under = if filled { ms } else { HOLLOW_FILL };

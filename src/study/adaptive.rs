@@ -653,11 +653,14 @@ pub fn progress_line(round: usize, s: &CaseState, adaptive: &Adaptive) -> String
     )
 }
 
+/// Rows of `outcomes.csv` by (level, record, case).
+type Rows = BTreeMap<(usize, usize, usize), String>;
+
 /// The rows of the finished run in `dir`, keyed by (level, record, case)
 /// from its [`ADAPTIVE_INDEX`]; `None` when the folder has no index (a
 /// run of an older build) or the index does not match `outcomes.csv` row
 /// for row, so that the run starts over instead of trusting either.
-fn read_index(dir: &Path) -> Result<Option<BTreeMap<(usize, usize, usize), String>>> {
+fn read_index(dir: &Path) -> Result<Option<Rows>> {
     let (index, outcomes) = (dir.join(ADAPTIVE_INDEX), dir.join(files::OUTCOMES));
     let Ok(keys) = std::fs::read_to_string(&index) else {
         return Ok(None);
