@@ -132,6 +132,19 @@ fn a_finished_adaptive_folder_is_reused_not_run_again() {
     for (name, bytes) in OUTPUTS.iter().zip(&before) {
         assert!(&read(&dir, name) == bytes, "{name}: reused run");
     }
+    // a tighter target decides other analyses: the folder is refused,
+    // naming what differs, and left as it was
+    let tight = study(&VASE.replace("median = 0.10", "median = 0.07"));
+    let err = pipeline::run(&tight, &opts(&dir, 2))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("an adaptive study's [fragility] decides its analyses"),
+        "{err}"
+    );
+    for (name, bytes) in OUTPUTS.iter().zip(&before) {
+        assert!(&read(&dir, name) == bytes, "{name}: refused run");
+    }
     std::fs::remove_file(dir.join("adaptive-index.csv")).unwrap();
     let redo = pipeline::run(&s, &opts(&dir, 2)).unwrap();
     assert_eq!(

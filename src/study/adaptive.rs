@@ -199,6 +199,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
     let resumed = if reused { 0 } else { done.len() };
     // what the run reports, stopped between rounds or complete
     let run_report = |complete: bool, counts: super::Counts, analyses_run: u64| RunReport {
+        // a finished folder replayed without solving anything
+        already_finished: reused && analyses_run == 0,
         out_dir: dir.clone(),
         complete,
         counts,
@@ -206,7 +208,6 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         analyses_run,
         wall_seconds: t0.elapsed().as_secs_f64(),
         threads,
-        already_finished: reused,
         tally: None,
     };
     let cols = plan::columns(study);
@@ -260,7 +261,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
             }
         }
         write_rows(&partial, &cols, &rows)?;
-        if !reused {
+        if !reused || analyses_run > 0 {
             write_checkpoint(
                 &ckpt_path,
                 &Checkpoint {
@@ -301,12 +302,14 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
     };
     write_adaptive_csv(&dir.join(ADAPTIVE_CSV), &report)?;
     let counts = count(&partial)?;
-    if reused {
+    if reused && analyses_run == 0 && done.is_empty() {
         // the replay wrote the same rows: the folder's outcomes.csv and
         // manifest stay as they were
         std::fs::remove_file(&partial).map_err(Error::io(&partial))?;
         return Ok((run_report(true, counts, 0), Some(report)));
     }
+    // otherwise (the replay left the finished rows: outcomes.csv was
+    // edited by hand since) the folder gets this run's rows
     let index = dir.join(ADAPTIVE_INDEX);
     crate::io_util::write_atomic(&index, |w| {
         w.write_all(b"level,record,case\n")?;
