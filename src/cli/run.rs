@@ -115,7 +115,20 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let c = run.counts;
-    if let Some(adaptive) = &report.adaptive {
+    if let (Some(adaptive), true) = (&report.adaptive, run.already_finished) {
+        eprintln!(
+            "study {} (adaptive): already finished in {} ({} analyses in {} rounds: {} \
+             overturned, {} failed); replayed its rounds from adaptive-index.csv without solving, \
+             kept its outcomes.csv and redid what follows it; pass --force to run the analyses \
+             again",
+            study.name,
+            out.display(),
+            c.analyses,
+            adaptive.rounds,
+            c.overturned,
+            c.failed
+        );
+    } else if let Some(adaptive) = &report.adaptive {
         eprintln!(
             "study {} (adaptive): {} analyses ({} overturned, {} failed) in {} rounds; {} run in \
              {:.1} s on {} thread{}; wrote {}",

@@ -56,7 +56,9 @@
 
 use crate::detmath as dm;
 use plotters::coord::Shift;
-use plotters::prelude::{DrawingArea, DrawingBackend, PathElement, Polygon, Text};
+use plotters::prelude::{
+    Circle, DrawingArea, DrawingBackend, EmptyElement, PathElement, Polygon, Text,
+};
 use plotters::style::{BLACK, Color, RGBColor};
 
 use super::data::{
@@ -64,7 +66,10 @@ use super::data::{
     same_stripe, stripes,
 };
 use super::figure::{DrawResult, Figure};
-use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
+use super::layout::{
+    self, Dash, Entry, Frame, HOLLOW_FILL, Margins, Marker, Sample, curve, marker_px, marker_style,
+    markers,
+};
 use super::style::{COLUMN_WIDTH_IN, PAGE_WIDTH_IN, Style};
 use crate::case::{Case, Field, Param};
 use crate::solver::Friction;
@@ -201,6 +206,19 @@ pub struct FragilityPanel {
     pub median_bars: bool,
 }
 
+/// Ratio of the most to the fewest analyses of the drawn stripes from
+/// which points are drawn with their area proportional to their analyses
+/// (a fixed grid's stripes differ only by a few failed analyses).
+pub const SIZED_STRIPES: usize = 2;
+
+/// Radius (px) of the point of a stripe of `n` analyses when the largest
+/// has `n_max` and a full point is `r` px: area ∝ analyses, never below
+/// 2 px so that the smallest still shows.
+pub fn sized_radius(r: i32, n: usize, n_max: usize) -> i32 {
+    let share = n as f64 / n_max.max(1) as f64;
+    ((r as f64 * share.sqrt()).round() as i32).max(2)
+}
+
 /// The fragility figure's data.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FragilityFigure {
@@ -230,6 +248,11 @@ pub struct FragilityFigure {
     pub limit_states: Vec<String>,
     /// The IM axis's label: the fit's IM ([`StudyData::curve_im`]).
     pub x_label: String,
+    /// The fewest and most analyses of a drawn stripe when they differ by
+    /// [`SIZED_STRIPES`] or more (an adaptive run's stripes hold 5 to
+    /// hundreds): the points' area is then proportional to their analyses,
+    /// so a stripe of 5 does not look like one of 200. `None`: one size.
+    pub sized: Option<(usize, usize)>,
     /// The legend's text of a drawn e (`e ~ U(0.2, 0.6), drawn per
     /// analysis`), when the study draws it.
     pub drawn_restitution: Option<String>,
@@ -413,8 +436,17 @@ impl FragilityFigure {
             "Observed overturning fractions per PGA stripe (no fragility_curves.csv: no fits)"
                 .to_string()
         };
+        let counts = panels
+            .iter()
+            .flat_map(|p| &p.series)
+            .flat_map(|s| s.observed.iter().flatten())
+            .map(|o| o.2)
+            .filter(|&n| n > 0);
+        let (fewest, most) = counts.fold((usize::MAX, 0), |(lo, hi), n| (lo.min(n), hi.max(n)));
+        let sized = (most > 0 && most >= SIZED_STRIPES * fewest).then_some((fewest, most));
         let title = std::iter::once(title)
             .chain(short_of_reach.clauses())
+            .chain(sized.map(|(lo, hi)| format!("point area ∝ analyses ({lo} to {hi})")))
             .collect::<Vec<_>>()
             .join("; ");
         // "drawn per analysis" once, on the first drawn entry of the legend
@@ -438,6 +470,7 @@ impl FragilityFigure {
             as_infinite,
             limit_states,
             x_label: data.curve_im().axis_label(),
+            sized,
         }
     }
 
@@ -894,14 +927,27 @@ impl Figure for FragilityFigure {
                     } else {
                         restitution_colour(s.restitution)
                     };
-                    markers!(
-                        chart,
-                        observed.iter().map(|o| (o.0, o.1)),
-                        colour,
-                        Marker::Circle,
-                        s.friction == 0,
-                        style
-                    );
+                    let filled = s.friction == 0;
+                    if let Some((_, most)) = self.sized {
+                        let r = marker_px(style, filled);
+                        let ms = marker_style(style, colour, filled);
+                        chart.draw_series(observed.iter().map(|o| {
+                            let ri = sized_radius(r, o.2, most);
+                            let under = if filled { ms } else { HOLLOW_FILL };
+                            EmptyElement::at((o.0, o.1))
+                                + Circle::new((0, 0), ri, under)
+                                + Circle::new((0, 0), ri, ms)
+                        }))?;
+                    } else {
+                        markers!(
+                            chart,
+                            observed.iter().map(|o| (o.0, o.1)),
+                            colour,
+                            Marker::Circle,
+                            filled,
+                            style
+                        );
+                    }
                 }
             }
             // which curves hide under the solid ones, at the top left (below
@@ -917,5 +963,19 @@ impl Figure for FragilityFigure {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sized_radius;
+
+    /// Area ∝ analyses: a quarter of the analyses, half the radius; the
+    /// largest stripe keeps the full marker; a tiny stripe stays visible.
+    #[test]
+    fn sized_points_have_area_proportional_to_analyses() {
+        assert_eq!(sized_radius(10, 25, 100), 5);
+        assert_eq!(sized_radius(10, 100, 100), 10);
+        assert_eq!(sized_radius(10, 1, 1000), 2);
     }
 }

@@ -50,17 +50,22 @@ pub const BATCH: usize = 5;
 pub const ROUND_MIN: usize = 20;
 /// Fewest rounds before a case may stop on its band.
 pub const MIN_ROUNDS: usize = 3;
-/// A case stops when its bands are below this share of the targets: the
-/// margin that keeps a stopping rule that looks at the band after every
-/// round from stopping on a band that is narrow by chance (docs/adaptive.md).
-pub const STOP_MARGIN: f64 = 0.95;
-/// A round adds at most 1/`GROWTH_DIVISOR` of a case's analyses so far.
-pub const GROWTH_DIVISOR: usize = 2;
+/// A round adds at most 1/`GROWTH_DIVISOR` of a case's analyses so far:
+/// rounds small enough that a case stops close to its target rather than
+/// well below it, few enough (a look per third more analyses) that
+/// stopping on a band narrow by chance does not make the bands
+/// overconfident (coverage measured in docs/adaptive.md).
+pub const GROWTH_DIVISOR: usize = 3;
 /// Most bootstrap replicates that may fail to fit for a band to count.
 pub const MAX_UNFIT_SHARE: f64 = 0.02;
 
 /// The file of per-case results an adaptive run writes beside `outcomes.csv`.
 pub const ADAPTIVE_CSV: &str = "adaptive.csv";
+/// Which lattice level, record and case each row of a finished adaptive
+/// run's `outcomes.csv` is (`level,record,case`, 0-based, in the rows'
+/// order): what lets the same command on a finished folder replay its
+/// rounds without solving them again.
+pub const ADAPTIVE_INDEX: &str = "adaptive-index.csv";
 /// The checkpoint of an adaptive run under way.
 pub const ADAPTIVE_CHECKPOINT: &str = "adaptive-checkpoint.json";
 
@@ -159,6 +164,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
     let started = manifest::now_unix();
     // rows of an earlier invocation of the same analyses: replayed, not solved
     let mut done: BTreeMap<(usize, usize, usize), String> = BTreeMap::new();
+    let mut reused = false;
     match read_checkpoint::<Checkpoint>(&ckpt_path)? {
         Some(old) if old.analyses_hash == manifest.analyses_hash => {
             done.extend(old.rows.into_iter().map(|(l, r, c, t)| ((l, r, c), t)));
@@ -173,15 +179,28 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
                 ),
             });
         }
-        None => {
-            if let manifest::Finished::No = manifest::check_finished(dir, &manifest, opts.force)? {
+        None => match manifest::check_finished(dir, &manifest, opts.force)? {
+            // the same analyses by this build, finished: its rows are
+            // replayed through the same rounds, nothing is solved again
+            manifest::Finished::Same(_) => match read_index(dir)? {
+                Some(rows) => {
+                    done = rows;
+                    reused = true;
+                }
+                None => {
+                    manifest::clear_previous(dir)?;
+                }
+            },
+            manifest::Finished::No => {
                 manifest::clear_previous(dir)?;
             }
-        }
+        },
     }
-    let resumed = done.len();
+    let resumed = if reused { 0 } else { done.len() };
     // what the run reports, stopped between rounds or complete
     let run_report = |complete: bool, counts: super::Counts, analyses_run: u64| RunReport {
+        // a finished folder replayed without solving anything
+        already_finished: reused && analyses_run == 0,
         out_dir: dir.clone(),
         complete,
         counts,
@@ -189,7 +208,6 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         analyses_run,
         wall_seconds: t0.elapsed().as_secs_f64(),
         threads,
-        already_finished: false,
         tally: None,
     };
     let cols = plan::columns(study);
@@ -243,16 +261,18 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
             }
         }
         write_rows(&partial, &cols, &rows)?;
-        write_checkpoint(
-            &ckpt_path,
-            &Checkpoint {
-                analyses_hash: manifest.analyses_hash.clone(),
-                rows: rows
-                    .iter()
-                    .map(|(&(l, r, c), t)| (l, r, c, t.clone()))
-                    .collect(),
-            },
-        )?;
+        if !reused || analyses_run > 0 {
+            write_checkpoint(
+                &ckpt_path,
+                &Checkpoint {
+                    analyses_hash: manifest.analyses_hash.clone(),
+                    rows: rows
+                        .iter()
+                        .map(|(&(l, r, c), t)| (l, r, c, t.clone()))
+                        .collect(),
+                },
+            )?;
+        }
         let fits = pool.install(|| fit_running(&partial, &options, &cases, &state))?;
         next = state
             .iter_mut()
@@ -282,6 +302,23 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
     };
     write_adaptive_csv(&dir.join(ADAPTIVE_CSV), &report)?;
     let counts = count(&partial)?;
+    if reused && analyses_run == 0 && done.is_empty() {
+        // the replay wrote the same rows: the folder's outcomes.csv and
+        // manifest stay as they were
+        std::fs::remove_file(&partial).map_err(Error::io(&partial))?;
+        return Ok((run_report(true, counts, 0), Some(report)));
+    }
+    // otherwise (the replay left the finished rows: outcomes.csv was
+    // edited by hand since) the folder gets this run's rows
+    let index = dir.join(ADAPTIVE_INDEX);
+    crate::io_util::write_atomic(&index, |w| {
+        w.write_all(b"level,record,case\n")?;
+        for (l, r, c) in rows.keys() {
+            writeln!(w, "{l},{r},{c}")?;
+        }
+        Ok(())
+    })
+    .map_err(Error::io(&index))?;
     manifest.threads = threads;
     manifest.set_times(started, manifest::now_unix());
     manifest.analyses_run = analyses_run;
@@ -297,7 +334,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         }
         _ => {}
     }
-    manifest::record_outputs(dir, &[&dir.join(ADAPTIVE_CSV)])?;
+    manifest::record_outputs(dir, &[&dir.join(ADAPTIVE_CSV), &index])?;
     Ok((run_report(true, counts, analyses_run), Some(report)))
 }
 
@@ -461,8 +498,8 @@ fn decide(
     let z = dm::norm_inv_cdf(0.5 + 0.5 * options.confidence);
     let target = adaptive.precision;
     let ratio = |b: &Band| {
-        let m = b.median_half() / (target.median * STOP_MARGIN);
-        let t = b.beta_half() / (target.beta * STOP_MARGIN);
+        let m = b.median_half() / target.median;
+        let t = b.beta_half() / target.beta;
         m.max(t)
     };
     let met = |b: &Option<Band>| {
@@ -479,7 +516,7 @@ fn decide(
         return none;
     }
     // how much more: the band narrows as 1/√n, so (ratio² − 1)·n more,
-    // at least ROUND_MIN, at most half as many again (the band estimate is
+    // at least ROUND_MIN, at most a third as many again (the band estimate is
     // noisy: a smaller step overshoots less)
     let worst = s
         .bands
@@ -498,7 +535,7 @@ fn decide(
         .zip(&s.bands)
         .filter_map(|(f, (_, b))| {
             let fit = f.fit.as_ref().ok()?;
-            let unmet = |half: f64, t: f64| half > t * STOP_MARGIN;
+            let unmet = |half: f64, t: f64| half > t;
             let (m, bt) = match b {
                 Some(b) => (
                     unmet(b.median_half(), target.median),
@@ -513,8 +550,8 @@ fn decide(
             Some(Design {
                 a: fit.a,
                 b: fit.b,
-                se_ln_median: m.then_some(target.median * STOP_MARGIN / z),
-                se_beta: (bt || separated).then_some(target.beta * STOP_MARGIN / z),
+                se_ln_median: m.then_some(target.median / z),
+                se_beta: (bt || separated).then_some(target.beta / z),
             })
         })
         .collect();
@@ -619,6 +656,33 @@ pub fn progress_line(round: usize, s: &CaseState, adaptive: &Adaptive) -> String
     )
 }
 
+/// Rows of `outcomes.csv` by (level, record, case).
+type Rows = BTreeMap<(usize, usize, usize), String>;
+
+/// The rows of the finished run in `dir`, keyed by (level, record, case)
+/// from its [`ADAPTIVE_INDEX`]; `None` when the folder has no index (a
+/// run of an older build) or the index does not match `outcomes.csv` row
+/// for row, so that the run starts over instead of trusting either.
+fn read_index(dir: &Path) -> Result<Option<Rows>> {
+    let (index, outcomes) = (dir.join(ADAPTIVE_INDEX), dir.join(files::OUTCOMES));
+    let Ok(keys) = std::fs::read_to_string(&index) else {
+        return Ok(None);
+    };
+    let text = std::fs::read_to_string(&outcomes).map_err(Error::io(&outcomes))?;
+    let mut rows = text.split_inclusive('\n').skip(1);
+    let mut out = BTreeMap::new();
+    for line in keys.lines().skip(1) {
+        let key: Vec<usize> = line.split(',').filter_map(|v| v.parse().ok()).collect();
+        let (&[l, r, c], Some(row)) = (key.as_slice(), rows.next()) else {
+            return Ok(None);
+        };
+        if out.insert((l, r, c), row.to_string()).is_some() {
+            return Ok(None);
+        }
+    }
+    Ok(rows.next().is_none().then_some(out))
+}
+
 /// `outcomes.csv`'s text of `rows` (header first), written atomically.
 fn write_rows(
     path: &Path,
@@ -721,8 +785,8 @@ pub fn summary_section(report: &AdaptiveReport) -> String {
     let unit = report.adaptive.im.unit();
     let mut s = format!(
         "## Precision\n\nAn adaptive run over {} {} to {} {}: {} rounds; each case stops when \
-         the 90 % bands of its medians (relative half-width) and of β (absolute) are below {} \
-         % of ±{} % and ±{}, after at least {MIN_ROUNDS} rounds and {MIN_ANALYSES} analyses, or \
+         the 90 % bands of its medians (relative half-width) and of β (absolute) are within ±{} \
+         % and ±{}, after at least {MIN_ROUNDS} rounds and {MIN_ANALYSES} analyses, or \
          at {} analyses (docs/adaptive.md).\n\n\
          | case | limit state | status | analyses | median, {unit} | band, {unit} | ± median | target | β | \
          ± β | target |\n|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|\n",
@@ -731,7 +795,6 @@ pub fn summary_section(report: &AdaptiveReport) -> String {
         report.adaptive.range.max,
         report.adaptive.im.unit(),
         report.rounds,
-        (STOP_MARGIN * 100.0).round(),
         t.median * 100.0,
         t.beta,
         report.adaptive.max_analyses

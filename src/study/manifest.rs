@@ -211,8 +211,9 @@ pub fn check_finished(dir: &Path, this: &Manifest, force: bool) -> Result<Finish
             }) {
                 diff.push(format!(
                     "study '{}' from {} (spec hash {}), whose analyses differ from this spec's \
-                     (a field other than name, description, [fragility], output.summary or \
-                     output.figures changed)",
+                     (a field other than name, description, output.summary, output.figures \
+                     and, for a fixed grid, [fragility] changed; an adaptive study's \
+                     [fragility] decides its analyses)",
                     old.study, old.spec_file, old.spec_hash
                 ));
             }
