@@ -465,9 +465,13 @@ impl<'a> Run<'a> {
                     s[3] = over;
                 }
                 (Touch::Open, _) => {
+                    // max(gap, normal velocity): the gap's sign while the
+                    // corner is above its face; a corner left below it
+                    // (within the contact tolerance, by a step's error)
+                    // but rising strikes where it stops rising, not at once
                     for (i, side) in [-1.0, 1.0].into_iter().enumerate() {
                         let d = corner_rel(&rel, sp, cp, sc.b[k], sc.h[k], side);
-                        s[i] = (d[1] / sc.h[k], Ev::Strike(k));
+                        s[i] = ((d[1] / sc.h[k]).max(d[3] / vs), Ev::Strike(k));
                     }
                     s[3] = over;
                 }
@@ -644,7 +648,16 @@ impl<'a> Run<'a> {
     fn handle(&mut self, ev: Ev, seg: &Segment) {
         match ev {
             Ev::None => {}
-            Ev::Overturn(k) => self.overturn(k),
+            Ev::Overturn(k) => {
+                self.overturn(k);
+                // the bodies below lose the forces of those that left: their
+                // state is chosen again (a pedestal at rest under 1 g whose
+                // statue fell must slide or rock at once; its flat state,
+                // kept, failed at the next event's exclusion)
+                if k > 0 {
+                    self.transition(seg, Exclude::None);
+                }
+            }
             Ev::HoldEnd(k) => self.modes.ifs[k].hold = false,
             Ev::Strike(k) => {
                 // a rock impact happens at φ = 0 exactly (both corners down)
