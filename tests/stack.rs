@@ -96,8 +96,9 @@ fn statue_on_pedestal_runs_to_the_end_or_says_why() {
 ///   with a corner 3.5e-8 m below the pedestal's face but rising struck at
 ///   once, again and again ("no contact state … is consistent … after
 ///   Open(1)");
-/// - μs 0.6 / μk 0.5, e = 0.6, record 15 at 1.0 g: the statue overturned
-///   and the pedestal, left flat under 1 g, kept its state ("… after
+/// - μs 0.6 / μk 0.5, e = 0.6, record 15 at 1.0 g: failed as the second
+///   ("… after Open(1)"), then, with that fixed, the statue overturned and
+///   the pedestal, left flat under 1 g, kept its state ("… after
 ///   Flat(0)").
 #[test]
 fn statue_analyses_that_failed_run_to_their_end() {
