@@ -300,7 +300,10 @@ impl<'a> Run<'a> {
     fn rest_interval(&mut self, seg: &Segment, t_end: f64) -> Option<(f64, Ev)> {
         let y = self.y;
         let t0 = self.t;
-        let found = self.scan(seg, t0, t_end, |_| y, |i, _| y[i]);
+        // at rest every event function is affine in (ẍg, ÿg), so linear in
+        // t over the sample (the cone's μs N − |T| concave): positive at
+        // both ends, positive between them; the ends suffice
+        let found = self.scan(seg, t0, t_end, 1, |_| y, |i, _| y[i]);
         let t1 = found.map_or(t_end, |f| f.0);
         self.time_in_modes(t1 - t0);
         if found.is_none() {
@@ -335,7 +338,7 @@ impl<'a> Run<'a> {
                 Ok(Some(step)) => {
                     let (t0, t1) = (step.t0, step.t0 + step.h);
                     let found =
-                        self.scan(seg, t0, t1, |t| step.at(t), |i, t| step.component_at(i, t));
+                        self.scan(seg, t0, t1, SUB, |t| step.at(t), |i, t| step.component_at(i, t));
                     self.peaks_in_step(
                         &|t| step.at(t),
                         &|i, t| step.component_at(i, t),
@@ -503,24 +506,26 @@ impl<'a> Run<'a> {
         }))
     }
 
-    /// The first event over [t0, t1] with the state at time t given by `at`
-    /// (one component by `comp`).
+    /// The first event over [t0, t1], scanned at `sub` equal intervals,
+    /// with the state at time t given by `at` (one component by `comp`).
+    #[allow(clippy::too_many_arguments)]
     fn scan(
         &self,
         seg: &Segment,
         t0: f64,
         t1: f64,
+        sub: usize,
         at: impl Fn(f64) -> [f64; NY],
         comp: impl Fn(usize, f64) -> f64,
     ) -> Option<(f64, Ev)> {
         let mut pv = self.values(seg, t0, &at(t0));
         let mut pt = t0;
         let xtol = 1e-13 * t1.max(1.0);
-        for j in 1..=SUB {
-            let tj = if j == SUB {
+        for j in 1..=sub {
+            let tj = if j == sub {
                 t1
             } else {
-                t0 + (t1 - t0) * j as f64 / SUB as f64
+                t0 + (t1 - t0) * j as f64 / sub as f64
             };
             let v = self.values(seg, tj, &at(tj));
             let mut best: Option<(f64, Ev)> = None;
