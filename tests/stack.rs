@@ -132,7 +132,10 @@ fn statue_analyses_that_failed_run_to_their_end() {
         for (k, b) in o.bodies.iter().enumerate() {
             let end = b.overturn_time.unwrap_or(o.end_time);
             let total: f64 = b.time_in_mode.iter().sum();
-            assert!((total - end).abs() < 1e-9, "{case} body {k}: {total} vs {end}");
+            assert!(
+                (total - end).abs() < 1e-9,
+                "{case} body {k}: {total} vs {end}"
+            );
         }
         println!(
             "{case}: impacts {}, statue θmax/θc {:.4}, overturned {}",

@@ -337,8 +337,14 @@ impl<'a> Run<'a> {
             match st.step(&mut f) {
                 Ok(Some(step)) => {
                     let (t0, t1) = (step.t0, step.t0 + step.h);
-                    let found =
-                        self.scan(seg, t0, t1, SUB, |t| step.at(t), |i, t| step.component_at(i, t));
+                    let found = self.scan(
+                        seg,
+                        t0,
+                        t1,
+                        SUB,
+                        |t| step.at(t),
+                        |i, t| step.component_at(i, t),
+                    );
                     self.peaks_in_step(
                         &|t| step.at(t),
                         &|i, t| step.component_at(i, t),

@@ -719,11 +719,16 @@ mod tests {
             let no_gain = law == ImpactLaw::Energetic || plastic;
             if no_gain && imp.dk > 1e-12 * imp.k_before {
                 gains += 1;
-                println!("gain {:e} of {:e}: {law:?} {:?}", imp.dk, imp.k_before, imp.how);
+                println!(
+                    "gain {:e} of {:e}: {law:?} {:?}",
+                    imp.dk, imp.k_before, imp.how
+                );
             }
-            let scale = imp.v.iter().chain(&velocities(&bodies, n)).fold(0.0_f64, |m, x| {
-                m.max(x.abs())
-            });
+            let scale = imp
+                .v
+                .iter()
+                .chain(&velocities(&bodies, n))
+                .fold(0.0_f64, |m, x| m.max(x.abs()));
             if law == ImpactLaw::Newton && imp.how != Resolution::Coulomb {
                 for c in &cs[..nc] {
                     let un = dotv(&c.jn, &imp.v);
@@ -735,7 +740,10 @@ mod tests {
             }
         }
         println!("resolutions (stick, Stronge, Coulomb): {runs:?}");
-        assert!(runs.iter().all(|&r| r > 100), "every resolution exercised: {runs:?}");
+        assert!(
+            runs.iter().all(|&r| r > 100),
+            "every resolution exercised: {runs:?}"
+        );
         assert_eq!(gains, 0, "impacts that gained energy");
         assert_eq!(approaching, 0, "corners left approaching");
     }
