@@ -300,7 +300,10 @@ impl<'a> Run<'a> {
     fn rest_interval(&mut self, seg: &Segment, t_end: f64) -> Option<(f64, Ev)> {
         let y = self.y;
         let t0 = self.t;
-        let found = self.scan(seg, t0, t_end, |_| y);
+        // at rest every event function is affine in (ẍg, ÿg), so linear in
+        // t over the sample (the cone's μs N − |T| concave): positive at
+        // both ends, positive between them; the ends suffice
+        let found = self.scan(seg, t0, t_end, 1, |_| y, |i, _| y[i]);
         let t1 = found.map_or(t_end, |f| f.0);
         self.time_in_modes(t1 - t0);
         if found.is_none() {
@@ -334,7 +337,14 @@ impl<'a> Run<'a> {
             match st.step(&mut f) {
                 Ok(Some(step)) => {
                     let (t0, t1) = (step.t0, step.t0 + step.h);
-                    let found = self.scan(seg, t0, t1, |t| step.at(t));
+                    let found = self.scan(
+                        seg,
+                        t0,
+                        t1,
+                        SUB,
+                        |t| step.at(t),
+                        |i, t| step.component_at(i, t),
+                    );
                     self.peaks_in_step(
                         &|t| step.at(t),
                         &|i, t| step.component_at(i, t),
@@ -465,9 +475,13 @@ impl<'a> Run<'a> {
                     s[3] = over;
                 }
                 (Touch::Open, _) => {
+                    // max(gap, normal velocity): the gap's sign while the
+                    // corner is above its face; a corner left below it
+                    // (within the contact tolerance, by a step's error)
+                    // but rising strikes where it stops rising, not at once
                     for (i, side) in [-1.0, 1.0].into_iter().enumerate() {
                         let d = corner_rel(&rel, sp, cp, sc.b[k], sc.h[k], side);
-                        s[i] = (d[1] / sc.h[k], Ev::Strike(k));
+                        s[i] = ((d[1] / sc.h[k]).max(d[3] / vs), Ev::Strike(k));
                     }
                     s[3] = over;
                 }
@@ -476,22 +490,48 @@ impl<'a> Run<'a> {
         v
     }
 
-    /// The first event over [t0, t1] with the state at time t given by `at`.
+    /// Event slot `i` when it is a function of one coordinate alone (a
+    /// rocking body's other corner striking, −cφ/θc, or a body overturning,
+    /// (π/2 − |φ|)/θc): that coordinate's index in the state and the
+    /// function, which give [`Run::values`]'s value bit for bit from one
+    /// component of the dense output instead of the whole chain and its
+    /// forces (the event search's refinement, most of its cost).
+    fn kinematic_slot(&self, i: usize) -> Option<(usize, impl Fn(f64) -> f64)> {
+        let (k, s) = (i / SLOTS, i % SLOTS);
+        let theta_c = self.sc.theta_c[k];
+        let j0 = self.modes.start(k);
+        let (j, strike) = match (self.modes.ifs[k].touch, s) {
+            (Touch::Corner(c), 0) => (j0, Some(c)),
+            (Touch::Corner(_), 3) => (j0, None),
+            (Touch::Open, 3) => (j0 + 2, None),
+            _ => return None,
+        };
+        Some((j, move |phi: f64| match strike {
+            Some(c) => -c * phi / theta_c,
+            None => (FRAC_PI_2 - phi.abs()) / theta_c,
+        }))
+    }
+
+    /// The first event over [t0, t1], scanned at `sub` equal intervals,
+    /// with the state at time t given by `at` (one component by `comp`).
+    #[allow(clippy::too_many_arguments)]
     fn scan(
         &self,
         seg: &Segment,
         t0: f64,
         t1: f64,
+        sub: usize,
         at: impl Fn(f64) -> [f64; NY],
+        comp: impl Fn(usize, f64) -> f64,
     ) -> Option<(f64, Ev)> {
         let mut pv = self.values(seg, t0, &at(t0));
         let mut pt = t0;
         let xtol = 1e-13 * t1.max(1.0);
-        for j in 1..=SUB {
-            let tj = if j == SUB {
+        for j in 1..=sub {
+            let tj = if j == sub {
                 t1
             } else {
-                t0 + (t1 - t0) * j as f64 / SUB as f64
+                t0 + (t1 - t0) * j as f64 / sub as f64
             };
             let v = self.values(seg, tj, &at(tj));
             let mut best: Option<(f64, Ev)> = None;
@@ -501,7 +541,11 @@ impl<'a> Run<'a> {
                 if kind == Ev::None {
                     continue;
                 }
-                let g = |t: f64| self.values(seg, t, &at(t))[i].0;
+                let kin = self.kinematic_slot(i);
+                let g = |t: f64| match &kin {
+                    Some((j, f)) => f(comp(*j, t)),
+                    None => self.values(seg, t, &at(t))[i].0,
+                };
                 let te = if a > 0.0 && b <= 0.0 {
                     Some(brent(g, pt, tj, a, b, xtol))
                 } else if j == 1 && a <= 0.0 && b <= 0.0 {
@@ -644,7 +688,16 @@ impl<'a> Run<'a> {
     fn handle(&mut self, ev: Ev, seg: &Segment) {
         match ev {
             Ev::None => {}
-            Ev::Overturn(k) => self.overturn(k),
+            Ev::Overturn(k) => {
+                self.overturn(k);
+                // the bodies below lose the forces of those that left: their
+                // state is chosen again (a pedestal at rest under 1 g whose
+                // statue fell must slide or rock at once; its flat state,
+                // kept, failed at the next event's exclusion)
+                if k > 0 {
+                    self.transition(seg, Exclude::None);
+                }
+            }
             Ev::HoldEnd(k) => self.modes.ifs[k].hold = false,
             Ev::Strike(k) => {
                 // a rock impact happens at φ = 0 exactly (both corners down)
