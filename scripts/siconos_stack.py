@@ -3,8 +3,8 @@
 
 Runs under the SYSTEM python, which has Debian's python3-siconos (4.4):
 
-    /usr/bin/python3 scripts/siconos_stack.py            # the whole comparison (~15 min)
-    /usr/bin/python3 scripts/siconos_stack.py --quick    # free rocking only (~1 min)
+    /usr/bin/python3 scripts/siconos_stack.py            # the whole comparison (~1 h on 2 shared cores)
+    /usr/bin/python3 scripts/siconos_stack.py --quick    # free rocking only (~8 min)
 
 Siconos model (independent of rockfrag's equations): two rigid rectangles in
 2-D, each a LagrangianLinearTIDS with q = (x, y, θ) of its centre in the
