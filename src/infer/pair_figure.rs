@@ -8,7 +8,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::{
     BindKeyPoints, ChartBuilder, DrawingArea, DrawingBackend, IntoLogRange, LineSeries,
-    Rectangle,
+    PathElement, Polygon,
 };
 use plotters::style::{BLACK, Color, RGBColor};
 
@@ -20,7 +20,7 @@ use crate::figures::style::{LINE_PT, PALETTE, Style, tick_label};
 use crate::figures::{DrawResult, Figure};
 
 /// Figure size (in).
-const SIZE_IN: (f64, f64) = (5.0, 4.6);
+const SIZE_IN: (f64, f64) = (5.5, 4.8);
 /// Panel margins (pt).
 const MARGINS: Margins = Margins::new(30.0, 8.0);
 /// Share of the body the marginals take (above and beside).
@@ -49,7 +49,12 @@ pub struct PairFigure {
     median: (f64, f64),
     /// The records' 5 % and 95 % IM2/IM1.
     rays: (f64, f64),
+    /// The axes' ranges: the 99.5 % region's, widened.
+    range: ((f64, f64), (f64, f64)),
 }
+
+/// The credible level whose region sets the axes.
+const SHOWN: f64 = 0.995;
 
 impl PairFigure {
     /// The figure of `pair` (of the inference `inf`).
@@ -74,7 +79,24 @@ impl PairFigure {
                 im.unit()
             )
         };
+        let ny = pair.y.len();
+        let shown: Vec<usize> = (0..pair.density.len())
+            .filter(|&q| pair.credible[q] <= SHOWN)
+            .collect();
+        let span = |v: &mut dyn Iterator<Item = f64>, all: &[f64]| {
+            let (lo, hi) = v.fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t), b.max(t)));
+            if lo.is_finite() && hi > lo {
+                ((lo / 1.3).max(all[0]), (hi * 1.3).min(all[all.len() - 1]))
+            } else {
+                (all[0], all[all.len() - 1])
+            }
+        };
+        let range = (
+            span(&mut shown.iter().map(|&q| pair.x[q / ny]), &pair.x),
+            span(&mut shown.iter().map(|&q| pair.y[q % ny]), &pair.y),
+        );
         PairFigure {
+            range,
             title: format!(
                 "Joint posterior: {}, {}",
                 show(&pair.first, i1),
@@ -95,36 +117,47 @@ impl PairFigure {
         }
     }
 
-    /// The contour of the density at `level`: segments in (IM1, IM2), by
-    /// marching squares in (ln IM1, ln IM2) (an ambiguous cell joins its
-    /// crossings in a fixed order).
-    fn contour(&self, level: f64) -> Vec<[(f64, f64); 2]> {
+    /// The contour of the density at `level` by marching squares in
+    /// (ln IM1, ln IM2): its segments in (IM1, IM2) (an ambiguous cell joins
+    /// its crossings in a fixed order), and the region at or above it as
+    /// one polygon per cell (the cell's corners at or above the level and
+    /// the crossings of its edges, in order).
+    fn contour(&self, level: f64) -> (Vec<[(f64, f64); 2]>, Vec<Vec<(f64, f64)>>) {
         let ny = self.y.len();
         let d = |i: usize, k: usize| self.density[i * ny + k];
         let lx: Vec<f64> = self.x.iter().map(|&v| dm::ln(v)).collect();
         let ly: Vec<f64> = self.y.iter().map(|&v| dm::ln(v)).collect();
         let mut out = Vec::new();
+        let mut fill = Vec::new();
         for i in 0..self.x.len() - 1 {
             for k in 0..ny - 1 {
                 // corners counter-clockwise: (i,k), (i+1,k), (i+1,k+1), (i,k+1)
                 let c = [(i, k), (i + 1, k), (i + 1, k + 1), (i, k + 1)];
                 let mut cross = Vec::with_capacity(4);
+                let mut poly = Vec::with_capacity(8);
                 for e in 0..4 {
                     let (a, b) = (c[e], c[(e + 1) % 4]);
                     let (va, vb) = (d(a.0, a.1), d(b.0, b.1));
+                    if va >= level {
+                        poly.push((self.x[a.0], self.y[a.1]));
+                    }
                     if (va >= level) != (vb >= level) {
                         let t = (level - va) / (vb - va);
                         let px = lx[a.0] + t * (lx[b.0] - lx[a.0]);
                         let py = ly[a.1] + t * (ly[b.1] - ly[a.1]);
                         cross.push((dm::exp(px), dm::exp(py)));
+                        poly.push((dm::exp(px), dm::exp(py)));
                     }
                 }
                 for pair in cross.chunks_exact(2) {
                     out.push([pair[0], pair[1]]);
                 }
+                if poly.len() >= 3 {
+                    fill.push(poly);
+                }
             }
         }
-        out
+        (out, fill)
     }
 }
 
@@ -160,8 +193,7 @@ impl Figure for PairFigure {
         let (top, rest) = body.split_vertically(top_h);
         let (main, side) = rest.split_horizontally(w - side_w);
         let (top_main, _) = top.split_horizontally(w - side_w);
-        let (xl, xh) = (self.x[0], self.x[self.x.len() - 1]);
-        let (yl, yh) = (self.y[0], self.y[self.y.len() - 1]);
+        let ((xl, xh), (yl, yh)) = self.range;
         let (xa, ya) = (LogAxis::new(xl, xh), LogAxis::new(yl, yh));
         let thin = style.ipx(LINE_PT);
 
@@ -175,38 +207,24 @@ impl Figure for PairFigure {
             .x_label_formatter(&|v| xa.label(*v))
             .y_label_formatter(&|v| ya.label(*v))
             .draw()?;
-        let ny = self.y.len();
-        // Cells shaded by the region their mean density falls in.
-        let mut cells = Vec::new();
-        for i in 0..self.x.len() - 1 {
-            for k in 0..ny - 1 {
-                let d = 0.25
-                    * (self.density[i * ny + k]
-                        + self.density[(i + 1) * ny + k]
-                        + self.density[i * ny + k + 1]
-                        + self.density[(i + 1) * ny + k + 1]);
-                let shade = if d >= self.thresholds[0] {
-                    0.35
-                } else if d >= self.thresholds[1] {
-                    0.78
-                } else {
-                    continue;
-                };
-                cells.push(Rectangle::new(
-                    [(self.x[i], self.y[k]), (self.x[i + 1], self.y[k + 1])],
-                    layout::tint(REGION, shade).filled(),
-                ));
-            }
-        }
-        chart.draw_series(cells)?;
-        for (&level, dash) in self.thresholds.iter().zip([Dash::Solid, Dash::Solid]) {
+        // The regions, 90 % then 50 % over it, filled cell by cell and
+        // outlined.
+        for (&level, shade) in self.thresholds.iter().zip([0.35, 0.78]).rev() {
             if !level.is_finite() {
                 continue;
             }
+            let (segments, fill) = self.contour(level);
+            let colour = layout::tint(REGION, shade);
+            chart.draw_series(
+                fill.into_iter()
+                    .map(|p| Polygon::new(p, colour.filled())),
+            )?;
             let stroke = REGION.stroke_width(thin);
-            for seg in self.contour(level) {
-                curve!(chart, seg.to_vec(), stroke, dash, style);
-            }
+            chart.draw_series(
+                segments
+                    .into_iter()
+                    .map(|s| PathElement::new(s.to_vec(), stroke)),
+            )?;
         }
         for ratio in [self.rays.0, self.rays.1] {
             let pts: Vec<(f64, f64)> = (0..=100)
@@ -226,6 +244,7 @@ impl Figure for PairFigure {
             .iter()
             .copied()
             .zip(self.marginal_first.iter().copied())
+            .filter(|p| p.0 >= xl && p.0 <= xh)
             .collect();
         let top1 = per_ln1.iter().map(|p| p.1).fold(0.0, f64::max) * 1.08;
         let mut chart = frame.chart(&top_main, false).build_cartesian_2d(
@@ -247,6 +266,7 @@ impl Figure for PairFigure {
             .iter()
             .copied()
             .zip(self.y.iter().copied())
+            .filter(|p| p.1 >= yl && p.1 <= yh)
             .collect();
         let top2 = per_ln2.iter().map(|p| p.0).fold(0.0, f64::max) * 1.08;
         let mut builder = ChartBuilder::on(&side);

@@ -119,18 +119,19 @@ fn inputs_hash(
 pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferReport> {
     let t0 = Instant::now();
     let dir = &opts.out_dir;
+    let im = opts.im.or(simulate::im_of_levels(study)).unwrap_or(Im::PGA);
+    let im = simulate::inferable(im).map_err(|e| Error::invalid("--im", im, &e))?;
+    let exact = simulate::im_of_levels(study) == Some(im);
+    // A pair is checked before the folder is made: a refusal writes nothing.
+    let ims = match opts.second {
+        None => None,
+        Some(second) => Some(pair_of(study, opts.im, im, second)?),
+    };
     crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
     let settings = settings(study);
     let models = survey::models(survey, study, &settings, &opts.spec_file)?;
     let slide = survey::slide_rule(survey, study, &settings, &opts.spec_file)?;
-    let im = opts.im.or(simulate::im_of_levels(study)).unwrap_or(Im::PGA);
-    let im = simulate::inferable(im).map_err(|e| Error::invalid("--im", im, &e))?;
-    let exact = simulate::im_of_levels(study) == Some(im);
-    let ims = match opts.second {
-        None => None,
-        Some(second) => Some(pair_of(study, opts.im, im, second)?),
-    };
     let prior = opts.prior.load(im)?;
     let (pool, threads) = crate::threads::pool(opts.threads)?;
     let hash = inputs_hash(study, &models, slide.as_ref(), im)?;
