@@ -24,8 +24,9 @@
 //! **Density.** The posterior is a set of point masses, R per grid point of
 //! IM1 (on a line of slope 1 in the log–log plane per record). For the
 //! density, its credible regions and its figure each mass is spread over
-//! ln IM2 by a Gaussian of width h = 1.06 σ R^(−1/5) (Silverman's rule on
-//! the records' ln IM2/IM1, σ their standard deviation), normalised on the
+//! ln IM2 by a Gaussian of width h = 1.06 σ N^(−1/5) (Silverman's rule on
+//! the records' ln IM2/IM1, σ their standard deviation, N the effective
+//! number of records the posterior rests on, (Σ w_r)²/Σ w_r²), normalised on the
 //! IM2 nodes so that summing the density over IM2 (trapezoid rule) gives
 //! the one-IM posterior of IM1 at every grid point to rounding. The
 //! credible regions are highest-density regions in (ln IM1, ln IM2); the
@@ -416,7 +417,18 @@ impl PairPosterior {
                 ),
             ));
         }
-        let h = 1.06 * sigma * dm::powf(n as f64, -0.2);
+        // Silverman's rule on the records' ln IM2/IM1 with the number of
+        // records the posterior rests on: a posterior carried by a few
+        // records knows the site's IM2/IM1 only to about the ensemble's
+        // spread, not to those records' values.
+        let total: f64 = shares.iter().sum();
+        let squares: f64 = shares.iter().map(|s| s * s).sum();
+        let n_eff = if squares > 0.0 {
+            (total * total / squares).clamp(1.0, n as f64)
+        } else {
+            n as f64
+        };
+        let h = 1.06 * sigma * dm::powf(n_eff, -0.2);
         // IM2 nodes over the points that carry mass, ±5 h.
         let top = pts.density.iter().copied().fold(0.0, f64::max);
         let carried = |p: usize| pts.density[p] > 1e-9 * top;
