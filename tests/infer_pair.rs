@@ -104,8 +104,7 @@ fn the_joint_marginal_over_the_first_im_is_the_one_im_posterior() {
         let mut integral = 0.0;
         for k in 1..ny {
             let f = |r: &[f64; 4]| r[2] * r[0] * r[1];
-            integral +=
-                0.5 * (f(&row[k - 1]) + f(&row[k])) * (row[k][1].ln() - row[k - 1][1].ln());
+            integral += 0.5 * (f(&row[k - 1]) + f(&row[k])) * (row[k][1].ln() - row[k - 1][1].ln());
         }
         assert!(
             (integral - want[i]).abs() <= 1e-9 * peak,
@@ -119,13 +118,19 @@ fn the_joint_marginal_over_the_first_im_is_the_one_im_posterior() {
     for f in ["posterior.csv", "simulations.csv"] {
         assert_eq!(read(one.join(f)), read(two.join(f)), "{f}");
     }
-    let mut j2: serde_json::Value = serde_json::from_slice(&read(two.join("inference.json"))).unwrap();
+    let mut j2: serde_json::Value =
+        serde_json::from_slice(&read(two.join("inference.json"))).unwrap();
     let j1: serde_json::Value = serde_json::from_slice(&read(one.join("inference.json"))).unwrap();
     let two_im = j2.as_object_mut().unwrap().remove("two_im").unwrap();
     assert_eq!(j1, j2);
     assert_eq!(two_im["im1"], "pga");
     assert_eq!(two_im["im2"], "pgv");
-    assert!(two_im["im2_prior"].as_str().unwrap().contains("cannot leave it"));
+    assert!(
+        two_im["im2_prior"]
+            .as_str()
+            .unwrap()
+            .contains("cannot leave it")
+    );
     let summary = String::from_utf8(read(two.join("summary.md"))).unwrap();
     assert!(summary.contains("### Two IMs: PGA and PGV"), "{summary}");
 
@@ -190,9 +195,17 @@ seating = 0.3
         covered(c.second_coverage),
         covered(Some(c.joint_coverage)),
     );
-    eprintln!("calibration: joint region {pair}/100, PGV interval {pgv}/100, PGA interval {pga}/100");
-    assert!((81..=97).contains(&pair), "the joint region holds {pair} of 100");
-    assert!((81..=97).contains(&pgv), "the PGV interval holds {pgv} of 100");
+    eprintln!(
+        "calibration: joint region {pair}/100, PGV interval {pgv}/100, PGA interval {pga}/100"
+    );
+    assert!(
+        (81..=97).contains(&pair),
+        "the joint region holds {pair} of 100"
+    );
+    assert!(
+        (81..=97).contains(&pgv),
+        "the PGV interval holds {pgv} of 100"
+    );
     assert!(c.events.iter().all(|e| e.credible.is_some()));
 }
 
@@ -235,7 +248,10 @@ fn pairs_infer_cannot_give_are_refused() {
         let o = infer(im, &spec_path);
         let e = stderr(&o);
         assert!(!o.status.success(), "{im}: {e}");
-        assert!(e.contains("--im") && e.contains(im) && e.contains(says), "{im}: {e}");
+        assert!(
+            e.contains("--im") && e.contains(im) && e.contains(says),
+            "{im}: {e}"
+        );
         assert!(!out.exists(), "{im}");
     }
     // One record: every record has the same PGV/PGA.
@@ -256,7 +272,10 @@ fn pairs_infer_cannot_give_are_refused() {
     let o = infer("pgv,sa(1.0)", &spec_path);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
-    assert!(text.contains("SA(1.0)") && text.contains("about SA(1.0)"), "{text}");
+    assert!(
+        text.contains("SA(1.0)") && text.contains("about SA(1.0)"),
+        "{text}"
+    );
     assert!(out.join("posterior_2d.csv").exists());
     assert!(out.join("figures/inference_2d.svg").exists());
 }

@@ -5,8 +5,8 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::Context;
-use rockfrag::infer::{self, Im, InferOptions, PriorChoice, Survey, output};
 use rockfrag::im::ImPair;
+use rockfrag::infer::{self, Im, InferOptions, PriorChoice, Survey, output};
 use rockfrag::spec::Study;
 
 use super::args::threads;

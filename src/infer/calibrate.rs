@@ -22,10 +22,10 @@ use super::likelihood::{Grid, effective_records, joint, kind_curves, naive};
 use super::pair::{PairPosterior, inferable_pair, measure_second};
 use super::posterior::{Posterior, Prior, Summary};
 use super::simulate::{Class, Im, Runner, Table};
-use crate::im::{Felt, ImPair};
 use super::survey::{self, Survey};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
+use crate::im::{Felt, ImPair};
 use crate::motion::Record;
 use crate::spec::{InferSettings, Motions, Study};
 use crate::study::Source;
@@ -263,11 +263,11 @@ pub fn calibrate(
             let t = select_kinds(&table, &kept);
             let joint = Posterior::new(&grid, &prior_u, &joint(&t, &s, &grid)).map(|p| p.summary);
             let two = match (&pair, joint, truth) {
-                (Some((ims, second)), Some(first), Some(y)) => PairPosterior::new(
-                    *ims, &t, second, &s, &grid, &prior_u, first, 0, 0,
-                )
-                .ok()
-                .map(|p| (p.second, p.credible_at(d.im, *y))),
+                (Some((ims, second)), Some(first), Some(y)) => {
+                    PairPosterior::new(*ims, &t, second, &s, &grid, &prior_u, first, 0, 0)
+                        .ok()
+                        .map(|p| (p.second, p.credible_at(d.im, *y)))
+                }
                 _ => None,
             };
             let curves = kind_curves(&t, &s, &grid);
@@ -302,9 +302,9 @@ pub fn calibrate(
         }
     };
     let share = |f: &dyn Fn(&Event) -> bool| {
-        options.second.map(|_| {
-            events.iter().filter(|e| f(e)).count() as f64 / events.len().max(1) as f64
-        })
+        options
+            .second
+            .map(|_| events.iter().filter(|e| f(e)).count() as f64 / events.len().max(1) as f64)
     };
     Ok(Calibration {
         pair_coverage: share(&|e| e.credible.is_some_and(|c| c <= 0.9)),

@@ -627,8 +627,7 @@ fn ratio_of(
         replicates: replicates.len(),
     });
     let informed = mc_error.map(|m| {
-        shift.abs() > INFORMED_SIGMAS * m.shift
-            || (1.0 - spread).abs() > INFORMED_SIGMAS * m.spread
+        shift.abs() > INFORMED_SIGMAS * m.shift || (1.0 - spread).abs() > INFORMED_SIGMAS * m.spread
     });
     // The records at the ensemble's edges and their shares.
     let lowest = (0..n).min_by(|&a, &b| ln_ratio[a].total_cmp(&ln_ratio[b]).then(a.cmp(&b)));

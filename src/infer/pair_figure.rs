@@ -186,10 +186,7 @@ impl Figure for PairFigure {
         let frame = Frame::new(root, style, &self.title, &legend, MARGINS)?;
         let body = layout::side_label(&frame.body, style, &self.labels.1, frame.top, frame.x_area)?;
         let (w, h) = body.dim_in_pixel();
-        let (top_h, side_w) = (
-            (h as f64 * MARGINAL) as u32,
-            (w as f64 * MARGINAL) as u32,
-        );
+        let (top_h, side_w) = ((h as f64 * MARGINAL) as u32, (w as f64 * MARGINAL) as u32);
         let (top, rest) = body.split_vertically(top_h);
         let (main, side) = rest.split_horizontally(w - side_w);
         let (top_main, _) = top.split_horizontally(w - side_w);
@@ -215,10 +212,7 @@ impl Figure for PairFigure {
             }
             let (segments, fill) = self.contour(level);
             let colour = layout::tint(REGION, shade);
-            chart.draw_series(
-                fill.into_iter()
-                    .map(|p| Polygon::new(p, colour.filled())),
-            )?;
+            chart.draw_series(fill.into_iter().map(|p| Polygon::new(p, colour.filled())))?;
             let stroke = REGION.stroke_width(thin);
             chart.draw_series(
                 segments

@@ -293,10 +293,7 @@ fn resample(table: &Table, rng: &mut Xoshiro256PlusPlus) -> Table {
 
 /// [`resample`], and the records drawn (replicate record s is the table's
 /// record `picks[s]`).
-pub(super) fn resample_picks(
-    table: &Table,
-    rng: &mut Xoshiro256PlusPlus,
-) -> (Table, Vec<usize>) {
+pub(super) fn resample_picks(table: &Table, rng: &mut Xoshiro256PlusPlus) -> (Table, Vec<usize>) {
     let (n, nl) = (table.records, table.levels.len());
     let picks: Vec<usize> = (0..n)
         .map(|_| ((rng.random::<f64>() * n as f64) as usize).min(n - 1))

@@ -207,13 +207,8 @@ pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferR
         records: study.records(),
         levels: study.intensity.levels().len(),
     };
-    report.written = output::write_all(
-        dir,
-        &inference,
-        &context,
-        opts.figure,
-        joint_pair.as_ref(),
-    )?;
+    report.written =
+        output::write_all(dir, &inference, &context, opts.figure, joint_pair.as_ref())?;
     report.inference = Some(inference);
     report.pair = joint_pair;
     report.table = Some(sims.table);
