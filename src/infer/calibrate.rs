@@ -228,11 +228,11 @@ pub fn calibrate(
         })
         .collect();
     // Every event's objects on its record, events in parallel.
-    let counts: Vec<(Vec<(u64, u64)>, Option<f64>)> = draws
+    let counts: Vec<Observed> = draws
         .par_iter()
         .map_init(
             || runner.source.clone(),
-            |src, d| -> Result<(Vec<(u64, u64)>, Option<f64>)> {
+            |src, d| -> Result<Observed> {
                 let record = src.record(&study.intensity, d.im, d.record, study.g)?;
                 let felt = Felt {
                     ground: &record,
@@ -324,6 +324,10 @@ pub fn calibrate(
         events,
     })
 }
+
+/// What an event's objects did ((objects, overturned) per kind) and its
+/// true second IM.
+type Observed = (Vec<(u64, u64)>, Option<f64>);
 
 /// Level key of the objects' own draw streams (no study level has it).
 const OBJECTS: usize = usize::MAX >> 1;

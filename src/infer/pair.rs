@@ -398,7 +398,7 @@ impl PairPosterior {
             .unwrap_or(0);
         let (ln_ratio, shares) = records_at(&pts, n, grid, i_med);
         let (_, sigma) = mean_sd(&ln_ratio, &vec![1.0; n]);
-        if !(sigma > 1e-9) {
+        if sigma.is_nan() || sigma <= 1e-9 {
             return Err(Error::invalid(
                 "--im",
                 ims.to_string(),
@@ -559,7 +559,7 @@ impl PairPosterior {
         let d = |i: usize, k: usize| self.density[i * ny + k];
         let here = (1.0 - a) * ((1.0 - b) * d(i, k) + b * d(i, k + 1))
             + a * ((1.0 - b) * d(i + 1, k) + b * d(i + 1, k + 1));
-        if !(here > 0.0) {
+        if here.is_nan() || here <= 0.0 {
             return 1.0;
         }
         // The credible level of the least dense node at least as dense.

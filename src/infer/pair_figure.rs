@@ -19,6 +19,9 @@ use crate::figures::layout::{self, Dash, Entry, Frame, LogAxis, Margins, Marker,
 use crate::figures::style::{LINE_PT, PALETTE, Style, tick_label};
 use crate::figures::{DrawResult, Figure};
 
+/// A contour's segment, from one point (IM1, IM2) to another.
+type Segment = [(f64, f64); 2];
+
 /// Figure size (in).
 const SIZE_IN: (f64, f64) = (5.5, 4.8);
 /// Panel margins (pt).
@@ -122,7 +125,7 @@ impl PairFigure {
     /// its crossings in a fixed order), and the region at or above it as
     /// one polygon per cell (the cell's corners at or above the level and
     /// the crossings of its edges, in order).
-    fn contour(&self, level: f64) -> (Vec<[(f64, f64); 2]>, Vec<Vec<(f64, f64)>>) {
+    fn contour(&self, level: f64) -> (Vec<Segment>, Vec<Vec<(f64, f64)>>) {
         let ny = self.y.len();
         let d = |i: usize, k: usize| self.density[i * ny + k];
         let lx: Vec<f64> = self.x.iter().map(|&v| dm::ln(v)).collect();

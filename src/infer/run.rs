@@ -251,7 +251,7 @@ fn pair_of(
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
             (a.min(v), b.max(v))
         });
-    if !(hi - lo > 1e-9) {
+    if (hi - lo).is_nan() || hi - lo <= 1e-9 {
         return Err(Error::invalid(
             "--im",
             shown,
