@@ -256,7 +256,9 @@ fn pair_of(
             "--im",
             shown,
             &format!(
-                "records whose {} differ, for a joint posterior: all {} records of the study                  have {} = {}, so {} is that times {} and a second IM adds nothing; infer {}                  alone (--im {first}), or give the study more records",
+                "records whose {} differ, for a joint posterior: all {} records of the study \
+                 have {} = {}, so {} is that times {} and a second IM adds nothing; infer {} \
+                 alone (--im {first}), or give the study more records",
                 pair::ratio_name(ims),
                 ids.len(),
                 pair::ratio_name(ims),
