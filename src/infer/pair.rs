@@ -356,7 +356,16 @@ fn sd(v: &[f64]) -> f64 {
 fn ratio_unit(ims: ImPair) -> String {
     match (ims.second().unit(), ims.first().unit()) {
         (a, b) if a == b => "1".into(),
-        (a, b) => format!("({a})/{b}"),
+        (a, b) => {
+            let wrap = |u: &str| {
+                if u.contains('/') {
+                    format!("({u})")
+                } else {
+                    u.to_string()
+                }
+            };
+            format!("{}/{}", wrap(a), wrap(b))
+        }
     }
 }
 

@@ -101,7 +101,7 @@ impl PairFigure {
         PairFigure {
             range,
             title: format!(
-                "Joint posterior: {}, {}",
+                "Joint: {}, {}",
                 show(&pair.first, i1),
                 show(&pair.second, i2)
             ),
