@@ -453,7 +453,7 @@ impl ImPair {
     pub fn new(first: Im, second: Im) -> Result<ImPair, String> {
         if first == second {
             return Err(format!(
-                "two different intensity measures for a fragility surface, not {first} twice"
+                "two different intensity measures, not {first} twice"
             ));
         }
         Ok(ImPair { first, second })
@@ -486,8 +486,8 @@ impl ImPair {
         let shown: Vec<&str> = names.iter().map(AsRef::as_ref).collect();
         if names.len() != 2 {
             return Err(format!(
-                "one intensity measure, or exactly two (a fragility surface P(LS | IM1, \
-                 IM2)), not {} ({})",
+                "one intensity measure, or exactly two (IM1,IM2: a fragility surface, or \
+                 `infer`'s joint posterior), not {} ({})",
                 names.len(),
                 shown.join(", ")
             ));

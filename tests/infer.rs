@@ -605,6 +605,7 @@ seating = 0.3
             counts: (10, 30),
             kinds: (3, 5),
             seed: 7,
+            second: None,
         },
     )
     .unwrap();

@@ -912,8 +912,11 @@ def infer(
         ``"hazard=FILE"`` / ``"hazard=FILE,site=K"``: the density of the IM
         given shaking above the lowest level from a hazard curve (OpenQuake
         CSV or ``iml,annual_rate``).
-    im : str, optional
-        ``"pga"`` (g) or ``"pgv"`` (m/s); default the levels' IM.
+    im : str or sequence of two str, optional
+        ``"pga"`` (g) or ``"pgv"`` (m/s); default the levels' IM. Two IMs
+        (``["pga", "pgv"]`` or ``"pga,pgv"``) also give their joint
+        posterior (``posterior_2d.csv``, ``inference.json``'s ``two_im``;
+        the second IM's prior is the records' spread of IM2/IM1).
     threads : int, optional
         Worker threads (default: one per core). Results do not depend on it.
     figure : bool
@@ -929,7 +932,10 @@ def infer(
         kind's counts, draws and fitted fragility), …; ``posterior``: the
         columns of ``posterior.csv`` as numpy arrays (``im``, ``prior``,
         ``likelihood``, ``posterior``, ``cdf``, ``naive_likelihood``,
-        ``naive_posterior``, ``naive_cdf``); ``out`` the folder;
+        ``naive_posterior``, ``naive_cdf``); with two IMs, ``two_im`` (both
+        marginals, the correlation, the posterior of IM2/IM1 against its
+        prior, ``report``) and ``posterior_2d`` (``iml1``, ``iml2``,
+        ``density``, ``credible``); ``out`` the folder;
         ``analyses_run`` and ``resumed_levels`` (0 and all on a rerun).
     """
     obs_path = obs_csv = None
@@ -945,7 +951,9 @@ def infer(
         js,
         None if out is None else _os.fspath(out),
         str(prior),
-        None if im is None else str(im),
+        None if im is None else (
+            str(im) if isinstance(im, str) else ",".join(str(i) for i in im)
+        ),
         _threads(threads),
         bool(figure),
     )

@@ -872,12 +872,26 @@ fn infer<'py>(
     }
     let (study, spec_file) = load_study(spec_path.as_deref(), spec_json.as_deref())?;
     let prior: PriorChoice = choice(prior)?;
+    // One IM, or two joined by a comma (the joint posterior's), as the CLI.
     let im = im
-        .map(|s| {
-            s.parse::<Im>()
+        .map(|s| match rockfrag::im::ImPair::parse(&s) {
+            Some(pair) => pair
+                .and_then(rockfrag::infer::pair::inferable_pair)
+                .map(|p| (p.first(), Some(p.second())))
+                .map_err(|e| py_err(rockfrag::Error::invalid("im", &s, &e))),
+            None => s
+                .parse::<Im>()
                 .ok()
                 .and_then(|im| rockfrag::infer::inferable(im).ok())
-                .ok_or_else(|| py_err(rockfrag::Error::invalid("im", &s, "pga (g) or pgv (m/s)")))
+                .map(|im| (im, None))
+                .ok_or_else(|| {
+                    py_err(rockfrag::Error::invalid(
+                        "im",
+                        &s,
+                        "pga (g) or pgv (m/s), or two IMs for their joint posterior \
+                         ([\"pga\", \"pgv\"])",
+                    ))
+                }),
         })
         .transpose()?;
     let out = out.map_or_else(
@@ -889,7 +903,8 @@ fn infer<'py>(
     );
     let opts = InferOptions {
         prior,
-        im,
+        im: im.map(|i| i.0),
+        second: im.and_then(|i| i.1),
         threads,
         figure: figure.then_some(rockfrag::figures::Format::Svg),
         ..InferOptions::new(&out, &spec_file)
@@ -911,6 +926,15 @@ fn infer<'py>(
         posterior.set_item(name, values.into_pyarray(py))?;
     }
     d.set_item("posterior", posterior)?;
+    if report.pair.is_some() {
+        let path = out.join(rockfrag::infer::pair_output::POSTERIOR_2D);
+        let columns = output::read_posterior(&path).map_err(py_err)?;
+        let joint = PyDict::new(py);
+        for (name, values) in columns {
+            joint.set_item(name, values.into_pyarray(py))?;
+        }
+        d.set_item("posterior_2d", joint)?;
+    }
     d.set_item("analyses_run", report.analyses_run)?;
     d.set_item("resumed_levels", report.resumed_levels)?;
     d.set_item("out", out.display().to_string())?;

@@ -131,3 +131,34 @@ def test_bad_observations_name_the_row_and_column(files):
         rockfrag.infer(ROWS, SPEC, out=files / "bad", prior="flat")
     with pytest.raises(OSError, match="nowhere.csv"):
         rockfrag.infer(files / "nowhere.csv", SPEC, out=files / "bad")
+
+
+def test_two_ims_give_the_cli_joint_posterior(cli, files):
+    """``im=["pga", "pgv"]`` is ``--im pga,pgv``: the same posterior_2d.csv
+    bytes and ``two_im``; its marginal over PGA is the one-IM posterior to
+    1e-9 of its peak (trapezoid rule over ln PGV); a repeated IM is refused
+    naming the value."""
+    cli(
+        "infer", "survey.csv", "--study", "spec.toml", "--out", "cli2", "--im", "pga,pgv",
+        cwd=files,
+    )
+    got = rockfrag.infer(
+        files / "survey.csv", files / "spec.toml", out=files / "py2", im=["pga", "pgv"]
+    )
+    name = "posterior_2d.csv"
+    assert (files / "cli2" / name).read_bytes() == (files / "py2" / name).read_bytes()
+    two = got["two_im"]
+    assert (two["im1"], two["im2"]) == ("pga", "pgv")
+    assert two["im1_marginal"]["median"] == got["joint"]["median"]
+    j = got["posterior_2d"]
+    x, y, d = j["iml1"], j["iml2"], j["density"]
+    ny = int(np.sum(x == x[0]))
+    post = got["posterior"]
+    for i in range(len(post["im"])):
+        s = slice(i * ny, (i + 1) * ny)
+        f = d[s] * x[s] * y[s]
+        integral = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(np.log(y[s])))
+        want = post["posterior"][i] * post["im"][i]
+        assert abs(integral - want) <= 1e-9 * np.max(post["posterior"] * post["im"])
+    with pytest.raises(ValueError, match="pga,pga"):
+        rockfrag.infer(files / "survey.csv", files / "spec.toml", out=files / "py3", im="pga,pga")

@@ -5,6 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::Context;
+use rockfrag::im::ImPair;
 use rockfrag::infer::{self, Im, InferOptions, PriorChoice, Survey, output};
 use rockfrag::spec::Study;
 
@@ -33,9 +34,11 @@ pub struct InferArgs {
     #[arg(long, value_name = "log-uniform|hazard=FILE[,site=K]", default_value = "log-uniform",
           value_parser = prior)]
     pub prior: PriorChoice,
-    /// IM to infer [default: the levels' IM; pga for scale factors].
-    #[arg(long, value_name = "pga|pgv", value_parser = im)]
-    pub im: Option<Im>,
+    /// IM to infer [default: the levels' IM; pga for scale factors]; two
+    /// joined by a comma (pga,pgv) also give their joint posterior
+    /// (posterior_2d.csv, figures/inference_2d.svg).
+    #[arg(long, value_name = "pga|pgv|IM1,IM2", value_parser = im)]
+    pub im: Option<(Im, Option<Im>)>,
     /// Format of figures/inference.svg (or .png).
     #[arg(long, value_enum, default_value_t = FormatArg::Svg)]
     pub format: FormatArg,
@@ -52,11 +55,24 @@ fn prior(s: &str) -> Result<PriorChoice, String> {
         .map_err(|_| "expected log-uniform, hazard=FILE or hazard=FILE,site=K".to_string())
 }
 
-fn im(s: &str) -> Result<Im, String> {
-    s.parse::<Im>()
-        .ok()
-        .and_then(|im| infer::inferable(im).ok())
-        .ok_or_else(|| "expected pga or pgv".to_string())
+/// One IM (pga or pgv), or two joined by a comma (the joint posterior's).
+fn im(s: &str) -> Result<(Im, Option<Im>), String> {
+    match ImPair::parse(s) {
+        Some(pair) => pair
+            .and_then(infer::pair::inferable_pair)
+            .map(|p| (p.first(), Some(p.second())))
+            .map_err(|e| format!("expected {e}")),
+        None => s
+            .parse::<Im>()
+            .ok()
+            .and_then(|im| infer::inferable(im).ok())
+            .map(|im| (im, None))
+            .ok_or_else(|| {
+                "expected pga or pgv, or two IMs joined by a comma for their joint posterior \
+                 (pga,pgv)"
+                    .to_string()
+            }),
+    }
 }
 
 /// Runs `rockfrag infer`.
@@ -69,7 +85,8 @@ pub fn run(args: InferArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| infer::default_out(&args.observations));
     let opts = InferOptions {
         prior: args.prior.clone(),
-        im: args.im,
+        im: args.im.map(|i| i.0),
+        second: args.im.and_then(|i| i.1),
         threads: args.threads.unwrap_or(0),
         progress: true,
         stop_after_levels: args.stop_after_levels,
@@ -120,6 +137,9 @@ pub fn run(args: InferArgs) -> anyhow::Result<()> {
         if report.threads == 1 { "" } else { "s" }
     );
     let mut text = output::console(inference);
+    if let Some(pair) = &report.pair {
+        text.push_str(&infer::pair_output::console(inference, pair));
+    }
     text.push_str(&format!(
         "wrote {}\n",
         report

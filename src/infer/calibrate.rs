@@ -19,11 +19,13 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::likelihood::{Grid, effective_records, joint, kind_curves, naive};
+use super::pair::{PairPosterior, inferable_pair, measure_second};
 use super::posterior::{Posterior, Prior, Summary};
-use super::simulate::{Class, Runner, Table};
+use super::simulate::{Class, Im, Runner, Table};
 use super::survey::{self, Survey};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
+use crate::im::{Felt, ImPair};
 use crate::motion::Record;
 use crate::spec::{InferSettings, Motions, Study};
 use crate::study::Source;
@@ -43,6 +45,9 @@ pub struct CalibrationOptions {
     pub kinds: (usize, usize),
     /// Seed of the events (their PGAs, records, kinds, counts and objects).
     pub seed: u64,
+    /// A second IM: the joint posterior over (the levels' IM, it) of each
+    /// event too, and whether its 90 % region holds the event's true pair.
+    pub second: Option<Im>,
 }
 
 /// One synthetic event and what each method inferred.
@@ -58,6 +63,13 @@ pub struct Event {
     pub naive: Option<Summary>,
     /// Records the joint posterior effectively rests on.
     pub effective_records: f64,
+    /// The true second IM (with [`CalibrationOptions::second`]).
+    pub second: Option<f64>,
+    /// Its marginal bounds from the joint posterior over both IMs.
+    pub second_bounds: Option<Summary>,
+    /// The smallest highest-density credible level of the joint posterior
+    /// whose region holds the true pair ([`PairPosterior::credible_at`]).
+    pub credible: Option<f64>,
 }
 
 /// Coverage and widths of a calibration.
@@ -79,6 +91,11 @@ pub struct Calibration {
     pub naive_ratio: f64,
     /// Median over the events of the records their joint posterior rests on.
     pub effective_records: f64,
+    /// Fraction of events whose 90 % joint region over both IMs holds the
+    /// true pair (with a second IM).
+    pub pair_coverage: Option<f64>,
+    /// Fraction whose 90 % interval of the second IM holds the true one.
+    pub second_coverage: Option<f64>,
     /// Analyses of the study's simulations.
     pub analyses: u64,
     /// Analyses of the events' objects.
@@ -159,6 +176,15 @@ pub fn calibrate(
     };
     let records: Vec<usize> = (0..study.records()).collect();
     let table = runner.table(&records)?;
+    let pair = match options.second {
+        None => None,
+        Some(second) => {
+            let ims = ImPair::new(im, second)
+                .and_then(inferable_pair)
+                .map_err(|e| Error::invalid("second", second, &e))?;
+            Some((ims, measure_second(study, second, &records)?))
+        }
+    };
     let grid = Grid::new(&table, true, settings.refine)?;
     let prior_u = Prior::LogUniform.density_u(&grid);
     let (u0, u1) = (grid.u[0], grid.u[grid.len() - 1]);
@@ -202,13 +228,20 @@ pub fn calibrate(
         })
         .collect();
     // Every event's objects on its record, events in parallel.
-    let counts: Vec<Vec<(u64, u64)>> = draws
+    let counts: Vec<Observed> = draws
         .par_iter()
         .map_init(
             || runner.source.clone(),
-            |src, d| -> Result<Vec<(u64, u64)>> {
+            |src, d| -> Result<Observed> {
                 let record = src.record(&study.intensity, d.im, d.record, study.g)?;
-                Ok(observe(&runner, &d.counts, d.record, &record))
+                let felt = Felt {
+                    ground: &record,
+                    floor: None,
+                    pair: None,
+                    g: study.g,
+                };
+                let truth = options.second.and_then(|im2| im2.on(&felt));
+                Ok((observe(&runner, &d.counts, d.record, &record), truth))
             },
         )
         .collect::<Vec<_>>()
@@ -218,7 +251,7 @@ pub fn calibrate(
     let events: Vec<Event> = draws
         .par_iter()
         .zip(&counts)
-        .map(|(d, c)| {
+        .map(|(d, (c, truth))| {
             let mut s = template.clone();
             for (k, &(n, o)) in s.kinds.iter_mut().zip(c) {
                 k.count = n;
@@ -229,6 +262,14 @@ pub fn calibrate(
             let kept: Vec<usize> = (0..c.len()).filter(|&j| c[j].0 > 0).collect();
             let t = select_kinds(&table, &kept);
             let joint = Posterior::new(&grid, &prior_u, &joint(&t, &s, &grid)).map(|p| p.summary);
+            let two = match (&pair, joint, truth) {
+                (Some((ims, second)), Some(first), Some(y)) => {
+                    PairPosterior::new(*ims, &t, second, &s, &grid, &prior_u, first, 0, 0)
+                        .ok()
+                        .map(|p| (p.second, p.credible_at(d.im, *y)))
+                }
+                _ => None,
+            };
             let curves = kind_curves(&t, &s, &grid);
             let naive =
                 Posterior::new(&grid, &prior_u, &naive(&curves, &s, &grid)).map(|p| p.summary);
@@ -238,6 +279,9 @@ pub fn calibrate(
                 joint,
                 naive,
                 effective_records: effective_records(&t, &s, &grid, &prior_u),
+                second: *truth,
+                second_bounds: two.map(|p| p.0),
+                credible: two.map(|p| p.1),
             }
         })
         .collect();
@@ -257,7 +301,17 @@ pub fn calibrate(
             n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
         }
     };
+    let share = |f: &dyn Fn(&Event) -> bool| {
+        options
+            .second
+            .map(|_| events.iter().filter(|e| f(e)).count() as f64 / events.len().max(1) as f64)
+    };
     Ok(Calibration {
+        pair_coverage: share(&|e| e.credible.is_some_and(|c| c <= 0.9)),
+        second_coverage: share(&|e| match (e.second, e.second_bounds) {
+            (Some(y), Some(b)) => b.p05 <= y && y <= b.p95,
+            _ => false,
+        }),
         joint_coverage: coverage(|e| e.joint),
         naive_coverage: coverage(|e| e.naive),
         joint_width: median(&|e| e.joint.map(|s| s.p95 - s.p05)),
@@ -270,6 +324,10 @@ pub fn calibrate(
         events,
     })
 }
+
+/// What an event's objects did ((objects, overturned) per kind) and its
+/// true second IM.
+type Observed = (Vec<(u64, u64)>, Option<f64>);
 
 /// Level key of the objects' own draw streams (no study level has it).
 const OBJECTS: usize = usize::MAX >> 1;

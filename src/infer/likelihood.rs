@@ -151,13 +151,14 @@ impl Grid {
 
 /// Where grid point i falls among record r's levels: levels a and b and
 /// the weight t of b (ln-linear), for every (record, point).
-struct Brackets {
-    at: Vec<(usize, usize, f64)>,
+pub(super) struct Brackets {
+    /// (a, b, t) of record r at grid point i, at `r · points + i`.
+    pub(super) at: Vec<(usize, usize, f64)>,
     points: usize,
 }
 
 impl Brackets {
-    fn new(table: &Table, grid: &Grid) -> Brackets {
+    pub(super) fn new(table: &Table, grid: &Grid) -> Brackets {
         let o = order(&table.levels);
         let mut at = Vec::with_capacity(table.records * grid.len());
         for r in 0..table.records {
@@ -182,7 +183,7 @@ impl Brackets {
     }
 
     /// `values[level]` of record r interpolated at grid point i.
-    fn value(&self, r: usize, i: usize, values: impl Fn(usize) -> f64) -> f64 {
+    pub(super) fn value(&self, r: usize, i: usize, values: impl Fn(usize) -> f64) -> f64 {
         let (a, b, t) = self.at[r * self.points + i];
         if t == 0.0 {
             values(a)
@@ -248,7 +249,7 @@ pub fn ln_term_estimated(kind: &Kind, p_o: f64, p_s: f64, draws: f64) -> f64 {
 }
 
 /// ln Π_j ℓ_j(x_i, r) for every record r and grid point i, at `r · points + i`.
-fn record_terms(table: &Table, survey: &Survey, grid: &Grid) -> Vec<f64> {
+pub(super) fn record_terms(table: &Table, survey: &Survey, grid: &Grid) -> Vec<f64> {
     let nl = table.levels.len();
     let brackets = Brackets::new(table, grid);
     let g = grid.len();
@@ -297,7 +298,7 @@ fn record_terms(table: &Table, survey: &Survey, grid: &Grid) -> Vec<f64> {
 
 /// The terms scaled by their largest, and that largest (−∞ when every term
 /// is).
-fn scaled(terms: &[f64]) -> (Vec<f64>, f64) {
+pub(super) fn scaled(terms: &[f64]) -> (Vec<f64>, f64) {
     let m = terms
         .iter()
         .copied()

@@ -52,6 +52,9 @@ pub mod figure;
 mod inference;
 pub mod likelihood;
 pub mod output;
+pub mod pair;
+mod pair_figure;
+pub mod pair_output;
 pub mod posterior;
 mod run;
 pub mod simulate;
@@ -59,6 +62,7 @@ pub mod survey;
 
 pub use inference::{Inference, PriorChoice, infer};
 pub use likelihood::{Grid, KindCurve};
+pub use pair::PairPosterior;
 pub use posterior::{Bounds, McBand, McError, OPEN_EDGE, Posterior, Prior, Summary};
 pub use run::{InferOptions, InferReport, default_out, run, settings};
 pub use simulate::{Cell, Im, Table, inferable};

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::inference::{Inference, PriorChoice};
+use super::pair::PairPosterior;
 use super::posterior::{Bounds, McError, Posterior, Summary};
 use super::survey::{KindModel, SlideRule, Survey};
 use crate::detmath as dm;
@@ -57,24 +58,32 @@ pub struct Context<'a> {
     pub levels: usize,
 }
 
-/// Writes every output into `dir`; returns the paths written.
+/// Writes every output into `dir` (with `pair`, the joint posterior over
+/// two IMs too, [`super::pair_output`]; without, a former run's joint
+/// posterior is removed); returns the paths written.
 pub fn write_all(
     dir: &Path,
     inference: &Inference,
     context: &Context,
     figure: Option<crate::figures::Format>,
+    pair: Option<&PairPosterior>,
 ) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     let path = dir.join(POSTERIOR);
     write_posterior(&path, inference)?;
     written.push(path);
     let path = dir.join(INFERENCE);
-    let json = serde_json::to_string_pretty(&summary_json(inference, context))
-        .expect("the summary serialises");
+    let mut summary = summary_json(inference, context);
+    summary.two_im = pair.map(|p| super::pair_output::json(inference, p));
+    let json = serde_json::to_string_pretty(&summary).expect("the summary serialises");
     write_atomic(&path, |w| writeln!(w, "{json}")).map_err(Error::io(&path))?;
     written.push(path);
     let path = dir.join(SUMMARY);
-    update_section(&path, &section(inference, context))?;
+    let mut text = section(inference, context);
+    if let Some(p) = pair {
+        text.push_str(&super::pair_output::section(inference, p));
+    }
+    update_section(&path, &text)?;
     written.push(path);
     if let Some(format) = figure {
         let path = dir
@@ -84,6 +93,10 @@ pub fn write_all(
         let fig = super::figure::InferenceFigure::new(inference, context.survey);
         crate::figures::save(&fig, &path)?;
         written.push(path);
+    }
+    match pair {
+        Some(p) => written.extend(super::pair_output::write_all(dir, inference, p, figure)?),
+        None => super::pair_output::remove_stale(dir)?,
     }
     Ok(written)
 }
@@ -271,6 +284,8 @@ struct InferenceJson {
     joint: MethodJson,
     naive: Option<MethodJson>,
     kinds: Vec<KindJson>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    two_im: Option<super::pair_output::PairJson>,
 }
 
 fn summary_json(inf: &Inference, c: &Context) -> InferenceJson {
@@ -316,6 +331,7 @@ fn summary_json(inf: &Inference, c: &Context) -> InferenceJson {
         joint: method(&inf.joint, inf.joint_mc),
         naive: inf.naive.as_ref().map(|p| method(p, inf.naive_mc)),
         kinds,
+        two_im: None,
     }
 }
 

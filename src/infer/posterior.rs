@@ -280,7 +280,7 @@ fn splitmix64(x: u64) -> u64 {
 }
 
 /// The seed of bootstrap replicate `b`.
-fn replicate_seed(seed: u64, b: u64) -> u64 {
+pub(super) fn replicate_seed(seed: u64, b: u64) -> u64 {
     // "rockfrag:infer:bootstrap" domain tag (an arbitrary odd constant).
     splitmix64(splitmix64(seed ^ 0xB007_57A9_1AF3_0001) ^ splitmix64(b))
 }
@@ -288,6 +288,12 @@ fn replicate_seed(seed: u64, b: u64) -> u64 {
 /// `table` with its records drawn with replacement and every cell's draws
 /// resampled with replacement, from `rng`.
 fn resample(table: &Table, rng: &mut Xoshiro256PlusPlus) -> Table {
+    resample_picks(table, rng).0
+}
+
+/// [`resample`], and the records drawn (replicate record s is the table's
+/// record `picks[s]`).
+pub(super) fn resample_picks(table: &Table, rng: &mut Xoshiro256PlusPlus) -> (Table, Vec<usize>) {
     let (n, nl) = (table.records, table.levels.len());
     let picks: Vec<usize> = (0..n)
         .map(|_| ((rng.random::<f64>() * n as f64) as usize).min(n - 1))
@@ -336,14 +342,15 @@ fn resample(table: &Table, rng: &mut Xoshiro256PlusPlus) -> Table {
             }
         }
     }
-    Table {
+    let t = Table {
         kinds: table.kinds,
         levels: table.levels.clone(),
         records: n,
         im,
         cells,
         fixed: table.fixed.clone(),
-    }
+    };
+    (t, picks)
 }
 
 /// The Monte Carlo error of both methods' bounds from `replicates`

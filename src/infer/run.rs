@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::inference::{Inference, PriorChoice, infer};
 use super::output;
+use super::pair::{self, PairPosterior};
 use super::simulate::{self, Im, Table};
 use super::survey::{self, KindModel, SlideRule, Survey};
 use crate::error::{Error, Result};
@@ -22,6 +23,9 @@ pub struct InferOptions {
     pub prior: PriorChoice,
     /// The IM inferred (default: the levels' IM; PGA for scale factors).
     pub im: Option<Im>,
+    /// A second IM: the joint posterior over (`im`, `second`) too
+    /// ([`pair`](super::pair)); `im` must then be given.
+    pub second: Option<Im>,
     /// Worker threads (0: one per core).
     pub threads: usize,
     /// Say each level's simulations on standard error.
@@ -41,6 +45,7 @@ impl InferOptions {
             out_dir: out_dir.into(),
             prior: PriorChoice::LogUniform,
             im: None,
+            second: None,
             threads: 0,
             progress: false,
             spec_file: spec_file.into(),
@@ -57,6 +62,8 @@ pub struct InferReport {
     pub out_dir: PathBuf,
     /// The inference (`None` when stopped before the simulations were done).
     pub inference: Option<Inference>,
+    /// The joint posterior over two IMs, when a second was asked for.
+    pub pair: Option<PairPosterior>,
     /// The simulations' table (`None` likewise).
     pub table: Option<Table>,
     /// Levels of simulations reused from an earlier run.
@@ -112,14 +119,19 @@ fn inputs_hash(
 pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferReport> {
     let t0 = Instant::now();
     let dir = &opts.out_dir;
+    let im = opts.im.or(simulate::im_of_levels(study)).unwrap_or(Im::PGA);
+    let im = simulate::inferable(im).map_err(|e| Error::invalid("--im", im, &e))?;
+    let exact = simulate::im_of_levels(study) == Some(im);
+    // A pair is checked before the folder is made: a refusal writes nothing.
+    let ims = match opts.second {
+        None => None,
+        Some(second) => Some(pair_of(study, opts.im, im, second)?),
+    };
     crate::io_util::create_folder(dir)?;
     let _lock = RunLock::acquire(dir)?;
     let settings = settings(study);
     let models = survey::models(survey, study, &settings, &opts.spec_file)?;
     let slide = survey::slide_rule(survey, study, &settings, &opts.spec_file)?;
-    let im = opts.im.or(simulate::im_of_levels(study)).unwrap_or(Im::PGA);
-    let im = simulate::inferable(im).map_err(|e| Error::invalid("--im", im, &e))?;
-    let exact = simulate::im_of_levels(study) == Some(im);
     let prior = opts.prior.load(im)?;
     let (pool, threads) = crate::threads::pool(opts.threads)?;
     let hash = inputs_hash(study, &models, slide.as_ref(), im)?;
@@ -146,6 +158,7 @@ pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferR
     let mut report = InferReport {
         out_dir: dir.clone(),
         inference: None,
+        pair: None,
         table: None,
         resumed_levels: 0,
         analyses_run: 0,
@@ -166,6 +179,22 @@ pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferR
     let seed = survey::draws_seed(study, &settings);
     let inference =
         pool.install(|| infer(&sims.table, survey, &prior, im, exact, &settings, seed))?;
+    let joint_pair = match ims {
+        None => None,
+        Some((ims, second)) => Some(pool.install(|| {
+            PairPosterior::new(
+                ims,
+                &sims.table,
+                &second,
+                survey,
+                &inference.grid,
+                &prior.density_u(&inference.grid),
+                inference.joint.summary,
+                settings.bootstrap,
+                seed,
+            )
+        })?),
+    };
     let context = output::Context {
         study,
         survey,
@@ -178,11 +207,69 @@ pub fn run(study: &Study, survey: &Survey, opts: &InferOptions) -> Result<InferR
         records: study.records(),
         levels: study.intensity.levels().len(),
     };
-    report.written = output::write_all(dir, &inference, &context, opts.figure)?;
+    report.written =
+        output::write_all(dir, &inference, &context, opts.figure, joint_pair.as_ref())?;
     report.inference = Some(inference);
+    report.pair = joint_pair;
     report.table = Some(sims.table);
     report.wall_seconds = t0.elapsed().as_secs_f64();
     Ok(report)
+}
+
+/// The pair `first,second` checked ([`pair::inferable_pair`]) and the
+/// second IM of every record at every level, before anything is
+/// simulated: refused when the first was not given, or when every record
+/// has the same IM2/IM1 (IM2 would be IM1 times a constant).
+fn pair_of(
+    study: &Study,
+    given: Option<Im>,
+    first: Im,
+    second: Im,
+) -> Result<(crate::im::ImPair, Vec<f64>)> {
+    let shown = format!("{},{second}", given.map_or("?".into(), |i| i.name()));
+    if given.is_none() {
+        return Err(Error::invalid(
+            "--im",
+            shown,
+            "the first IM with the second (--im pga,pgv)",
+        ));
+    }
+    let ims = crate::im::ImPair::new(first, second)
+        .and_then(pair::inferable_pair)
+        .map_err(|e| Error::invalid("--im", shown.clone(), &e))?;
+    let ids: Vec<usize> = (0..study.records()).collect();
+    let values = pair::measure_second(study, second, &ids)?;
+    let firsts = pair::measure_second(study, first, &ids)?;
+    let ln_ratio: Vec<f64> = values
+        .iter()
+        .zip(&firsts)
+        .take(ids.len())
+        .map(|(y, x)| crate::detmath::ln(y / x))
+        .collect();
+    let (lo, hi) = ln_ratio
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if (hi - lo).is_nan() || hi - lo <= 1e-9 {
+        return Err(Error::invalid(
+            "--im",
+            shown,
+            &format!(
+                "records whose {} differ, for a joint posterior: all {} records of the study \
+                 have {} = {}, so {} is that times {} and a second IM adds nothing; infer {} \
+                 alone (--im {first}), or give the study more records",
+                pair::ratio_name(ims),
+                ids.len(),
+                pair::ratio_name(ims),
+                crate::io_util::sig3(crate::detmath::exp(lo)),
+                second.name().to_uppercase(),
+                first.name().to_uppercase(),
+                first.name().to_uppercase(),
+            ),
+        ));
+    }
+    Ok((ims, values))
 }
 
 /// Analyses that failed: draws of kinds with something drawn, single
