@@ -53,10 +53,14 @@ def pelicun_probabilities(db, ids, pga, n, sampling, seed, tmp, edp="PGA", unit=
     import pandas as pd
     from pelicun.assessment import Assessment
     demand = os.path.join(tmp, "demand.csv")
-    with open(demand, "w") as f:
-        f.write(",1-%s-1-1\nUnits,%s\n" % (edp, unit))
-        f.write("".join("%d,%r\n" % (i, pga) for i in range(n)))
+    # pelicun reads a floor demand (PFA, PFV) of a component at location k
+    # at location k + DemandOffset (its default config: -1, the floor
+    # below in its numbering): the sample carries it where pelicun looks
     a = Assessment({"PrintLog": False, "Seed": seed, "Sampling": {"SamplingMethod": sampling}})
+    offset = a.options.demand_offset.get(edp, 0)
+    with open(demand, "w") as f:
+        f.write(",1-%s-%d-1\nUnits,%s\n" % (edp, 1 + offset, unit))
+        f.write("".join("%d,%r\n" % (i, pga) for i in range(n)))
     a.demand.load_sample(demand)
     a.asset.load_cmp_model({"marginals": pd.DataFrame(
         {"Units": "ea", "Location": "1", "Direction": "1", "Theta_0": 1.0}, index=list(ids))})
