@@ -42,15 +42,17 @@ const MARGINS: Margins = Margins::new(34.0, 10.0);
 /// Time shown before the first motion and after the last (s).
 const ZOOM_PAD_S: f64 = 1.0;
 /// Smallest half-range of the slip panel (mm): a slip of rounding noise is
-/// drawn flat, not blown up to fill the panel.
-const MIN_SLIP_MM: f64 = 0.01;
+/// drawn flat, not blown up to fill the panel (and its tick labels stay
+/// short).
+const MIN_SLIP_MM: f64 = 1.0;
 
 /// One body's curves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodySeries {
     /// Its place in the stack: `base`, `middle` or `top`.
     pub name: String,
-    /// Legend text: its place, size and, if it overturned, when.
+    /// Legend text: its place, what it stands on (its φ is relative to
+    /// that face), its size and, if it overturned, when.
     pub label: String,
     /// φ/θc (s, –) inside the window, up to its overturning: every row of
     /// the history (its peaks included) while the body is in the scene.
@@ -69,7 +71,8 @@ pub struct StackHistoryFigure {
     pub title: String,
     /// Heading of the upper panel: the acceleration the stack feels.
     pub acc_label: String,
-    /// Heading of the middle panel: φ/θc and why this run is drawn.
+    /// Heading of the middle panel: φ/θc (each body's rotation relative to
+    /// the face it stands on) and why this run is drawn.
     pub phi_label: String,
     /// Shown time window (s).
     pub window: (f64, f64),
@@ -193,8 +196,13 @@ impl StackHistoryFigure {
                     (t, at)
                 });
                 let slot = Slot::of(k, n).name().to_string();
+                // what its φ is relative to: the face it stands on
+                let on = match k {
+                    0 => "the ground".to_string(),
+                    _ => format!("the {}", Slot::of(k - 1, n).name()),
+                };
                 let mut label = format!(
-                    "{slot} ({} × {} m)",
+                    "{slot} on {on} ({} × {} m)",
                     tick_label(body.width),
                     tick_label(body.height)
                 );
@@ -226,7 +234,7 @@ impl StackHistoryFigure {
         Ok(StackHistoryFigure {
             title,
             acc_label: acc_label(options),
-            phi_label: format!("Rotation relative to the support φ/θc: {}", chosen.why),
+            phi_label: format!("Rotation φ/θc: {}", chosen.why),
             window,
             acc,
             bodies,
@@ -276,7 +284,7 @@ fn bodies_text(stack: &Stack) -> String {
 }
 
 /// The interfaces for a title: `e = 0, μ = ∞ at both interfaces`, or each
-/// named by the body standing on it.
+/// named by the body standing on it (`under the base: …; under the top: …`).
 fn interfaces_text(stack: &Stack) -> String {
     let text = |i: &crate::solver::stack::StackInterface| {
         let mu = match i.friction {
@@ -290,8 +298,12 @@ fn interfaces_text(stack: &Stack) -> String {
     let all: Vec<String> = stack.interfaces.iter().map(text).collect();
     let n = all.len();
     if all.iter().all(|t| *t == all[0]) {
-        let at = if n == 2 { "both" } else { "every" };
-        return format!("{} at {at} interface", all[0]);
+        let at = if n == 2 {
+            "both interfaces"
+        } else {
+            "every interface"
+        };
+        return format!("{} at {at}", all[0]);
     }
     all.iter()
         .enumerate()
