@@ -96,11 +96,20 @@ fn figures_draws_a_stacks_history() {
     assert!(o.status.success(), "{err}");
     assert!(!err.contains("not a stack yet"), "{err}");
     assert!(!err.contains("history: skipped"), "{err}");
+    // the command it prints solves the analysis again
+    let command = err
+        .lines()
+        .find_map(|l| l.strip_prefix("history: its analysis is solved again by `"))
+        .and_then(|l| l.strip_suffix('`'))
+        .expect("the history's command");
+    let args: Vec<&str> = command.split(' ').skip(1).collect();
+    let again = rockfrag(&args);
+    assert!(again.status.success(), "{command}: {}", stderr(&again));
     let svg = fs::read_to_string(figs.join("history.svg")).unwrap();
     for text in [
         "Stack statue_on_pedestal",
-        "base (0.6",
-        "top (0.3",
+        "base on the ground (0.6",
+        "top on the base (0.3",
         "at 0.9 g",
     ] {
         assert!(svg.contains(text), "history.svg lacks {text:?}");

@@ -16,8 +16,7 @@
 //!
 //! The time axis is zoomed to the active part of the record. The modes are
 //! not shaded (one shading per body would hide the curves) and the impacts
-//! are not marked; `rockfrag simulate --study DIR --case stack_NAME` with
-//! `--history` gives them, row by row.
+//! are not marked.
 
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend};
@@ -84,8 +83,8 @@ pub struct StackHistoryFigure {
     pub record: u64,
     /// The re-solved analysis's outcome (the study's row's, the same solve).
     pub outcome: StackOutcome,
-    /// The command that solves the drawn analysis again
-    /// ([`crate::study::simulate_command`]).
+    /// The command that solves the drawn analysis again and prints its row
+    /// of `outcomes.csv` ([`crate::study::simulate_command`] with `--csv`).
     pub command: Option<String>,
 }
 
@@ -223,13 +222,12 @@ impl StackHistoryFigure {
                 }
             })
             .collect();
+        // `simulate --study` gives a stack's analysis as its row (--csv)
         let command = crate::study::case_of(study, &chosen.own).map(|(case, _)| {
-            crate::study::simulate_command(
-                dir,
-                chosen.level,
-                chosen.record,
-                CommandBlock::Case(&case.id()),
-            )
+            let id = case.id();
+            let at = CommandBlock::Case(&id);
+            let command = crate::study::simulate_command(dir, chosen.level, chosen.record, at);
+            format!("{command} --csv")
         });
         Ok(StackHistoryFigure {
             title,
