@@ -279,8 +279,8 @@ impl StudyFigures {
             pooled: &options.pooled,
         };
         let (history, stack_history) = match HistoryFigure::from_study(dir, &data, &source) {
-            Ok(StudyHistory::Block(h)) => (Some(h), None),
-            Ok(StudyHistory::Stack(h)) => (None, Some(h)),
+            Ok(StudyHistory::Block(h)) => (Some(*h), None),
+            Ok(StudyHistory::Stack(h)) => (None, Some(*h)),
             Err(e) => {
                 notes.push(format!("history: skipped, {e}"));
                 (None, None)

@@ -235,7 +235,7 @@ impl HistoryFigure {
                 };
                 return drawn.map(|mut figure| {
                     figure.command = case_command(dir, options, case, figure.record);
-                    StudyHistory::Block(figure)
+                    StudyHistory::Block(Box::new(figure))
                 });
             }
             HistoryChoice::Chosen => (None, (None, None)),
@@ -247,7 +247,8 @@ impl HistoryFigure {
         };
         let chosen = choose_run(dir, data, options, case_id, level)?;
         if chosen.own.stack.is_some() {
-            return StackHistoryFigure::of_chosen(dir, options, &chosen).map(StudyHistory::Stack);
+            return StackHistoryFigure::of_chosen(dir, options, &chosen)
+                .map(|f| StudyHistory::Stack(Box::new(f)));
         }
         let solver = options
             .study
@@ -328,7 +329,7 @@ impl HistoryFigure {
                 CommandBlock::Case(&case.id()),
             ))
         });
-        Ok(StudyHistory::Block(figure))
+        Ok(StudyHistory::Block(Box::new(figure)))
     }
 
     /// Runs the case's records, chooses one (see the module docs) and
@@ -598,9 +599,9 @@ fn case_command(
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum StudyHistory {
     /// One block's history.
-    Block(HistoryFigure),
+    Block(Box<HistoryFigure>),
     /// Every body of a stack.
-    Stack(StackHistoryFigure),
+    Stack(Box<StackHistoryFigure>),
 }
 
 /// The analysis [`HistoryFigure::from_study`] draws.
