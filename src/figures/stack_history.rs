@@ -168,7 +168,8 @@ impl StackHistoryFigure {
         let bodies = (0..n)
             .map(|k| {
                 let body = &stack.bodies[k];
-                let theta_c = (body.width / body.height).atan();
+                // θc = atan(B/H), as the solver has it
+                let theta_c = crate::detmath::atan((0.5 * body.width) / (0.5 * body.height));
                 let phi: Vec<(f64, f64)> = rows
                     .iter()
                     .filter(|r| inside(r.t) && r.phi[k].is_finite())
