@@ -37,12 +37,12 @@ use super::data::StudyData;
 use super::figure::{Figure, Format, save};
 use super::fragility::FragilityFigure;
 use super::friction::FrictionDemandFigure;
-use super::history::{HistoryChoice, HistoryFigure, HistorySource, StudyHistory};
+use super::history::{HistoryChoice, HistoryFigure, HistorySource};
 use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
 use super::risk::RiskFigure;
 use super::spectrum::SpectrumFigure;
-use super::stack_history::StackHistoryFigure;
+use super::stack_history::{StackHistoryFigure, StudyHistory, study_history};
 use super::surface::SurfaceFigure;
 use crate::case::Field;
 use crate::error::{Error, Result};
@@ -278,7 +278,7 @@ impl StudyFigures {
             record_files: &options.record_files,
             pooled: &options.pooled,
         };
-        let (history, stack_history) = match HistoryFigure::from_study(dir, &data, &source) {
+        let (history, stack_history) = match study_history(dir, &data, &source) {
             Ok(StudyHistory::Block(h)) => (Some(*h), None),
             Ok(StudyHistory::Stack(h)) => (None, Some(*h)),
             Err(e) => {

@@ -38,7 +38,6 @@ use plotters::style::{BLACK, Color, RGBColor};
 use super::data::{PlotRow, StudyData};
 use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
-use super::stack_history::StackHistoryFigure;
 use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
 use crate::case::{Case, Field, Param};
 use crate::detmath as dm;
@@ -205,11 +204,11 @@ impl HistoryFigure {
     ///
     /// Errors: a case or stripe asked for that the study does not have, or
     /// a record or analysis that cannot be made.
-    pub(crate) fn from_study(
+    pub(super) fn from_study(
         dir: &Path,
         data: &StudyData,
         options: &HistorySource,
-    ) -> Result<StudyHistory> {
+    ) -> Result<Drawn> {
         let (case_id, level) = match options.choice {
             HistoryChoice::Case(case) => {
                 let drawn = if options.record_files.is_empty() {
@@ -235,7 +234,7 @@ impl HistoryFigure {
                 };
                 return drawn.map(|mut figure| {
                     figure.command = case_command(dir, options, case, figure.record);
-                    StudyHistory::Block(Box::new(figure))
+                    Drawn::Block(Box::new(figure))
                 });
             }
             HistoryChoice::Chosen => (None, (None, None)),
@@ -247,8 +246,7 @@ impl HistoryFigure {
         };
         let chosen = choose_run(dir, data, options, case_id, level)?;
         if chosen.own.stack.is_some() {
-            return StackHistoryFigure::of_chosen(dir, options, &chosen)
-                .map(|f| StudyHistory::Stack(Box::new(f)));
+            return Ok(Drawn::Stack(Box::new(chosen)));
         }
         let solver = options
             .study
@@ -329,7 +327,7 @@ impl HistoryFigure {
                 CommandBlock::Case(&case.id()),
             ))
         });
-        Ok(StudyHistory::Block(Box::new(figure)))
+        Ok(Drawn::Block(Box::new(figure)))
     }
 
     /// Runs the case's records, chooses one (see the module docs) and
@@ -594,14 +592,13 @@ fn case_command(
     })
 }
 
-/// A study's history figure: of a block, or of a stack (its case a
-/// stack's).
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) enum StudyHistory {
+/// What [`HistoryFigure::from_study`] gives: a block's figure, or the
+/// analysis of a stack's case it chose (`figures::stack_history` draws it).
+pub(super) enum Drawn {
     /// One block's history.
     Block(Box<HistoryFigure>),
-    /// Every body of a stack.
-    Stack(Box<StackHistoryFigure>),
+    /// A stack's analysis, chosen.
+    Stack(Box<ChosenRun>),
 }
 
 /// The analysis [`HistoryFigure::from_study`] draws.

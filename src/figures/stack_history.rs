@@ -22,8 +22,9 @@ use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend};
 use plotters::style::{BLACK, Color};
 
+use super::data::StudyData;
 use super::figure::{DrawResult, Figure};
-use super::history::{ChosenRun, HistorySource, acc_label, record_name};
+use super::history::{ChosenRun, Drawn, HistoryFigure, HistorySource, acc_label, record_name};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, PALETTE, Style, tick_label};
 use crate::case::Scene;
@@ -44,6 +45,31 @@ const ZOOM_PAD_S: f64 = 1.0;
 /// drawn flat, not blown up to fill the panel (and its tick labels stay
 /// short).
 const MIN_SLIP_MM: f64 = 1.0;
+
+/// A study's history figure: of a block, or of a stack (its case a
+/// stack's).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum StudyHistory {
+    /// One block's history.
+    Block(Box<HistoryFigure>),
+    /// Every body of a stack.
+    Stack(Box<StackHistoryFigure>),
+}
+
+/// The history figure of the study folder `dir` ([`HistoryFigure::from_study`]),
+/// a stack's drawn here when the analysis chosen is a stack's.
+pub(crate) fn study_history(
+    dir: &Path,
+    data: &StudyData,
+    options: &HistorySource,
+) -> Result<StudyHistory> {
+    Ok(match HistoryFigure::from_study(dir, data, options)? {
+        Drawn::Block(figure) => StudyHistory::Block(figure),
+        Drawn::Stack(chosen) => StudyHistory::Stack(Box::new(StackHistoryFigure::of_chosen(
+            dir, options, &chosen,
+        )?)),
+    })
+}
 
 /// One body's curves.
 #[derive(Clone, Debug, PartialEq)]
