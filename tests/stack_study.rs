@@ -257,8 +257,9 @@ fn a_two_block_study_runs_with_columns_and_limit_states_by_body() {
     // rocking past θc/2 comes at lower shaking than falling
     let rocks = fit("top-rocks").median.expect("fitted");
     assert!(rocks < median, "{rocks} vs {median}");
-    // the figures: every body's curves side by side; no history drawn of a
-    // stack as if it were its top block alone
+    // the figures: every body's curves side by side; the history draws
+    // every body of the stack (a study of stacks only), not its top block
+    // alone as if it were a block
     let options = rockfrag::figures::FigureOptions::for_folder(&out).unwrap();
     let report = rockfrag::figures::study_figures(&out, &out.join("figs"), &options).unwrap();
     assert!(
@@ -266,9 +267,14 @@ fn a_two_block_study_runs_with_columns_and_limit_states_by_body() {
         "{:?}",
         report.written
     );
-    assert!(!out.join("figs/history.svg").exists());
+    let history = std::fs::read_to_string(out.join("figs/history.svg")).unwrap();
+    assert!(history.contains("Stack "), "the history is a stack's");
     assert!(
-        report
+        history.contains("base on the ground") && history.contains("top on the base"),
+        "the history draws every body"
+    );
+    assert!(
+        !report
             .notes
             .iter()
             .any(|n| n.starts_with("history: skipped")),

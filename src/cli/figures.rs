@@ -51,6 +51,11 @@ pub struct FiguresArgs {
     /// unit (g for PGA) [default: the stripe nearest the case's fitted median].
     #[arg(long, value_name = "X", value_parser = positive)]
     pub level: Option<f64>,
+    /// The history figure's record: its index in the study's ensemble (the
+    /// `record` column of outcomes.csv) [default: at the case and stripe,
+    /// the analysis with the largest θmax/θc that did not overturn].
+    #[arg(long, value_name = "N")]
+    pub record: Option<u64>,
     /// Draw a folder holding one shard of a study (only its part of the
     /// records and levels, said on the console); without it that is refused.
     #[arg(long)]
@@ -76,10 +81,12 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
     if let Some(seed) = args.seed {
         options.seed = seed;
     }
-    if args.case.is_some() || args.level.is_some() {
+    let asked = args.case.is_some() || args.level.is_some() || args.record.is_some();
+    if asked {
         options.history = HistoryChoice::At {
             case: args.case.clone(),
             level: args.level,
+            record: args.record,
         };
     }
     let out = args.out.unwrap_or_else(|| args.dir.join("figures"));
@@ -100,9 +107,8 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
             args.dir.display()
         );
     }
-    // A history asked for by --case/--level that cannot be drawn is an
-    // error, not a note: the user named it.
-    let asked = args.case.is_some() || args.level.is_some();
+    // A history asked for by --case/--level/--record that cannot be drawn
+    // is an error, not a note: the user named it.
     let mut failed = None;
     for note in &report.notes {
         match note.strip_prefix("history: skipped, ") {
@@ -111,7 +117,7 @@ pub fn run(args: FiguresArgs) -> anyhow::Result<()> {
         }
     }
     if let Some(why) = failed {
-        anyhow::bail!("figures --case/--level: {why}");
+        anyhow::bail!("figures --case/--level/--record: {why}");
     }
     Ok(())
 }

@@ -5,7 +5,7 @@
 //! |------|--------|
 //! | `motion` | a sample record: acceleration, velocity, displacement ([`super::plot_record`]) |
 //! | `spectrum` | ensemble periodograms against the target PSD ([`super::spectrum`]) |
-//! | `history` | θ/θc and the modes of one of the study's analyses ([`super::history`]) |
+//! | `history` | θ/θc and the modes of one of the study's analyses ([`super::history`]); of a stack's case, every body's φ/θc and slip ([`super::stack_history`]) |
 //! | `fragility` | fragility curves and observed fractions ([`super::fragility`]) |
 //! | `friction_demand` | mean μ_mot and μ_imp against B/H ([`super::friction`]) |
 //! | `restitution` | overturning and θmax/θc against e ([`super::restitution`]) |
@@ -42,6 +42,7 @@ use super::motion::plot_record;
 use super::restitution::RestitutionFigure;
 use super::risk::RiskFigure;
 use super::spectrum::SpectrumFigure;
+use super::stack_history::{StackHistoryFigure, StudyHistory, study_history};
 use super::surface::SurfaceFigure;
 use crate::case::Field;
 use crate::error::{Error, Result};
@@ -200,8 +201,11 @@ pub struct StudyFigures {
     pub motion: Option<Record>,
     /// The spectrum.
     pub spectrum: Option<SpectrumFigure>,
-    /// The response history.
+    /// The response history (of a block's case).
     pub history: Option<HistoryFigure>,
+    /// The response history of a stack's case, every body (drawn as
+    /// `history`, in place of [`StudyFigures::history`]).
+    pub stack_history: Option<StackHistoryFigure>,
     /// The fragility curves.
     pub fragility: FragilityFigure,
     /// The friction demand (studies with infinite-friction analyses over
@@ -274,11 +278,12 @@ impl StudyFigures {
             record_files: &options.record_files,
             pooled: &options.pooled,
         };
-        let history = match HistoryFigure::from_study(dir, &data, &source) {
-            Ok(h) => Some(h),
+        let (history, stack_history) = match study_history(dir, &data, &source) {
+            Ok(StudyHistory::Block(h)) => (Some(*h), None),
+            Ok(StudyHistory::Stack(h)) => (None, Some(*h)),
             Err(e) => {
                 notes.push(format!("history: skipped, {e}"));
-                None
+                (None, None)
             }
         };
 
@@ -335,6 +340,7 @@ impl StudyFigures {
             motion,
             spectrum,
             history,
+            stack_history,
             fragility,
             friction_demand,
             restitution,
@@ -354,7 +360,11 @@ impl StudyFigures {
         let mut report = FiguresReport {
             written: Vec::new(),
             notes: self.notes.clone(),
-            history_command: self.history.as_ref().and_then(|h| h.command.clone()),
+            history_command: match (&self.history, &self.stack_history) {
+                (Some(h), _) => h.command.clone(),
+                (None, Some(h)) => h.command.clone(),
+                (None, None) => None,
+            },
         };
         if let Some(record) = &self.motion {
             let path = file("motion");
@@ -365,6 +375,9 @@ impl StudyFigures {
             write(f, file("spectrum"), &mut report)?;
         }
         if let Some(f) = &self.history {
+            write(f, file("history"), &mut report)?;
+        }
+        if let Some(f) = &self.stack_history {
             write(f, file("history"), &mut report)?;
         }
         write(&self.fragility, file("fragility"), &mut report)?;

@@ -76,14 +76,16 @@ pub enum HistoryChoice {
     /// `figures::history` say.
     #[default]
     Chosen,
-    /// One of the study's analyses at this case (its [`Case::id`]) and/or
-    /// this stripe (the level, in the study's unit); what is not given is
-    /// chosen as for [`HistoryChoice::Chosen`].
+    /// One of the study's analyses at this case (its [`Case::id`]), this
+    /// stripe (the level, in the study's unit) and/or this record; what is
+    /// not given is chosen as for [`HistoryChoice::Chosen`].
     At {
         /// The case's id.
         case: Option<String>,
         /// The stripe's level.
         level: Option<f64>,
+        /// The record's index.
+        record: Option<u64>,
     },
     /// One block under the first records of a synthetic ensemble.
     Case(HistoryCase),
@@ -202,11 +204,11 @@ impl HistoryFigure {
     ///
     /// Errors: a case or stripe asked for that the study does not have, or
     /// a record or analysis that cannot be made.
-    pub(crate) fn from_study(
+    pub(super) fn from_study(
         dir: &Path,
         data: &StudyData,
         options: &HistorySource,
-    ) -> Result<Self> {
+    ) -> Result<Drawn> {
         let (case_id, level) = match options.choice {
             HistoryChoice::Case(case) => {
                 let drawn = if options.record_files.is_empty() {
@@ -232,13 +234,20 @@ impl HistoryFigure {
                 };
                 return drawn.map(|mut figure| {
                     figure.command = case_command(dir, options, case, figure.record);
-                    figure
+                    Drawn::Block(Box::new(figure))
                 });
             }
-            HistoryChoice::Chosen => (None, None),
-            HistoryChoice::At { case, level } => (case.as_deref(), *level),
+            HistoryChoice::Chosen => (None, (None, None)),
+            HistoryChoice::At {
+                case,
+                level,
+                record,
+            } => (case.as_deref(), (*level, *record)),
         };
         let chosen = choose_run(dir, data, options, case_id, level)?;
+        if chosen.own.stack.is_some() {
+            return Ok(Drawn::Stack(Box::new(chosen)));
+        }
         let solver = options
             .study
             .map_or_else(SolverSettings::default, |s| s.solver);
@@ -270,43 +279,7 @@ impl HistoryFigure {
             Friction::Infinite => "μ = ∞".to_string(),
             Friction::Coulomb { mu_s, mu_k } => format!("μₛ = {}, μₖ = {}", sig3(mu_s), sig3(mu_k)),
         };
-        // The record as the study names it: its file, or its index and seed.
-        let record_name = match options.study.map(|s| &s.motions) {
-            Some(Motions::Files(files)) => files.get(chosen.record).map_or_else(
-                || format!("record {}", chosen.record),
-                |f| {
-                    Path::new(&f.given)
-                        .file_name()
-                        .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
-                },
-            ),
-            Some(Motions::Synthetic {
-                seed,
-                pairs: Some(orientation),
-                ..
-            }) => {
-                let (p, phi) = orientation.member(chosen.record);
-                format!("pair {p} of seed {seed} (φ = {}°)", sig3(phi))
-            }
-            Some(Motions::Synthetic { seed, .. }) => {
-                format!("record {} of seed {seed}", chosen.record)
-            }
-            Some(Motions::Pairs { pairs, orientation }) => {
-                let (p, phi) = orientation.member(chosen.record);
-                let name = |f: &crate::spec::RecordFile| {
-                    Path::new(&f.given)
-                        .file_name()
-                        .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
-                };
-                format!(
-                    "{} + {} (φ = {}°)",
-                    name(&pairs[p][0]),
-                    name(&pairs[p][1]),
-                    sig3(phi)
-                )
-            }
-            None => format!("record {} of seed {}", chosen.record, options.seed),
-        };
+        let record_name = record_name(options, chosen.record);
         // A value of the grid as the spec gave it; a drawn one to three
         // figures (all its digits are in outcomes.csv).
         let value = |x: f64, field: Field| {
@@ -333,16 +306,7 @@ impl HistoryFigure {
             value(e, Field::Restitution),
             chosen.level_text,
         );
-        let felt = match options.study.map(|s| s.motions.orientation().is_some()) {
-            Some(true) => "acceleration along φ",
-            _ => "acceleration",
-        };
-        let acc_label = match options.study.map(|s| &s.floor) {
-            Some(floor) if !floor.is_ground() => {
-                format!("Floor {felt} (g), on {}", floor_text(floor))
-            }
-            _ => format!("Ground {felt} (g)"),
-        };
+        let acc_label = acc_label(options);
         let labels = (acc_label, format!("Rotation θ/θc: {}", chosen.why));
         let mut figure = Self::of_run(
             &analysis,
@@ -363,7 +327,7 @@ impl HistoryFigure {
                 CommandBlock::Case(&case.id()),
             ))
         });
-        Ok(figure)
+        Ok(Drawn::Block(Box::new(figure)))
     }
 
     /// Runs the case's records, chooses one (see the module docs) and
@@ -628,18 +592,27 @@ fn case_command(
     })
 }
 
+/// What [`HistoryFigure::from_study`] gives: a block's figure, or the
+/// analysis of a stack's case it chose (`figures::stack_history` draws it).
+pub(super) enum Drawn {
+    /// One block's history.
+    Block(Box<HistoryFigure>),
+    /// A stack's analysis, chosen.
+    Stack(Box<ChosenRun>),
+}
+
 /// The analysis [`HistoryFigure::from_study`] draws.
-struct ChosenRun {
-    /// Its own block (drawn parameters as drawn).
-    own: Case,
+pub(super) struct ChosenRun {
+    /// Its own block (drawn parameters as drawn), or its stack's case.
+    pub own: Case,
     /// Its record's index.
-    record: usize,
+    pub record: usize,
     /// Its level, in the study's unit (g for PGA studies).
-    level: f64,
+    pub level: f64,
     /// The level for the title (`0.6 g`).
-    level_text: String,
+    pub level_text: String,
     /// Why it was chosen, for the title.
-    why: String,
+    pub why: String,
 }
 
 /// Chooses the analysis to draw (see the [module docs](self)) from the
@@ -650,21 +623,18 @@ fn choose_run(
     data: &StudyData,
     options: &HistorySource,
     case_id: Option<&str>,
-    level: Option<f64>,
+    (level, record): (Option<f64>, Option<u64>),
 ) -> Result<ChosenRun> {
     let rows = &data.outcomes;
     // `dedup` as it goes: one copy a run of rows, not one a row
     let all: Vec<Case> = super::data::runs(rows.iter().map(|r| r.case), |_, _| true);
-    // the figure draws one block: a stack's history is not drawn yet
-    let cases: Vec<Case> = all.iter().copied().filter(|c| c.stack.is_none()).collect();
-    if cases.is_empty() || case_id.is_some_and(|id| id.starts_with("stack_")) {
-        return Err(Error::invalid(
-            "history case",
-            case_id.unwrap_or("(a stack)"),
-            "a block's case: the history figure draws one block, not a stack yet (a stack's \
-             history: `rockfrag simulate --stack WxH,… --history FILE`)",
-        ));
-    }
+    // by default a block's case, if the study has one; else a stack's
+    let blocks: Vec<Case> = all.iter().copied().filter(|c| c.stack.is_none()).collect();
+    let cases = if case_id.is_some() || blocks.is_empty() {
+        all
+    } else {
+        blocks
+    };
     let case = match case_id {
         Some(id) => *cases.iter().find(|c| c.id() == id).ok_or_else(|| {
             Error::invalid(
@@ -770,9 +740,17 @@ fn choose_run(
             .copied()
     };
     let standing: Vec<&PlotRow> = at.iter().copied().filter(|r| !r.overturned).collect();
-    let (run, which) = match best(standing) {
-        Some(r) => (r, "largest θmax/θc not overturned"),
-        None => (
+    let (run, which) = match (record, best(standing)) {
+        (Some(n), _) => match at.iter().find(|r| r.record == n) {
+            Some(r) => (**r, "the record asked for"),
+            None => {
+                let ids: Vec<String> = at.iter().map(|r| r.record.to_string()).collect();
+                let want = format!("a record of the stripe's analyses ({})", ids.join(", "));
+                return Err(Error::invalid("history record", n, &want));
+            }
+        },
+        (None, Some(r)) => (r, "largest θmax/θc not overturned"),
+        (None, None) => (
             best(at).expect("the stripe has analyses"),
             "largest θmax/θc",
         ),
@@ -817,6 +795,62 @@ fn choose_run(
         run.record,
         "a run of outcomes.csv",
     ))
+}
+
+/// The record of analysis `record` as the study names it: its file, or its
+/// index and seed.
+pub(super) fn record_name(options: &HistorySource, record: usize) -> String {
+    match options.study.map(|s| &s.motions) {
+        Some(Motions::Files(files)) => files.get(record).map_or_else(
+            || format!("record {}", record),
+            |f| {
+                Path::new(&f.given)
+                    .file_name()
+                    .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
+            },
+        ),
+        Some(Motions::Synthetic {
+            seed,
+            pairs: Some(orientation),
+            ..
+        }) => {
+            let (p, phi) = orientation.member(record);
+            format!("pair {p} of seed {seed} (φ = {}°)", sig3(phi))
+        }
+        Some(Motions::Synthetic { seed, .. }) => {
+            format!("record {} of seed {seed}", record)
+        }
+        Some(Motions::Pairs { pairs, orientation }) => {
+            let (p, phi) = orientation.member(record);
+            let name = |f: &crate::spec::RecordFile| {
+                Path::new(&f.given)
+                    .file_name()
+                    .map_or_else(|| f.given.clone(), |n| n.to_string_lossy().into_owned())
+            };
+            format!(
+                "{} + {} (φ = {}°)",
+                name(&pairs[p][0]),
+                name(&pairs[p][1]),
+                sig3(phi)
+            )
+        }
+        None => format!("record {} of seed {}", record, options.seed),
+    }
+}
+
+/// Heading of the acceleration panel: the acceleration the analysis felt
+/// (the ground's, or the floor's, naming the floor).
+pub(super) fn acc_label(options: &HistorySource) -> String {
+    let felt = match options.study.map(|s| s.motions.orientation().is_some()) {
+        Some(true) => "acceleration along φ",
+        _ => "acceleration",
+    };
+    match options.study.map(|s| &s.floor) {
+        Some(floor) if !floor.is_ground() => {
+            format!("Floor {felt} (g), on {}", floor_text(floor))
+        }
+        _ => format!("Ground {felt} (g)"),
+    }
 }
 
 /// A floor for a heading: `a floor of a building with T = 0.8 s, ζ = 5 %,

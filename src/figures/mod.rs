@@ -12,7 +12,7 @@
 //! (`outcomes.csv`, optionally `fragility_curves.csv`) are drawn by
 //! [`study_figures`] (the CLI's `rockfrag figures DIR`). Each is a plain data
 //! struct built once from the folder's [`StudyData`] ([`SpectrumFigure`],
-//! [`HistoryFigure`], [`FragilityFigure`], [`FrictionDemandFigure`],
+//! [`HistoryFigure`] or [`StackHistoryFigure`], [`FragilityFigure`], [`FrictionDemandFigure`],
 //! [`RestitutionFigure`]) and drawn by [`Figure`]; the stage files are read
 //! through their row types ([`crate::outcomes_csv::OutcomesFile`],
 //! [`crate::fragility::read_curves_csv`]), and the shared titles, legends
@@ -40,6 +40,7 @@ mod raster;
 mod restitution;
 mod risk;
 mod spectrum;
+mod stack_history;
 pub mod style;
 mod surface;
 
@@ -57,5 +58,6 @@ pub use restitution::RestitutionFigure;
 pub(crate) use restitution::trend_text;
 pub use risk::{RiskCase, RiskFigure, RiskSeries};
 pub use spectrum::SpectrumFigure;
+pub use stack_history::{BodySeries, StackHistoryFigure};
 pub use style::Style;
 pub use surface::SurfaceFigure;

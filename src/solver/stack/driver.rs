@@ -599,6 +599,8 @@ impl<'a> Run<'a> {
     ) {
         let modes = self.modes;
         let mut j0 = 0;
+        // where a body's peak was raised inside the step, if it was
+        let mut peak_at = [None; MAX_BODIES];
         for k in 0..modes.n {
             let m = modes.ifs[k];
             let idx = match m.touch {
@@ -615,20 +617,53 @@ impl<'a> Run<'a> {
             for j in 1..=SUB {
                 let tj = t0 + (t_stop - t0) * j as f64 / SUB as f64;
                 let w = comp(QD + i, tj);
-                let phi = if pw * w < 0.0 {
+                let (phi, tp) = if pw * w < 0.0 {
                     let tr = brent(|t| comp(QD + i, t), pt, tj, pw, w, 1e-14 * tj.max(1.0));
-                    comp(i, tr).abs().max(comp(i, tj).abs())
+                    let (at_r, at_j) = (comp(i, tr).abs(), comp(i, tj).abs());
+                    if at_r >= at_j { (at_r, tr) } else { (at_j, tj) }
                 } else {
-                    comp(i, tj).abs()
+                    (comp(i, tj).abs(), tj)
                 };
                 let b = &mut self.bodies[k];
-                b.theta_max_over_theta_c = b.theta_max_over_theta_c.max(phi / self.sc.theta_c[k]);
+                let ratio = phi / self.sc.theta_c[k];
+                if ratio > b.theta_max_over_theta_c && tp < t_stop {
+                    peak_at[k] = Some(tp);
+                }
+                b.theta_max_over_theta_c = b.theta_max_over_theta_c.max(ratio);
                 pt = tj;
                 pw = w;
             }
         }
+        // with a history, a row at each peak inside the step, so that the
+        // history's peak |φ| is the outcome's
+        if self.hist.is_some() {
+            let mut times: Vec<f64> = peak_at[..modes.n].iter().flatten().copied().collect();
+            times.sort_by(f64::total_cmp);
+            times.dedup();
+            for t in times {
+                self.push_row_at(t, &at(t), false);
+            }
+        }
         let y = at(t_stop);
         self.note(&y);
+    }
+
+    /// The slip of body k along the face below, from its place at the
+    /// start: its footprint's centre while flat, its pivot while rocking;
+    /// `None` in flight (no contact).
+    fn slip(&self, ch: &Chain, k: usize) -> Option<f64> {
+        let rel = ch.rel[k];
+        match self.modes.ifs[k].touch {
+            Touch::Flat => Some(rel.x - self.x0[k]),
+            Touch::Corner(c) => {
+                let (sp, cp) = ch.rtrig[k];
+                Some(
+                    corner_rel(&rel, sp, cp, self.sc.b[k], self.sc.h[k], c)[0]
+                        - (self.x0[k] + c * self.sc.b[k]),
+                )
+            }
+            Touch::Open => None,
+        }
     }
 
     /// Peaks of |φ|, |θ| and slip at the state y.
@@ -636,21 +671,13 @@ impl<'a> Run<'a> {
         let ch = self.chain(y);
         for k in 0..self.modes.n {
             let rel = ch.rel[k];
+            let slip = self.slip(&ch, k).unwrap_or(0.0);
             let b = &mut self.bodies[k];
             b.theta_max_over_theta_c = b
                 .theta_max_over_theta_c
                 .max(rel.phi.abs() / self.sc.theta_c[k]);
             b.theta_abs_max = b.theta_abs_max.max(ch.body[k].th.abs());
             let m = self.modes.ifs[k];
-            let slip = match m.touch {
-                Touch::Flat => rel.x - self.x0[k],
-                Touch::Corner(c) => {
-                    let (sp, cp) = ch.rtrig[k];
-                    corner_rel(&rel, sp, cp, self.sc.b[k], self.sc.h[k], c)[0]
-                        - (self.x0[k] + c * self.sc.b[k])
-                }
-                Touch::Open => 0.0,
-            };
             b.slip_max = b.slip_max.max(slip.abs());
             // a corner on the face below must stay on it: running off its
             // edge (a body slipping off its support) is not modelled
@@ -689,6 +716,11 @@ impl<'a> Run<'a> {
         match ev {
             Ev::None => {}
             Ev::Overturn(k) => {
+                // the state at the overturning, before the fallen bodies
+                // leave the scene (a history's rows then have them as NaN)
+                if k > 0 {
+                    self.push_row(true);
+                }
                 self.overturn(k);
                 // the bodies below lose the forces of those that left: their
                 // state is chosen again (a pedestal at rest under 1 g whose
@@ -811,16 +843,23 @@ impl<'a> Run<'a> {
 
     /// A history row at the current time and state.
     fn push_row(&mut self, event: bool) {
+        if self.hist.is_some() {
+            self.push_row_at(self.t, &self.y.clone(), event);
+        }
+    }
+
+    /// A history row at time t and state y (of the current modes).
+    fn push_row_at(&mut self, t: f64, y: &[f64; NY], event: bool) {
         if self.hist.is_none() {
             return;
         }
         let sc = self.sc;
         let n = sc.n;
-        let ch = self.chain(&self.y);
+        let ch = self.chain(y);
         let nb = self.modes.n;
         let nan = f64::NAN;
         let mut row = StackRow {
-            t: self.t,
+            t,
             event,
             mode: Vec::with_capacity(n),
             theta: vec![nan; n],
@@ -828,6 +867,7 @@ impl<'a> Run<'a> {
             phi_dot: vec![nan; n],
             x: vec![nan; n],
             y: vec![nan; n],
+            slip: vec![nan; n],
             energy: 0.0,
         };
         for k in 0..n {
@@ -846,6 +886,7 @@ impl<'a> Run<'a> {
             row.phi_dot[k] = ch.rel[k].phid;
             row.x[k] = b.c[0];
             row.y[k] = b.c[1];
+            row.slip[k] = self.slip(&ch, k).unwrap_or(nan);
             e += sc.m[k] * sc.g * b.c[1]; // potential energy m g y
         }
         row.energy = e;

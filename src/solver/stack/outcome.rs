@@ -161,6 +161,11 @@ pub struct StackRow {
     pub x: Vec<f64>,
     /// Centre of mass, vertical (m).
     pub y: Vec<f64>,
+    /// Slip along the face below (m) from the body's place at the start:
+    /// its footprint's centre while flat, its pivot corner while rocking
+    /// (the quantity of [`BodyOutcome::slip_max`]); NaN in flight (no
+    /// contact) and once the body has overturned.
+    pub slip: Vec<f64>,
     /// Mechanical energy of the stack relative to the ground's frame:
     /// kinetic plus gravity's potential (J per unit of the stack's relative
     /// mass); conserved between impacts when the ground is still.
@@ -175,7 +180,7 @@ pub struct StackHistory {
 }
 
 impl StackHistory {
-    /// Writes CSV `t,event,mode_1,theta_1,phi_1,phi_dot_1,x_1,y_1,…,energy`
+    /// Writes CSV `t,event,mode_1,theta_1,phi_1,phi_dot_1,x_1,y_1,slip_1,…,energy`
     /// (bodies numbered from 1, bottom first) to a temporary file beside
     /// `path`, then renames it into place.
     pub fn write_csv(&self, path: &Path) -> Result<()> {
@@ -183,7 +188,10 @@ impl StackHistory {
         crate::io_util::write_atomic(path, |w| {
             write!(w, "t,event")?;
             for i in 1..=n {
-                write!(w, ",mode_{i},theta_{i},phi_{i},phi_dot_{i},x_{i},y_{i}")?;
+                write!(
+                    w,
+                    ",mode_{i},theta_{i},phi_{i},phi_dot_{i},x_{i},y_{i},slip_{i}"
+                )?;
             }
             writeln!(w, ",energy")?;
             for r in &self.rows {
@@ -191,13 +199,14 @@ impl StackHistory {
                 for i in 0..n {
                     write!(
                         w,
-                        ",{},{},{},{},{},{}",
+                        ",{},{},{},{},{},{},{}",
                         r.mode[i].name(),
                         r.theta[i],
                         r.phi[i],
                         r.phi_dot[i],
                         r.x[i],
-                        r.y[i]
+                        r.y[i],
+                        r.slip[i]
                     )?;
                 }
                 writeln!(w, ",{}", r.energy)?;
