@@ -153,23 +153,7 @@ fn the_joint_marginal_over_the_first_im_is_the_one_im_posterior() {
 /// normalised) would miss far more often.
 #[test]
 fn the_joint_region_holds_the_true_pga_and_pgv_about_90_percent_of_the_time() {
-    let study = spec(
-        r#"name = "calibration"
-seed = 31
-records = 20
-[motion]
-duration = 10.0
-[grid]
-pga = [0.15, 0.2, 0.3, 0.45, 0.6, 0.85, 1.2]
-[uncertainty]
-restitution = { dist = "uniform", min = 0.0, max = 0.4 }
-mu_s = { dist = "lognormal", median = 0.6, beta = 0.15, min = 0.3, max = 1.2 }
-mu_k_over_mu_s = { dist = "uniform", min = 0.75, max = 0.95 }
-[infer]
-draws = 16
-seating = 0.3
-"#,
-    );
+    let study = spec(common::CALIBRATION_STUDY);
     let kinds = Survey::parse(
         "name,width,aspect,count,overturned\nslender,0.25,5,1,0\nmid,0.35,3.5,1,0\n\
          squat,0.5,2.5,1,0\ntall,0.2,6,1,0\nblock,0.4,3,1,0\n",

@@ -80,3 +80,22 @@ pub fn stderr(o: &Output) -> String {
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
+
+/// The small study the inference calibration tests draw their synthetic
+/// events on (tests/infer.rs, tests/infer_pair.rs): 20 records at 7 PGA
+/// levels, e and μ drawn, 16 draws per kind, seating 0.3.
+pub const CALIBRATION_STUDY: &str = r#"name = "calibration"
+seed = 31
+records = 20
+[motion]
+duration = 10.0
+[grid]
+pga = [0.15, 0.2, 0.3, 0.45, 0.6, 0.85, 1.2]
+[uncertainty]
+restitution = { dist = "uniform", min = 0.0, max = 0.4 }
+mu_s = { dist = "lognormal", median = 0.6, beta = 0.15, min = 0.3, max = 1.2 }
+mu_k_over_mu_s = { dist = "uniform", min = 0.75, max = 0.95 }
+[infer]
+draws = 16
+seating = 0.3
+"#;
