@@ -14,9 +14,9 @@
 //! far less.
 
 mod common;
-use common::{rockfrag, stderr, stdout};
+use common::{INFER_SMALL_STUDY as SMALL, rockfrag, stderr, stdout, write};
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use rockfrag::infer::calibrate::{CalibrationOptions, calibrate};
 use rockfrag::infer::simulate::Runner;
@@ -260,25 +260,6 @@ fn a_mixed_count_of_a_fixed_kind_lies_between_standing_and_falling() {
     }
 }
 
-/// A small study with drawn properties for the run-level tests: 4 records
-/// of 8 s, 5 levels, 2 kinds, 6 draws.
-const SMALL: &str = r#"name = "infer-small"
-seed = 9
-records = 4
-[motion]
-duration = 8.0
-[grid]
-pga = [0.15, 0.25, 0.4, 0.65, 1.0]
-[uncertainty]
-restitution = { dist = "uniform", min = 0.0, max = 0.4 }
-mu_s = { dist = "lognormal", median = 0.6, beta = 0.15, min = 0.3, max = 1.2 }
-mu_k_over_mu_s = { dist = "uniform", min = 0.75, max = 0.95 }
-[infer]
-draws = 6
-seating = 0.3
-bootstrap = 20
-"#;
-
 const SMALL_SURVEY: &str = "# two kinds\nname,width,aspect,count,overturned\n\
                             slender,0.3,5,12,7\nsquat,0.5,2.5,10,1\n";
 
@@ -334,12 +315,6 @@ fn outputs_do_not_depend_on_threads_interruptions_or_reruns() {
     let again = run_into(&one, 2, None);
     assert_eq!((again.resumed_levels, again.analyses_run), (5, 0));
     assert_eq!(files(&one), want);
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
 }
 
 /// Bad surveys through the command line: each message names the file, the

@@ -12,31 +12,13 @@
 //! anything is written.
 
 mod common;
-use common::{rockfrag, stderr, stdout};
+use common::{INFER_SMALL_STUDY as SMALL, rockfrag, stderr, stdout, write};
 
 use std::path::{Path, PathBuf};
 
 use rockfrag::infer::calibrate::{CalibrationOptions, calibrate};
 use rockfrag::infer::{Im, InferOptions, Survey, settings};
 use rockfrag::spec::Study;
-
-/// Four records of 8 s, five PGA levels, two kinds with drawn properties.
-const SMALL: &str = r#"name = "infer-small"
-seed = 9
-records = 4
-[motion]
-duration = 8.0
-[grid]
-pga = [0.15, 0.25, 0.4, 0.65, 1.0]
-[uncertainty]
-restitution = { dist = "uniform", min = 0.0, max = 0.4 }
-mu_s = { dist = "lognormal", median = 0.6, beta = 0.15, min = 0.3, max = 1.2 }
-mu_k_over_mu_s = { dist = "uniform", min = 0.75, max = 0.95 }
-[infer]
-draws = 6
-seating = 0.3
-bootstrap = 20
-"#;
 
 const SURVEY: &str = "name,width,aspect,count,overturned\nslender,0.3,5,12,7\nsquat,0.5,2.5,10,1\n";
 
@@ -191,12 +173,6 @@ fn the_joint_region_holds_the_true_pga_and_pgv_about_90_percent_of_the_time() {
         "the PGV interval holds {pgv} of 100"
     );
     assert!(c.events.iter().all(|e| e.credible.is_some()));
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
 }
 
 /// (3) `--im pga,pga`, an IM infer cannot give a joint posterior of (the

@@ -8,6 +8,7 @@
 //! error and, from OpenQuake's file, the 7 significant digits of its poe.
 
 mod common;
+use common::write;
 
 use std::path::Path;
 
@@ -65,12 +66,6 @@ fn openquake_file(imt: &str, t: f64, iml: &[f64], k: f64, sites: &[(f64, f64)]) 
         s.push('\n');
     }
     s
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
 }
 
 /// Plain `iml,annual_rate` file: the rate matches the closed form to the

@@ -3,7 +3,7 @@
 
 pub mod reference;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// A spec that uses most fields: recorded motions, widths, friction in its
@@ -99,3 +99,30 @@ mu_k_over_mu_s = { dist = "uniform", min = 0.75, max = 0.95 }
 draws = 16
 seating = 0.3
 "#;
+
+/// A small inference study with drawn properties for the run-level tests
+/// (tests/infer.rs, tests/infer_pair.rs): 4 records of 8 s, 5 levels, 6
+/// draws per kind, a 20-replicate bootstrap.
+pub const INFER_SMALL_STUDY: &str = r#"name = "infer-small"
+seed = 9
+records = 4
+[motion]
+duration = 8.0
+[grid]
+pga = [0.15, 0.25, 0.4, 0.65, 1.0]
+[uncertainty]
+restitution = { dist = "uniform", min = 0.0, max = 0.4 }
+mu_s = { dist = "lognormal", median = 0.6, beta = 0.15, min = 0.3, max = 1.2 }
+mu_k_over_mu_s = { dist = "uniform", min = 0.75, max = 0.95 }
+[infer]
+draws = 6
+seating = 0.3
+bootstrap = 20
+"#;
+
+/// Writes `text` to `dir/name` and returns its path.
+pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
