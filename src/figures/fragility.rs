@@ -929,15 +929,21 @@ impl Figure for FragilityFigure {
                     };
                     let filled = s.friction == 0;
                     if let Some((_, most)) = self.sized {
+                        // as `markers!` draws circles, each at its own radius
                         let r = marker_px(style, filled);
                         let ms = marker_style(style, colour, filled);
-                        chart.draw_series(observed.iter().map(|o| {
-                            let ri = sized_radius(r, o.2, most);
-                            let under = if filled { ms } else { HOLLOW_FILL };
-                            EmptyElement::at((o.0, o.1))
-                                + Circle::new((0, 0), ri, under)
-                                + Circle::new((0, 0), ri, ms)
-                        }))?;
+                        let ri = |o: &(f64, f64, usize)| sized_radius(r, o.2, most);
+                        if filled {
+                            chart.draw_series(
+                                observed.iter().map(|o| Circle::new((o.0, o.1), ri(o), ms)),
+                            )?;
+                        } else {
+                            chart.draw_series(observed.iter().map(|o| {
+                                EmptyElement::at((o.0, o.1))
+                                    + Circle::new((0, 0), ri(o), HOLLOW_FILL)
+                                    + Circle::new((0, 0), ri(o), ms)
+                            }))?;
+                        }
                     } else {
                         markers!(
                             chart,
