@@ -199,8 +199,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
     let resumed = if reused { 0 } else { done.len() };
     // what the run reports, stopped between rounds or complete
     let run_report = |complete: bool, counts: super::Counts, analyses_run: u64| RunReport {
-        // a finished folder replayed without solving anything
-        already_finished: reused && analyses_run == 0,
+        already_finished: false,
         out_dir: dir.clone(),
         complete,
         counts,
@@ -306,7 +305,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<(RunReport, Option<Adapti
         // the replay wrote the same rows: the folder's outcomes.csv and
         // manifest stay as they were
         std::fs::remove_file(&partial).map_err(Error::io(&partial))?;
-        return Ok((run_report(true, counts, 0), Some(report)));
+        // a finished folder replayed without solving anything
+        let run = RunReport {
+            already_finished: true,
+            ..run_report(true, counts, 0)
+        };
+        return Ok((run, Some(report)));
     }
     // otherwise (the replay left the finished rows: outcomes.csv was
     // edited by hand since) the folder gets this run's rows
