@@ -292,12 +292,7 @@ impl HistoryFigure {
         let friction = if options.pooled.contains(&Field::Friction) {
             friction
         } else {
-            match analysis.friction {
-                Friction::Infinite => "μ = ∞".to_string(),
-                Friction::Coulomb { mu_s, mu_k } => {
-                    format!("μₛ = {}, μₖ = {}", tick_label(mu_s), tick_label(mu_k))
-                }
-            }
+            super::data::friction_label(&Param::Fixed(analysis.friction))
         };
         let title = format!(
             "H/B = {}, 2B = {} m, e = {}, {friction}; {record_name} at {}",

@@ -27,10 +27,9 @@ use super::figure::{DrawResult, Figure};
 use super::history::{ChosenRun, Drawn, HistoryFigure, HistorySource, acc_label, record_name};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, PALETTE, Style, tick_label};
-use crate::case::Scene;
+use crate::case::{Param, Scene};
 use crate::error::{Error, Result};
 use crate::outcome::{Mode, Slot};
-use crate::solver::Friction;
 use crate::solver::stack::{Stack, StackHistory, StackOutcome, simulate_stack};
 use crate::study::{CommandBlock, Source, plan};
 use std::path::Path;
@@ -312,12 +311,7 @@ fn bodies_text(stack: &Stack) -> String {
 /// named by the body standing on it (`under the base: …; under the top: …`).
 fn interfaces_text(stack: &Stack) -> String {
     let text = |i: &crate::solver::stack::StackInterface| {
-        let mu = match i.friction {
-            Friction::Infinite => "μ = ∞".to_string(),
-            Friction::Coulomb { mu_s, mu_k } => {
-                format!("μₛ = {}, μₖ = {}", tick_label(mu_s), tick_label(mu_k))
-            }
-        };
+        let mu = super::data::friction_label(&Param::Fixed(i.friction));
         format!("e = {}, {mu}", tick_label(i.restitution))
     };
     let all: Vec<String> = stack.interfaces.iter().map(text).collect();
