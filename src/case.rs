@@ -5,10 +5,11 @@
 //! A parameter is either fixed for the case or drawn per analysis (a spec's
 //! `[uncertainty]`, or pooled on request with `rockfrag fragility --pool`):
 //! [`Param::Fixed`] or [`Param::Drawn`]. One analysis has concrete values
-//! only (every parameter [`Param::Fixed`]); the case it belongs to marks the
+//! only, a [`CaseValues`] (plain numbers, drawn values as drawn: no
+//! parameter of it can be drawn); the case it belongs to marks the
 //! parameters that vary from analysis to analysis as [`Param::Drawn`]
-//! ([`Case::pooled`]), and a fragility curve is fitted per such case, over
-//! the draws.
+//! ([`CaseValues::pooled`]), and a fragility curve is fitted per such case,
+//! over the draws.
 //!
 //! In a CSV file the case is six columns, `aspect,width,restitution,
 //! friction,mu_s,mu_k` ([`CASE_COLUMNS`]): a drawn parameter is an empty
@@ -21,7 +22,7 @@ use std::cmp::Ordering;
 use std::hash::{Hash, Hasher};
 
 use crate::io_util::number;
-use crate::solver::Friction;
+use crate::solver::{Analysis, Block, Friction};
 
 /// A case parameter: fixed for the case, or drawn per analysis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -211,6 +212,146 @@ impl std::fmt::Display for StackName {
     }
 }
 
+/// One analysis's own block: the values of its case's parameters, those
+/// drawn under `[uncertainty]` as drawn. Every parameter is a value, so code
+/// that holds an analysis (a run's row, a history figure's block, a survey
+/// kind's draw) cannot meet a drawn one; the [`Case`] it belongs to is
+/// [`CaseValues::pooled`] over the drawn fields. A stack's values are its
+/// top body's aspect and width and the interface under it ([`Case::stack`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CaseValues {
+    /// Aspect ratio H/B (> 0).
+    pub aspect: f64,
+    /// Base width 2B, m (> 0).
+    pub width: f64,
+    /// Coefficient of restitution e, in [0, 1].
+    pub restitution: f64,
+    /// Friction model.
+    pub friction: Friction,
+    /// The stack this analysis is of, `None` for one block on the ground.
+    pub stack: Option<StackName>,
+}
+
+impl CaseValues {
+    /// One block on the ground with these values.
+    pub fn block(aspect: f64, width: f64, restitution: f64, friction: Friction) -> CaseValues {
+        CaseValues {
+            aspect,
+            width,
+            restitution,
+            friction,
+            stack: None,
+        }
+    }
+
+    /// The case this analysis belongs to when `fields` are drawn (or
+    /// pooled): those fields marked [`Param::Drawn`], the others fixed at
+    /// these values. Infinite friction stays infinite: only Coulomb
+    /// coefficients are drawn.
+    pub fn pooled(&self, fields: &[Field]) -> Case {
+        Case::from(*self).pooled(fields)
+    }
+
+    /// The block these values make, at rest under gravity `g` (m/s²) on the
+    /// ground: fails if they make no valid block. (A stack's scene is its
+    /// study's: [`crate::spec::Study::stacks`].)
+    pub fn analysis(&self, g: f64) -> crate::error::Result<Analysis> {
+        let mut analysis = Analysis::new(Block::new(self.width, self.aspect, g)?, self.restitution);
+        analysis.friction = self.friction;
+        Ok(analysis)
+    }
+
+    /// Reads the six case columns of one analysis (in [`CASE_COLUMNS`]
+    /// order, trimmed), as [`Case::parse`] does, but every field must hold
+    /// a value (an analysis's row has no drawn parameter).
+    ///
+    /// Errors: the index (into the six) of the first bad field and what
+    /// was expected there.
+    pub fn parse(fields: [&str; 6]) -> Result<CaseValues, (usize, &'static str)> {
+        let [aspect, width, restitution, friction, mu_s, mu_k] = fields;
+        Ok(CaseValues::block(
+            parse_number(0, aspect, POSITIVE)?,
+            parse_number(1, width, POSITIVE)?,
+            parse_number(2, restitution, FINITE)?,
+            parse_friction(friction, mu_s, mu_k)?.ok_or((4, MU))?,
+        ))
+    }
+}
+
+/// A case of fixed values: the analysis's values, every parameter
+/// [`Param::Fixed`].
+impl From<CaseValues> for Case {
+    fn from(v: CaseValues) -> Case {
+        Case {
+            aspect: Param::Fixed(v.aspect),
+            width: Param::Fixed(v.width),
+            restitution: Param::Fixed(v.restitution),
+            friction: Param::Fixed(v.friction),
+            stack: v.stack,
+        }
+    }
+}
+
+impl std::fmt::Display for CaseValues {
+    /// As the case of fixed values prints ([`Case`]'s `Display`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        Case::from(*self).fmt(f)
+    }
+}
+
+/// What [`parse_number`] accepts for H/B and 2B, and what it says otherwise.
+const POSITIVE: (fn(f64) -> bool, &str) = (|x| x.is_finite() && x > 0.0, "a finite number > 0");
+/// What [`parse_number`] accepts for e, and what it says otherwise.
+const FINITE: (fn(f64) -> bool, &str) = (f64::is_finite, "a finite number");
+/// What a μ column holds under Coulomb friction.
+const MU: &str = "a number or inf under friction coulomb";
+
+/// Case column `i`'s number, if it is one that `ok` accepts.
+fn parse_number(
+    i: usize,
+    text: &str,
+    (ok, expected): (fn(f64) -> bool, &'static str),
+) -> Result<f64, (usize, &'static str)> {
+    text.parse::<f64>()
+        .ok()
+        .filter(|&x| ok(x))
+        .ok_or((i, expected))
+}
+
+/// The friction of the `friction`, `mu_s` and `mu_k` columns; `None` for
+/// Coulomb friction with both μ empty (drawn, where a case allows it).
+fn parse_friction(
+    friction: &str,
+    mu_s: &str,
+    mu_k: &str,
+) -> Result<Option<Friction>, (usize, &'static str)> {
+    match friction {
+        "inf" => {
+            for (i, f) in [(4, mu_s), (5, mu_k)] {
+                if !f.is_empty() {
+                    return Err((i, "empty under friction inf"));
+                }
+            }
+            Ok(Some(Friction::Infinite))
+        }
+        "coulomb" => match (mu_s.is_empty(), mu_k.is_empty()) {
+            (true, true) => Ok(None),
+            (true, _) => Err((4, MU)),
+            (_, true) => Err((5, MU)),
+            _ => {
+                let mu = |i: usize, t: &str| {
+                    t.parse::<f64>().ok().filter(|x| !x.is_nan()).ok_or((i, MU))
+                };
+                Ok(Some(Friction::Coulomb {
+                    mu_s: mu(4, mu_s)?,
+                    mu_k: mu(5, mu_k)?,
+                }))
+            }
+        },
+        _ => Err((3, "inf or coulomb")),
+    }
+}
+
 /// What one analysis simulates, made from its [`Case`] (drawn values
 /// drawn): one block on the ground, solved by the single block's solver,
 /// or a stack, solved by the stack solver.
@@ -270,15 +411,21 @@ impl Hash for Case {
 }
 
 impl Case {
-    /// A case of fixed values: one analysis's block.
+    /// A case of one block with every parameter fixed.
     pub fn fixed(aspect: f64, width: f64, restitution: f64, friction: Friction) -> Case {
-        Case {
-            aspect: Param::Fixed(aspect),
-            width: Param::Fixed(width),
-            restitution: Param::Fixed(restitution),
-            friction: Param::Fixed(friction),
-            stack: None,
-        }
+        CaseValues::block(aspect, width, restitution, friction).into()
+    }
+
+    /// The values of a case none of whose parameters is drawn, `None` if
+    /// one is.
+    pub fn values(&self) -> Option<CaseValues> {
+        Some(CaseValues {
+            aspect: self.aspect.fixed()?,
+            width: self.width.fixed()?,
+            restitution: self.restitution.fixed()?,
+            friction: self.friction.fixed()?,
+            stack: self.stack,
+        })
     }
 
     /// Whether `field` is drawn.
@@ -299,9 +446,9 @@ impl Case {
             .collect()
     }
 
-    /// The case this analysis belongs to when `fields` are drawn (or
-    /// pooled): those fields marked [`Param::Drawn`]. Infinite friction
-    /// stays infinite: only Coulomb coefficients are drawn.
+    /// This case with `fields` drawn (or pooled) too: those fields marked
+    /// [`Param::Drawn`]. Infinite friction stays infinite: only Coulomb
+    /// coefficients are drawn.
     pub fn pooled(mut self, fields: &[Field]) -> Case {
         for f in fields {
             match f {
@@ -411,64 +558,27 @@ impl Case {
         )
     }
 
-    /// Reads the six case columns (in [`CASE_COLUMNS`] order, trimmed).
-    /// H/B and 2B finite and > 0, e finite, `friction` `inf` (μ columns
-    /// empty) or `coulomb` (μs, μk numbers, `inf` allowed, or both empty
-    /// for drawn friction). An empty H/B, 2B or e is a drawn parameter,
-    /// accepted only if `allow_drawn` (a fitted case; an analysis's row has
-    /// concrete values).
+    /// Reads the six case columns (in [`CASE_COLUMNS`] order, trimmed) of
+    /// a fitted case: H/B and 2B finite and > 0, e finite, `friction` `inf`
+    /// (μ columns empty) or `coulomb` (μs, μk numbers, `inf` allowed, or
+    /// both empty for drawn friction); an empty H/B, 2B or e is a drawn
+    /// parameter. An analysis's row is read by [`CaseValues::parse`].
     ///
     /// Errors: the index (into the six) of the first bad field and what
     /// was expected there.
-    pub fn parse(fields: [&str; 6], allow_drawn: bool) -> Result<Case, (usize, &'static str)> {
+    pub fn parse(fields: [&str; 6]) -> Result<Case, (usize, &'static str)> {
         let [aspect, width, restitution, friction, mu_s, mu_k] = fields;
-        let number = |i: usize, text: &str, ok: fn(f64) -> bool, expected: &'static str| {
-            if text.is_empty() && allow_drawn {
+        let number = |i: usize, text: &str, rule| {
+            if text.is_empty() {
                 return Ok(Param::Drawn);
             }
-            text.parse::<f64>()
-                .ok()
-                .filter(|&x| ok(x))
-                .map(Param::Fixed)
-                .ok_or((i, expected))
-        };
-        let positive = |x: f64| x.is_finite() && x > 0.0;
-        let aspect = number(0, aspect, positive, "a finite number > 0")?;
-        let width = number(1, width, positive, "a finite number > 0")?;
-        let restitution = number(2, restitution, f64::is_finite, "a finite number")?;
-        let friction = match friction {
-            "inf" => {
-                for (i, f) in [(4, mu_s), (5, mu_k)] {
-                    if !f.is_empty() {
-                        return Err((i, "empty under friction inf"));
-                    }
-                }
-                Param::Fixed(Friction::Infinite)
-            }
-            "coulomb" => {
-                const MU: &str = "a number or inf under friction coulomb";
-                match (mu_s.is_empty(), mu_k.is_empty()) {
-                    (true, true) if allow_drawn => Param::Drawn,
-                    (true, _) => return Err((4, MU)),
-                    (_, true) => return Err((5, MU)),
-                    _ => {
-                        let mu = |i: usize, t: &str| {
-                            t.parse::<f64>().ok().filter(|x| !x.is_nan()).ok_or((i, MU))
-                        };
-                        Param::Fixed(Friction::Coulomb {
-                            mu_s: mu(4, mu_s)?,
-                            mu_k: mu(5, mu_k)?,
-                        })
-                    }
-                }
-            }
-            _ => return Err((3, "inf or coulomb")),
+            parse_number(i, text, rule).map(Param::Fixed)
         };
         Ok(Case {
-            aspect,
-            width,
-            restitution,
-            friction,
+            aspect: number(0, aspect, POSITIVE)?,
+            width: number(1, width, POSITIVE)?,
+            restitution: number(2, restitution, FINITE)?,
+            friction: parse_friction(friction, mu_s, mu_k)?.map_or(Param::Drawn, Param::Fixed),
             stack: None,
         })
     }
@@ -533,13 +643,26 @@ mod tests {
         for case in [concrete, pooled] {
             let text = case.fields();
             let f: Vec<&str> = text.split(',').collect();
-            let back = Case::parse([f[0], f[1], f[2], f[3], f[4], f[5]], true).unwrap();
+            let back = Case::parse([f[0], f[1], f[2], f[3], f[4], f[5]]).unwrap();
             assert_eq!(back, case);
         }
         // An analysis's row must be concrete.
         assert_eq!(
-            Case::parse(["4", "0.5", "", "inf", "", ""], false),
+            CaseValues::parse(["4", "0.5", "", "inf", "", ""]),
             Err((2, "a finite number"))
+        );
+        assert_eq!(
+            CaseValues::parse(["4", "0.5", "0.3", "coulomb", "", ""]),
+            Err((4, MU))
+        );
+        assert_eq!(
+            CaseValues::parse(["4", "0.5", "0.3", "coulomb", "0.7", "inf"]),
+            Ok(CaseValues::block(
+                4.0,
+                0.5,
+                0.3,
+                coulomb(0.7, f64::INFINITY)
+            ))
         );
         // Infinite friction is never drawn.
         let inf = Case::fixed(4.0, 0.5, 0.0, Friction::Infinite);

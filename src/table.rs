@@ -6,8 +6,9 @@
 //!
 //! - Columns are found by header name: order and extra columns do not matter.
 //!   Headers and fields are trimmed.
-//! - The case is the six columns of [`CASE_COLUMNS`], read into a [`Case`]
-//!   ([`Case::parse`]).
+//! - The case is the six columns of [`CASE_COLUMNS`], read into a fitted
+//!   [`Case`] ([`Case::parse`]) or an analysis's [`CaseValues`]
+//!   ([`CaseValues::parse`]).
 //! - A row is failed ([`Row::failed`]) when its `status` column, if any, is
 //!   not `ok`, or its `error` column, if any, is not empty: its outcome
 //!   columns are empty and must not be read.
@@ -16,7 +17,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::case::{CASE_COLUMNS, Case};
+use crate::case::{CASE_COLUMNS, Case, CaseValues};
 use crate::error::{Error, Result};
 
 /// A CSV stage file keyed by the case columns (`outcomes.csv`,
@@ -174,20 +175,32 @@ impl Row<'_> {
             || t.error.is_some_and(|i| !self.field(i).is_empty())
     }
 
-    /// The case of this row ([`Case::parse`]): an analysis's own values
-    /// (every parameter fixed), or with `allow_drawn` a fitted case whose
-    /// drawn parameters are empty fields.
-    pub fn case(&self, allow_drawn: bool) -> Result<Case> {
+    /// The fitted case of this row ([`Case::parse`]): drawn parameters are
+    /// empty fields.
+    pub fn case(&self) -> Result<Case> {
         let fields = self.table.case.map(|i| self.field(i));
-        let mut case = Case::parse(fields, allow_drawn)
+        let mut case = Case::parse(fields)
             .map_err(|(k, expected)| self.error(self.table.case[k], expected))?;
-        // a stack's case is named by its id (outcomes.csv names it in its
-        // `stack` column, read by its own reader)
-        case.stack = self
-            .table
-            .case_id
-            .and_then(|i| crate::case::StackName::from_case_id(self.field(i)));
+        case.stack = self.stack();
         Ok(case)
+    }
+
+    /// The analysis's own values of this row ([`CaseValues::parse`]):
+    /// every field a value.
+    pub fn values(&self) -> Result<CaseValues> {
+        let fields = self.table.case.map(|i| self.field(i));
+        let mut values = CaseValues::parse(fields)
+            .map_err(|(k, expected)| self.error(self.table.case[k], expected))?;
+        values.stack = self.stack();
+        Ok(values)
+    }
+
+    /// The stack a row's case is, named by its id (outcomes.csv names it in
+    /// its `stack` column, read by its own reader).
+    fn stack(&self) -> Option<crate::case::StackName> {
+        self.table
+            .case_id
+            .and_then(|i| crate::case::StackName::from_case_id(self.field(i)))
     }
 
     /// An error at this row's line of the file.
@@ -278,7 +291,7 @@ mod tests {
         let (mut t, [_pga]) = Table::open(&path, ["pga"], "the test")?;
         let mut out = Vec::new();
         while let Some(row) = t.next_row()? {
-            out.push((row.failed(), row.case(false)));
+            out.push((row.failed(), row.values().map(Case::from)));
         }
         Ok(out)
     }

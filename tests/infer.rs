@@ -60,7 +60,7 @@ fn falls(study: &Study) -> Vec<bool> {
     )
     .unwrap()
     .remove(0);
-    let analysis = kinds::analysis(&kind.case, study.g).unwrap();
+    let analysis = kinds::analysis(&kind.draw(0, 0, 0, 0), study.g).unwrap();
     study
         .intensity
         .levels()

@@ -6,7 +6,7 @@
 
 mod common;
 
-use rockfrag::case::{Field, Param};
+use rockfrag::case::Field;
 use rockfrag::fragility::{fit_cases, read_outcomes_for};
 use rockfrag::im::Im;
 use rockfrag::motion::{At2, G_STANDARD as G, SynthesisSettings, Synthesizer};
@@ -124,7 +124,7 @@ fn recorded_scaled_drawn_restitution_three_limit_states() {
     let (mut es, mut pgas) = (Vec::new(), Vec::new());
     while let Some((_, row)) = table.next_row().unwrap() {
         assert!(row.result.is_ok(), "every analysis finishes");
-        es.push(row.case.restitution.fixed().unwrap());
+        es.push(row.case.restitution);
         pgas.push(row.im(Im::PGA).unwrap());
     }
     assert_eq!(es.len(), RECORDS * 6);
@@ -184,10 +184,10 @@ fn draws_depend_on_their_key_and_not_on_other_parameters() {
         let mut rows = Vec::new();
         while let Some((_, r)) = t.next_row().unwrap() {
             let (s, k) = match r.case.friction {
-                Param::Fixed(Friction::Coulomb { mu_s, mu_k }) => (Some(mu_s), Some(mu_k)),
+                Friction::Coulomb { mu_s, mu_k } => (Some(mu_s), Some(mu_k)),
                 _ => (None, None),
             };
-            rows.push((r.case.restitution.fixed().unwrap(), s, k));
+            rows.push((r.case.restitution, s, k));
         }
         rows
     };

@@ -536,50 +536,25 @@ fn run_study(args: &SimulateArgs, path: &std::path::Path) -> anyhow::Result<()> 
                 .analysed
                 .result
                 .map_err(|e| anyhow::anyhow!("solving record {}: {e}", motion.felt.name))?;
+            let o = r.analysed.own;
             let drawn: Vec<String> = r
                 .case
                 .0
                 .drawn()
                 .iter()
                 .map(|f| match f {
-                    rockfrag::case::Field::Friction => format!(
-                        "μs = {}, μk = {}",
-                        r.analysed
-                            .own
-                            .mu_s()
-                            .and_then(|p| p.fixed())
-                            .map_or("-".into(), number),
-                        r.analysed
-                            .own
-                            .mu_k()
-                            .and_then(|p| p.fixed())
-                            .map_or("-".into(), number)
-                    ),
-                    rockfrag::case::Field::Aspect => format!(
-                        "H/B = {}",
-                        r.analysed.own.aspect.fixed().map_or("-".into(), number)
-                    ),
-                    rockfrag::case::Field::Width => format!(
-                        "2B = {} m",
-                        r.analysed.own.width.fixed().map_or("-".into(), number)
-                    ),
-                    rockfrag::case::Field::Restitution => format!(
-                        "e = {}",
-                        r.analysed
-                            .own
-                            .restitution
-                            .fixed()
-                            .map_or("-".into(), number)
-                    ),
+                    rockfrag::case::Field::Friction => match o.friction {
+                        Friction::Coulomb { mu_s, mu_k } => {
+                            format!("μs = {}, μk = {}", number(mu_s), number(mu_k))
+                        }
+                        Friction::Infinite => "μs = -, μk = -".to_string(),
+                    },
+                    rockfrag::case::Field::Aspect => format!("H/B = {}", number(o.aspect)),
+                    rockfrag::case::Field::Width => format!("2B = {} m", number(o.width)),
+                    rockfrag::case::Field::Restitution => format!("e = {}", number(o.restitution)),
                 })
                 .collect();
-            let o = &r.analysed.own;
-            let fixed_or_nan = |p: rockfrag::case::Param<f64>| p.fixed().unwrap_or(f64::NAN);
-            let own = (
-                fixed_or_nan(o.width),
-                fixed_or_nan(o.aspect),
-                fixed_or_nan(o.restitution),
-            );
+            let own = (o.width, o.aspect, o.restitution);
             (analysis, motion, outcome, drawn, own)
         }
         None => {

@@ -475,7 +475,7 @@ pub fn read_outcomes(path: &Path) -> Result<(Vec<PlotRow>, Im)> {
             message: format!("column `{column}` = \"\": expected a number"),
         })?;
         rows.push(PlotRow {
-            case: row.case,
+            case: row.case.into(),
             pga,
             record: row.record as u64,
             overturned: o.overturned,

@@ -39,7 +39,7 @@ use super::data::{PlotRow, StudyData};
 use super::figure::{DrawResult, Figure};
 use super::layout::{self, Dash, Entry, Frame, Margins, Sample, curve};
 use super::style::{PAGE_WIDTH_IN, PALETTE, Style, tick_label};
-use crate::case::{Case, Field, Param};
+use crate::case::{Case, CaseValues, Field, Param};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
 use crate::im::Im;
@@ -264,16 +264,9 @@ impl HistoryFigure {
                 (r, options.synthesis.g)
             }
         };
-        let (Param::Fixed(aspect), Param::Fixed(width), Param::Fixed(e), Param::Fixed(friction)) = (
-            chosen.own.aspect,
-            chosen.own.width,
-            chosen.own.restitution,
-            chosen.own.friction,
-        ) else {
-            unreachable!("an analysis's own parameters are fixed")
-        };
-        let mut analysis = Analysis::new(Block::new(width, aspect, g)?, e);
-        analysis.friction = friction;
+        let own = chosen.own;
+        let analysis = own.analysis(g)?;
+        let (aspect, width, e, friction) = (own.aspect, own.width, own.restitution, own.friction);
         // Three figures: a drawn value has all its digits in outcomes.csv.
         let friction = match friction {
             Friction::Infinite => "μ = ∞".to_string(),
@@ -598,8 +591,8 @@ pub(super) enum Drawn {
 
 /// The analysis [`HistoryFigure::from_study`] draws.
 pub(super) struct ChosenRun {
-    /// Its own block (drawn parameters as drawn), or its stack's case.
-    pub own: Case,
+    /// Its own block (drawn parameters as drawn), or its stack's values.
+    pub own: CaseValues,
     /// Its record's index.
     pub record: usize,
     /// Its level, in the study's unit (g for PGA studies).

@@ -27,11 +27,11 @@ use super::figure::{DrawResult, Figure};
 use super::history::{ChosenRun, Drawn, HistoryFigure, HistorySource, acc_label, record_name};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, PALETTE, Style, tick_label};
-use crate::case::{Param, Scene};
+use crate::case::{Case, Param};
 use crate::error::{Error, Result};
 use crate::outcome::{Mode, Slot};
 use crate::solver::stack::{Stack, StackHistory, StackOutcome, simulate_stack};
-use crate::study::{CommandBlock, Source, plan};
+use crate::study::{CommandBlock, Source};
 use std::path::Path;
 
 /// Figure height (in).
@@ -125,33 +125,28 @@ impl StackHistoryFigure {
         options: &HistorySource,
         chosen: &ChosenRun,
     ) -> Result<Self> {
+        let id = Case::from(chosen.own).id();
         let Some(study) = options.study else {
             return Err(Error::invalid(
                 "history case",
-                chosen.own.id(),
+                id,
                 "a block's case: a stack is known only from its study's spec (the folder's \
                  manifest is missing)",
             ));
         };
-        let cases = plan::cases(study);
-        let number = cases
-            .iter()
-            .position(|c| *c == chosen.own)
-            .ok_or_else(|| Error::invalid("history case", chosen.own.id(), "a study's case"))?;
-        let levels = study.intensity.levels();
-        let level = levels
-            .iter()
-            .position(|&l| l == chosen.level)
-            .ok_or_else(|| Error::invalid("history level", chosen.level, "a study's level"))?;
-        let unit = plan::Unit {
-            index: level * study.records() + chosen.record,
-            level,
-            record: chosen.record,
-        };
-        let (_, scene) = plan::analysis(study, &chosen.own, number, &unit);
-        let Scene::Stack(stack) = scene? else {
-            unreachable!("a stack's case is a stack's scene")
-        };
+        let stack = chosen
+            .own
+            .stack
+            .and_then(|name| study.stacks.iter().find(|s| s.name == name))
+            .map(|s| s.stack.clone())
+            .ok_or_else(|| Error::invalid("history case", id, "a stack of the study"))?;
+        if !study.intensity.levels().contains(&chosen.level) {
+            return Err(Error::invalid(
+                "history level",
+                chosen.level,
+                "a study's level",
+            ));
+        }
         let motion = Source::new(study)?.motion(study, chosen.level, chosen.record)?;
         let record = &motion.felt;
         let mut history = StackHistory::default();

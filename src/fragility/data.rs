@@ -242,9 +242,7 @@ fn read_outcomes_with(
         };
         let pga = positive(row.im(Im::PGA), pga_column)?;
         let value = match (im.measure(), im_column) {
-            (Measure::PgaOverTan, _) => {
-                pga * own.aspect.fixed().expect("an analysis's aspect is fixed")
-            }
+            (Measure::PgaOverTan, _) => pga * own.aspect,
             (_, Some(c)) => positive(row.intensity(c), c)?,
             (_, None) => {
                 let m = measured.expect("an IM without a column is measured on the records");

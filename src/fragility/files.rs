@@ -248,7 +248,7 @@ impl FragilityRow {
             .parse::<Im>()
             .map_err(|e| row.error(required(1), &e))?;
         let out = FragilityRow {
-            case: row.case(true)?,
+            case: row.case()?,
             limit_state: row.text(required(0))?.to_string(),
             im,
             median: opt(2)?,
@@ -427,7 +427,7 @@ pub fn read_curves_csv(path: &Path) -> Result<Vec<CurveRow>> {
         };
         rows.push(CurveRow {
             index: row.integer(index)? as usize,
-            case: row.case(true)?,
+            case: row.case()?,
             limit_state: limit_state
                 .map_or("overturning", |i| row.field(i))
                 .to_string(),
@@ -542,7 +542,7 @@ pub fn read_bootstrap_csv(path: &Path) -> Result<Vec<BootstrapRow>> {
         };
         rows.push(BootstrapRow {
             index: row.integer(index)? as usize,
-            case: row.case(true)?,
+            case: row.case()?,
             limit_state: row.text(ls)?.to_string(),
             im: row.field(im).parse::<Im>().map_err(|e| row.error(im, &e))?,
             replicate: row.integer(replicate)? as usize,

@@ -203,7 +203,7 @@ pub fn read_surface_csv(path: &Path) -> Result<Vec<SurfaceRow>> {
         let ims = ImPair::new(im(1)?, im(2)?).map_err(|e| row.error(c[2], &e))?;
         let count = |i: usize| row.integer(c[i]).map(|n| n as usize);
         rows.push(SurfaceRow {
-            case: row.case(true)?,
+            case: row.case()?,
             limit_state: row.text(c[0])?.to_string(),
             ims,
             coefficients: three(3)?,

@@ -198,9 +198,9 @@ impl Runner<'_> {
         Ok((ims, cells))
     }
 
-    /// What the analysis of `case` (every parameter fixed) under `record`
+    /// What the analysis of `case` (one draw of a kind) under `record`
     /// came to.
-    pub(super) fn classify(&self, case: &crate::case::Case, record: &Record) -> Class {
+    pub(super) fn classify(&self, case: &crate::case::CaseValues, record: &Record) -> Class {
         let Ok(analysis) = analysis(case, self.study.g) else {
             return Class::Failed;
         };

@@ -19,12 +19,12 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::case::{Case, Param};
+use crate::case::{Case, CaseValues, Param};
 use crate::error::{Error, Result};
 use crate::fragility::LimitState;
 use crate::outcome::Outcome;
-use crate::solver::{Analysis, Block, Friction};
-use crate::spec::{InferSettings, Motions, Study, Uncertainty};
+use crate::solver::{Analysis, Friction};
+use crate::spec::{InferSettings, Motions, Study, Uncertainty, analysis_values};
 use crate::uncertainty::{Property, Value, analysis_seed, uniforms};
 
 /// Columns every survey has.
@@ -333,12 +333,9 @@ impl KindModel {
     /// The block of draw `draw` of kind number `kind` on record `record` at
     /// level `level` (the spec's level index): every parameter fixed, drawn
     /// from the stream keyed by (seed, record, level, kind · 2³² + draw).
-    pub fn draw(&self, kind: usize, record: usize, level: usize, draw: usize) -> Case {
+    pub fn draw(&self, kind: usize, record: usize, level: usize, draw: usize) -> CaseValues {
         let number = (kind << 32) | draw;
-        let case = match &self.uncertainty {
-            None => self.case,
-            Some(u) => u.draw(&self.case, record, level, number),
-        };
+        let case = analysis_values(self.uncertainty.as_ref(), &self.case, record, level, number);
         if self.seating == 0.0 {
             return case;
         }
@@ -348,15 +345,17 @@ impl KindModel {
             level as u64,
             number as u64,
         ))[0];
-        let f = 1.0 - self.seating * u;
-        let (Param::Fixed(width), Param::Fixed(aspect)) = (case.width, case.aspect) else {
-            unreachable!("a kind's width and aspect are the survey's")
-        };
-        Case {
-            width: Param::Fixed(width * f),
-            aspect: Param::Fixed(aspect / f),
-            ..case
-        }
+        seated(case, 1.0 - self.seating * u)
+    }
+}
+
+/// `case` seated on a fraction `f` of its base: the base width times `f`,
+/// the height unchanged.
+fn seated(case: CaseValues, f: f64) -> CaseValues {
+    CaseValues {
+        width: case.width * f,
+        aspect: case.aspect / f,
+        ..case
     }
 }
 
@@ -529,22 +528,10 @@ fn model(
     // which no draw gives).
     for u in [0.0, 0.5, crate::uncertainty::U_MAX] {
         let c = match &model.uncertainty {
-            None => model.case,
-            Some(d) => at_quantile(d, &model.case, u),
+            None => analysis_values(None, &model.case, 0, 0, 0),
+            Some(d) => d.at_quantile(&model.case, u),
         };
-        let c = Case {
-            width: c
-                .width
-                .fixed()
-                .map(|w| w * (1.0 - settings.seating))
-                .map_or(c.width, Param::Fixed),
-            aspect: c
-                .aspect
-                .fixed()
-                .map(|a| a / (1.0 - settings.seating))
-                .map_or(c.aspect, Param::Fixed),
-            ..c
-        };
+        let c = seated(c, 1.0 - settings.seating);
         analysis(&c, study.g).map_err(|e| {
             err(format!(
                 "kind \"{}\" makes no block rockfrag can simulate: {e}",
@@ -555,35 +542,9 @@ fn model(
     Ok(model)
 }
 
-/// The case with every drawn property at quantile `u`.
-fn at_quantile(u: &Uncertainty, case: &Case, q: f64) -> Case {
-    let value = |v: Option<Value>, p: Param<f64>| v.map_or(p, |v| Param::Fixed(v.at(q)));
-    let friction = match (u.mu_s, u.mu_k_over_mu_s) {
-        (Some(s), Some(r)) => {
-            let mu_s = s.at(q);
-            Param::Fixed(Friction::Coulomb {
-                mu_s,
-                mu_k: mu_s * r.at(q),
-            })
-        }
-        _ => case.friction,
-    };
-    Case {
-        restitution: value(u.restitution, case.restitution),
-        friction,
-        ..*case
-    }
-}
-
-/// The analysis (at rest) of a case whose parameters are all fixed.
-pub fn analysis(case: &Case, g: f64) -> Result<Analysis> {
-    let (Param::Fixed(aspect), Param::Fixed(width), Param::Fixed(e), Param::Fixed(friction)) =
-        (case.aspect, case.width, case.restitution, case.friction)
-    else {
-        unreachable!("a drawn parameter has a draw: {case}")
-    };
-    let mut analysis = Analysis::new(Block::new(width, aspect, g)?, e);
-    analysis.friction = friction;
+/// The analysis (at rest) of a kind's block, validated.
+pub fn analysis(case: &CaseValues, g: f64) -> Result<Analysis> {
+    let analysis = case.analysis(g)?;
     analysis.validate()?;
     Ok(analysis)
 }

@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use super::columns::{CASE, Column, Columns};
-use crate::case::Case;
+use crate::case::{Case, CaseValues};
 use crate::error::{Error, Result};
 use crate::im::{Im, ImValues};
 use crate::outcome::Outcome;
@@ -17,9 +17,8 @@ use std::fmt::Write;
 /// One analysis: its block, its record and its outcome.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OutcomeRow {
-    /// The analysis's own block (every parameter fixed: drawn values as
-    /// drawn).
-    pub case: Case,
+    /// The analysis's own block (drawn values as drawn).
+    pub case: CaseValues,
     /// The record's intensity measures that have a column in the file
     /// ([`Column::Im`]), each in its unit: the level of the study in its
     /// measure's column, the scaled record's measured values in the others
@@ -98,7 +97,7 @@ impl Columns {
     /// [`OutcomeRow::sensitive`]).
     pub fn row(
         &self,
-        case: Case,
+        case: CaseValues,
         record: &RecordInfo,
         result: std::result::Result<Outcome, String>,
     ) -> OutcomeRow {
@@ -159,13 +158,14 @@ impl OutcomeRow {
         let param = |out: &mut String, p: Option<Param<f64>>| {
             out.push_str(&p.map_or(String::new(), Param::field));
         };
+        let case = Case::from(self.case);
         match column {
-            Column::Aspect => param(out, Some(self.case.aspect)),
-            Column::Width => param(out, Some(self.case.width)),
-            Column::Restitution => param(out, Some(self.case.restitution)),
-            Column::Friction => out.push_str(self.case.friction_name()),
-            Column::MuS => param(out, self.case.mu_s()),
-            Column::MuK => param(out, self.case.mu_k()),
+            Column::Aspect => param(out, Some(case.aspect)),
+            Column::Width => param(out, Some(case.width)),
+            Column::Restitution => param(out, Some(case.restitution)),
+            Column::Friction => out.push_str(case.friction_name()),
+            Column::MuS => param(out, case.mu_s()),
+            Column::MuK => param(out, case.mu_k()),
             Column::Stack => out.push_str(self.case.stack.as_ref().map_or("", |s| s.as_str())),
             Column::Im(im) => num(out, self.ims.get(im)),
             Column::Phi => num(out, self.phi),
@@ -275,7 +275,7 @@ impl OutcomesFile {
             return Ok(None);
         };
         let line = row.line();
-        let case = row.case(false)?;
+        let case = row.values()?;
         let mut out = OutcomeRow {
             case,
             ims: ImValues::new(),
@@ -349,8 +349,8 @@ mod tests {
     use super::*;
     use crate::solver::Friction;
 
-    fn case() -> Case {
-        Case::fixed(
+    fn case() -> CaseValues {
+        CaseValues::block(
             4.0,
             0.5,
             0.3,

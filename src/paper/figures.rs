@@ -359,10 +359,9 @@ fn rock_rule_counts(study: &Study, es: &[f64]) -> Result<Vec<(f64, u64, u64)>> {
                     .iter()
                     .enumerate()
                     .map(|(number, case)| {
-                        let analysis =
-                            plan::analysis(&rule, case, number, &unit).1?.into_block()?;
-                        let o = simulate(&analysis, &record, &rule.solver, None)?;
-                        let e = case.restitution.fixed().expect("fixed e");
+                        let (own, scene) = plan::analysis(&rule, case, number, &unit);
+                        let o = simulate(&scene?.into_block()?, &record, &rule.solver, None)?;
+                        let e = own.restitution;
                         let ei = es.iter().position(|&x| x == e).expect("the study's e");
                         Ok((ei, o.overturned || o.uplifted))
                     })

@@ -154,7 +154,7 @@ pub fn read_risk_csv(path: &Path) -> Result<Vec<RiskCsvRow>> {
         }
         let boot = col("boot_fitted");
         rows.push(RiskCsvRow {
-            case: row.case(true)?,
+            case: row.case()?,
             limit_state: row.text(col("limit_state"))?.to_string(),
             im,
             fit: both("median", "beta")?,

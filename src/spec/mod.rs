@@ -53,6 +53,6 @@ pub use raw::{
 pub use stack::StudyStack;
 pub use study::{
     Adaptive, Intensity, MAX_SPEC_BYTES, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN,
-    SHENTON_JONES_TOML, Study, Uncertainty, fnv1a64, friction_label,
+    SHENTON_JONES_TOML, Study, Uncertainty, analysis_values, fnv1a64, friction_label,
 };
 pub use validate::{MAX_PGA_G, MAX_PGV};

@@ -6,7 +6,7 @@ use super::raw::{
     FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
     SupportFile, UncertaintyFile,
 };
-use crate::case::{Case, Field, Param};
+use crate::case::{Case, CaseValues, Field, Param};
 use crate::error::{Error, Result};
 use crate::fragility::FragilityOptions;
 use crate::im::Im;
@@ -141,15 +141,30 @@ impl Uncertainty {
     /// canonical order) on record `record` at level `level`: each property
     /// given here replaces the case's, drawn from the stream
     /// [`analysis_seed`]`(seed, record, level, number)`; the others keep the
-    /// case's fixed values. Every parameter of the result is fixed.
-    pub fn draw(&self, case: &Case, record: usize, level: usize, number: usize) -> Case {
+    /// case's fixed values ([`analysis_values`]).
+    pub fn draw(&self, case: &Case, record: usize, level: usize, number: usize) -> CaseValues {
         let u = uniforms(analysis_seed(
             self.seed,
             record as u64,
             level as u64,
             number as u64,
         ));
-        // One uniform per property, in the order of Property::ALL.
+        self.at(case, u)
+    }
+
+    /// The block of case `case` with every property given here at
+    /// quantile `q` of its distribution (the ends of what a draw can reach,
+    /// to check that every draw makes a valid block).
+    pub fn at_quantile(&self, case: &Case, q: f64) -> CaseValues {
+        self.at(case, [q; Property::ALL.len()])
+    }
+
+    /// The block of case `case` with each property given here at its
+    /// uniform in `u` (one per property, in the order of
+    /// [`Property::ALL`]), the others at the case's fixed values: `case`'s
+    /// drawn parameters are the ones given here (validation makes it so
+    /// for a study's cases).
+    fn at(&self, case: &Case, u: [f64; Property::ALL.len()]) -> CaseValues {
         let value = |p: Property, grid: Param<f64>| match self.get(p) {
             Some(v) => v.at(u[p.index()]),
             None => grid
@@ -170,12 +185,37 @@ impl Uncertainty {
                 .fixed()
                 .expect("friction not drawn is fixed by the grid"),
         };
-        Case::fixed(
-            value(Property::Aspect, case.aspect),
-            value(Property::Width, case.width),
-            value(Property::Restitution, case.restitution),
-            friction,
-        )
+        CaseValues {
+            stack: case.stack,
+            ..CaseValues::block(
+                value(Property::Aspect, case.aspect),
+                value(Property::Width, case.width),
+                value(Property::Restitution, case.restitution),
+                friction,
+            )
+        }
+    }
+}
+
+/// The values of one analysis of case `case` (number `number` in its
+/// canonical order) on record `record` at level `level`: the parameters of
+/// `uncertainty` drawn ([`Uncertainty::draw`]), or the case's own values
+/// when nothing is drawn. The one place where a case that may be drawn
+/// becomes an analysis's [`CaseValues`]: `case`'s drawn parameters are the
+/// ones `uncertainty` draws (validation makes it so for a study's cases,
+/// and [`crate::infer`] for a surveyed kind's).
+pub fn analysis_values(
+    uncertainty: Option<&Uncertainty>,
+    case: &Case,
+    record: usize,
+    level: usize,
+    number: usize,
+) -> CaseValues {
+    match uncertainty {
+        Some(u) => u.draw(case, record, level, number),
+        None => case
+            .values()
+            .expect("a case with nothing drawn has every parameter fixed"),
     }
 }
 

@@ -19,49 +19,37 @@
 //! keyed by (seed, record, level, case number), so the draws do not depend
 //! on which thread or shard runs the analysis.
 
-use crate::case::{Case, Param, Scene};
+use crate::case::{Case, CaseValues, Param, Scene};
 use crate::error::{Error, Result};
 use crate::outcomes_csv::Columns;
-use crate::solver::{Analysis, Block};
-use crate::spec::{Intensity, Motions, Study};
+use crate::spec::{Intensity, Motions, Study, analysis_values};
 use std::fmt;
 use std::str::FromStr;
 
-/// The scene's own parameters (every one fixed) on unit `unit` of
-/// `study`, for case `case` (number `number` in canonical order): the
-/// case's values, with the parameters of `[uncertainty]` drawn for this
-/// (record, level, case); and what is simulated, at rest: the block (which
-/// fails only if drawn values make no valid block) or the study's stack.
+/// The scene's own values on unit `unit` of `study`, for case `case`
+/// (number `number` in canonical order): the case's values, with the
+/// parameters of `[uncertainty]` drawn for this (record, level, case); and
+/// what is simulated, at rest: the block (which fails only if drawn values
+/// make no valid block) or the study's stack.
 pub fn analysis(
     study: &Study,
     case: &Case,
     number: usize,
     unit: &Unit,
-) -> (Case, crate::error::Result<Scene>) {
-    if let Some(name) = case.stack {
-        let stack = study
+) -> (CaseValues, crate::error::Result<Scene>) {
+    // a stack's parameters are not drawn
+    let uncertainty = study.uncertainty.as_ref().filter(|_| case.stack.is_none());
+    let own = analysis_values(uncertainty, case, unit.record, unit.level, number);
+    let scene = match case.stack {
+        Some(name) => study
             .stacks
             .iter()
             .find(|s| s.name == name)
             .map(|s| Scene::Stack(s.stack.clone()))
-            .ok_or_else(|| Error::invalid("stack", name.to_string(), "a stack of the study"));
-        return (*case, stack);
-    }
-    let own = match &study.uncertainty {
-        Some(u) => u.draw(case, unit.record, unit.level, number),
-        None => *case,
+            .ok_or_else(|| Error::invalid("stack", name.to_string(), "a stack of the study")),
+        None => own.analysis(study.g).map(Scene::Block),
     };
-    let (Param::Fixed(aspect), Param::Fixed(width), Param::Fixed(e), Param::Fixed(friction)) =
-        (own.aspect, own.width, own.restitution, own.friction)
-    else {
-        unreachable!("a drawn parameter has a draw: {own}")
-    };
-    let analysis = Block::new(width, aspect, study.g).map(|block| {
-        let mut analysis = Analysis::new(block, e);
-        analysis.friction = friction;
-        Scene::Block(analysis)
-    });
-    (own, analysis)
+    (own, scene)
 }
 
 /// The optional columns of `study`'s `outcomes.csv`.

@@ -9,7 +9,7 @@
 
 use super::plan::{self, Unit};
 use super::source::{Source, UnitMotion};
-use crate::case::{Case, Scene};
+use crate::case::{Case, CaseValues, Scene};
 use crate::error::{Error, Result, number};
 use crate::im::ImValues;
 use crate::motion::Record;
@@ -120,7 +120,7 @@ pub fn reanalyse(
 /// The study's case whose analysis `own` is (its drawn parameters match
 /// any value), and its number: for naming an analysis read back from
 /// `outcomes.csv` by its case.
-pub fn case_of(study: &Study, own: &Case) -> Option<(Case, usize)> {
+pub fn case_of(study: &Study, own: &CaseValues) -> Option<(Case, usize)> {
     plan::cases(study)
         .into_iter()
         .enumerate()
@@ -256,8 +256,8 @@ pub(super) fn analyse(
 /// What [`analyse`] solved.
 #[derive(Clone, Debug)]
 pub struct Analysed {
-    /// The scene's own parameters (drawn values as drawn).
-    pub own: Case,
+    /// The scene's own values (drawn values as drawn).
+    pub own: CaseValues,
     /// What was simulated (`None` when the drawn values make no valid
     /// block).
     pub analysis: Option<Scene>,
