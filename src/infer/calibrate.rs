@@ -28,7 +28,7 @@ use crate::error::{Error, Result};
 use crate::im::{Felt, ImPair};
 use crate::motion::Record;
 use crate::spec::{InferSettings, Motions, Study};
-use crate::study::Source;
+use crate::study::{Source, ensemble};
 
 /// How a calibration is run.
 #[derive(Clone, Debug, PartialEq)]
@@ -228,25 +228,19 @@ pub fn calibrate(
         })
         .collect();
     // Every event's objects on its record, events in parallel.
-    let counts: Vec<Observed> = draws
-        .par_iter()
-        .map_init(
-            || runner.source.clone(),
-            |src, d| -> Result<Observed> {
-                let record = src.record(&study.intensity, d.im, d.record, study.g)?;
-                let felt = Felt {
-                    ground: &record,
-                    floor: None,
-                    pair: None,
-                    g: study.g,
-                };
-                let truth = options.second.and_then(|im2| im2.on(&felt));
-                Ok((observe(&runner, &d.counts, d.record, &record), truth))
-            },
-        )
-        .collect::<Vec<_>>()
-        .into_iter()
-        .collect::<Result<Vec<_>>>()?;
+    let counts: Vec<Observed> = ensemble::motions(&runner.source, &draws, |src, d| {
+        let record = src.record(&study.intensity, d.im, d.record, study.g)?;
+        let felt = Felt {
+            ground: &record,
+            floor: None,
+            pair: None,
+            g: study.g,
+        };
+        let truth = options.second.and_then(|im2| im2.on(&felt));
+        Ok((observe(&runner, &d.counts, d.record, &record), truth))
+    })
+    .into_iter()
+    .collect::<Result<Vec<_>>>()?;
     let event_analyses: u64 = draws.iter().flat_map(|d| d.counts.iter()).sum();
     let events: Vec<Event> = draws
         .par_iter()
@@ -341,10 +335,9 @@ fn observe(runner: &Runner, counts: &[u64], index: usize, record: &Record) -> Ve
         .enumerate()
         .flat_map(|(j, &n)| (0..n as usize).map(move |o| (j, o)))
         .collect();
-    let classes: Vec<Class> = tasks
-        .par_iter()
-        .map(|&(j, o)| runner.classify(&runner.models[j].draw(j, index, OBJECTS, o), record))
-        .collect();
+    let classes: Vec<Class> = ensemble::analyses(&tasks, |&(j, o)| {
+        runner.classify(&runner.models[j].draw(j, index, OBJECTS, o), record)
+    });
     let mut out = vec![(0, 0); counts.len()];
     for (&(j, _), class) in tasks.iter().zip(&classes) {
         match class {

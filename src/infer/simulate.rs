@@ -14,16 +14,15 @@
 use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::survey::{KindModel, SlideRule, analysis};
+use crate::case::Scene;
 use crate::error::{Error, Result};
 use crate::io_util::number;
 use crate::motion::Record;
-use crate::solver::simulate;
 use crate::spec::{Intensity, Study};
-use crate::study::Source;
+use crate::study::{Source, ensemble};
 
 /// The intensity measure an inference is of: PGA (g) or PGV (m/s) of the
 /// ground ([`Im::PGA`], [`Im::PGV`]); the others are refused
@@ -148,13 +147,9 @@ impl Runner<'_> {
     pub fn level(&self, level: usize, record_ids: &[usize]) -> Result<(Vec<f64>, Vec<Cell>)> {
         let study = self.study;
         let x = study.intensity.levels()[level];
-        let records: Vec<Result<Record>> = record_ids
-            .par_iter()
-            .map_init(
-                || self.source.clone(),
-                |src, &r| src.record(&study.intensity, x, r, study.g),
-            )
-            .collect();
+        let records = ensemble::motions(&self.source, record_ids, |src, &r| {
+            src.record(&study.intensity, x, r, study.g)
+        });
         let records = records.into_iter().collect::<Result<Vec<Record>>>()?;
         let exact = im_of_levels(study) == Some(self.im);
         let ims: Vec<f64> = records
@@ -175,13 +170,10 @@ impl Runner<'_> {
                 tasks.extend((0..m.solved()).map(|d| (j, r, d)));
             }
         }
-        let classes: Vec<Class> = tasks
-            .par_iter()
-            .map(|&(j, r, d)| {
-                let case = self.models[j].draw(j, record_ids[r], level, d);
-                self.classify(&case, &records[r])
-            })
-            .collect();
+        let classes: Vec<Class> = ensemble::analyses(&tasks, |&(j, r, d)| {
+            let case = self.models[j].draw(j, record_ids[r], level, d);
+            self.classify(&case, &records[r])
+        });
         let mut cells = vec![Cell::default(); self.models.len() * n];
         for (&(j, r, _), class) in tasks.iter().zip(&classes) {
             let m = &self.models[j];
@@ -204,14 +196,11 @@ impl Runner<'_> {
         let Ok(analysis) = analysis(case, self.study.g) else {
             return Class::Failed;
         };
-        let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            simulate(&analysis, record, &self.study.solver, None)
-        }));
-        match attempt {
-            Ok(Ok(o)) if o.overturned => Class::Overturned,
-            Ok(Ok(o)) if self.slide.is_some_and(|s| s.slid(&o)) => Class::Slid,
-            Ok(Ok(_)) => Class::Standing,
-            _ => Class::Failed,
+        match ensemble::solve(&Scene::Block(analysis), record, &self.study.solver, None) {
+            Ok(o) if o.overturned => Class::Overturned,
+            Ok(o) if self.slide.is_some_and(|s| s.slid(&o)) => Class::Slid,
+            Ok(_) => Class::Standing,
+            Err(_) => Class::Failed,
         }
     }
 

@@ -37,18 +37,19 @@
 //! - the Cochran–Armitage trend of the counts over e, pooled over H/B and
 //!   A_g ([`crate::stats::cochran_armitage`]).
 
-use rayon::prelude::*;
 use std::fmt::Write;
 
 use super::tables::{self as paper, PaperRow, Reading, readings};
-use crate::case::Param;
+use crate::case::{CaseValues, Param, Scene};
 use crate::error::{Error, Result};
 use crate::io_util::sig3;
+use crate::motion::Record;
 use crate::motion::SynthesisSettings;
-use crate::solver::{Friction, RockImpact, simulate};
+use crate::outcome::Outcome;
+use crate::solver::{Friction, RockImpact};
 use crate::spec::{Motions, Study};
 use crate::stats::{binomial_log_likelihood, cochran_armitage, fisher_exact, p_text};
-use crate::study::{Source, plan};
+use crate::study::{Source, Unit, ensemble, plan};
 
 /// Options of [`check`].
 #[derive(Clone, Debug)]
@@ -192,42 +193,67 @@ fn paper_study(settings: &SynthesisSettings, seed: u64) -> Study {
     study
 }
 
-fn run_ensemble(study: &Study) -> Result<[Cell; CELLS]> {
+/// Every analysis of `study` (a study of blocks), solved through the
+/// ensemble primitive ([`ensemble`]): `each` of its (unit, case number, own
+/// values, outcome), in canonical order (unit-major, then case), so that
+/// what is summed from them does not depend on the threads. The paper's
+/// check and its `e_trend` figure run their ensembles here.
+///
+/// Errors: a record that cannot be made, a case that is a stack or makes
+/// no valid block, or an analysis the solver does not finish.
+pub(crate) fn solve_study<T, F>(study: &Study, each: F) -> Result<Vec<T>>
+where
+    T: Send,
+    F: Fn(&Unit, usize, &CaseValues, &Outcome) -> T + Sync + Send,
+{
     let cases = plan::cases(study);
     let mut source = Source::new(study)?;
-    let units: Vec<usize> = (0..plan::unit_count(study)).collect();
+    let units: Vec<Unit> = (0..plan::unit_count(study))
+        .map(|u| plan::unit(study, u))
+        .collect();
     // each member filtered once, then scaled to every level
-    source.prepare(study, &units);
-    let rows = units
-        .par_iter()
-        .map_init(
-            || source.clone(),
-            |source, &u| -> Result<Vec<(usize, bool, f64)>> {
-                let unit = plan::unit(study, u);
-                let level = study.intensity.levels()[unit.level];
-                let record = source.record(&study.intensity, level, unit.record, study.g)?;
-                cases
-                    .iter()
-                    .enumerate()
-                    .map(|(number, case)| {
-                        let analysis =
-                            plan::analysis(study, case, number, &unit).1?.into_block()?;
-                        let o = simulate(&analysis, &record, &study.solver, None)?;
-                        // Cases are aspect-major, then e (one width, one friction).
-                        let (ai, ei) = (number / RESTITUTIONS.len(), number % RESTITUTIONS.len());
-                        Ok((
-                            cell_index(ai, ei, unit.level),
-                            o.overturned || o.uplifted,
-                            o.theta_max_over_theta_c,
-                        ))
-                    })
-                    .collect()
-            },
+    source.prepare(study, &(0..units.len()).collect::<Vec<_>>());
+    let levels = study.intensity.levels();
+    let records = ensemble::motions(&source, &units, |src, unit| {
+        src.record(&study.intensity, levels[unit.level], unit.record, study.g)
+    });
+    let records = records.into_iter().collect::<Result<Vec<Record>>>()?;
+    let jobs: Vec<(usize, usize)> = (0..units.len())
+        .flat_map(|u| (0..cases.len()).map(move |c| (u, c)))
+        .collect();
+    ensemble::analyses(&jobs, |&(u, number)| -> Result<T> {
+        let unit = &units[u];
+        let (own, scene) = plan::analysis(study, &cases[number], number, unit);
+        let scene = Scene::Block(scene?.into_block()?);
+        let o = ensemble::solve(&scene, &records[u], &study.solver, None).map_err(|why| {
+            Error::invalid(
+                "analysis",
+                format!(
+                    "{own} on record {} at {} g: {why}",
+                    unit.record, levels[unit.level]
+                ),
+                "one the solver finishes",
+            )
+        })?;
+        Ok(each(unit, number, &own, &o))
+    })
+    .into_iter()
+    .collect()
+}
+
+fn run_ensemble(study: &Study) -> Result<[Cell; CELLS]> {
+    let rows = solve_study(study, |unit, number, _, o| {
+        // Cases are aspect-major, then e (one width, one friction).
+        let (ai, ei) = (number / RESTITUTIONS.len(), number % RESTITUTIONS.len());
+        (
+            cell_index(ai, ei, unit.level),
+            o.overturned || o.uplifted,
+            o.theta_max_over_theta_c,
         )
-        .collect::<Result<Vec<_>>>()?;
+    })?;
     let mut cells = [Cell::default(); CELLS];
     // Summed in unit order, so the result does not depend on the threads.
-    for (ci, ot, theta) in rows.into_iter().flatten() {
+    for (ci, ot, theta) in rows {
         let c = &mut cells[ci];
         c.runs += 1;
         if ot {

@@ -25,11 +25,10 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend};
 use plotters::style::{BLACK, Color};
-use rayon::prelude::*;
 
-use super::check::{RESTITUTIONS, ReadingResult, cell_restitution, paper_totals};
+use super::check::{RESTITUTIONS, ReadingResult, cell_restitution, paper_totals, solve_study};
 use super::tables::{self, TABLES, readings};
-use crate::case::{Case, Param};
+use crate::case::Param;
 use crate::error::{Error, Result};
 use crate::figures::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use crate::figures::style::{LINE_PT, PAGE_WIDTH_IN, PALETTE, Style, tick_label};
@@ -37,9 +36,8 @@ use crate::figures::{
     DrawResult, Figure, FigureOptions, FiguresReport, HistoryCase, HistoryChoice, StudyFigures,
     save, trend_text,
 };
-use crate::solver::{Friction, RockImpact, simulate};
+use crate::solver::{Friction, RockImpact};
 use crate::spec::Study;
-use crate::study::{Source, plan};
 
 /// The paper's illustrative response history: H/B 2, 2B 0.5 m, e 0.6 under
 /// Coulomb friction μs 0.6 (above B/H = 0.5: the block rocks from rest, and
@@ -75,7 +73,9 @@ pub fn draw(
     let mut figures = StudyFigures::compute(dir, &options)?;
     add_tables(&mut figures);
     let mut report = figures.write(out, options.format)?;
-    let e_trend = ETrendFigure::compute(study, &figures)?;
+    let (es, aspects) = e_trend_grid(study)?;
+    let rule = rock_rule_counts(study, &es)?;
+    let e_trend = ETrendFigure::of_study(study, &figures, (&es, &aspects), rule);
     let path = out.join(format!("e_trend.{}", options.format.extension()));
     save(&e_trend, &path)?;
     report.written.push(path);
@@ -223,32 +223,19 @@ impl ETrendFigure {
         }
     }
 
-    /// The three series for `study` (the paper's): this study's counts from
-    /// its figures' data, the program rule's by solving the study's
-    /// infinite-friction cases on the same records with
-    /// `rock_impact = "rock"`, and the paper's tables over the same blocks,
-    /// levels and e.
-    ///
-    /// Errors: a study without infinite friction or with a drawn e or H/B,
-    /// or a record or analysis that cannot be made.
-    pub fn compute(study: &Study, figures: &StudyFigures) -> Result<ETrendFigure> {
+    /// The three series for `study` (the paper's) over its e values `es`
+    /// and H/B values `aspects` ([`e_trend_grid`]): this study's counts
+    /// from its figures' data, the program rule's counts `rule` (the
+    /// study's infinite-friction cases solved again with `rock_impact =
+    /// "rock"`, [`rock_rule_counts`]), and the paper's tables over the same
+    /// blocks, levels and e.
+    pub fn of_study(
+        study: &Study,
+        figures: &StudyFigures,
+        (es, aspects): (&[f64], &[f64]),
+        rule: Vec<(f64, u64, u64)>,
+    ) -> ETrendFigure {
         let infinite = Param::Fixed(Friction::Infinite);
-        let es: Option<Vec<f64>> = study.restitutions.iter().map(|e| e.fixed()).collect();
-        let aspects: Option<Vec<f64>> = study.aspects.iter().map(|a| a.fixed()).collect();
-        let (Some(es), Some(aspects)) = (es, aspects) else {
-            return Err(Error::invalid(
-                "e_trend",
-                "(drawn e or H/B)",
-                "a study over fixed e and H/B",
-            ));
-        };
-        if !study.frictions.contains(&infinite) {
-            return Err(Error::invalid(
-                "e_trend",
-                "(no infinite friction)",
-                "a study with infinite friction",
-            ));
-        }
         let levels = study.intensity.levels().to_vec();
         // Physics: this study's own runs.
         let ours: Vec<(f64, u64, u64)> = es
@@ -267,8 +254,7 @@ impl ETrendFigure {
                 (e, k, n)
             })
             .collect();
-        let rule = rock_rule_counts(study, &es)?;
-        let (pk, pn) = published_counts(&aspects, &levels, &es);
+        let (pk, pn) = published_counts(aspects, &levels, es);
         let paper: Vec<(f64, u64, u64)> = es
             .iter()
             .zip(pk.iter().zip(&pn))
@@ -285,11 +271,7 @@ impl ETrendFigure {
                 .join(", "),
             levels.len()
         );
-        Ok(Self::of_counts(
-            title,
-            "physics (this study)",
-            [ours, rule, paper],
-        ))
+        Self::of_counts(title, "physics (this study)", [ours, rule, paper])
     }
 }
 
@@ -333,46 +315,51 @@ impl ETrendFigure {
     }
 }
 
+/// The e and H/B values of `study` for `e_trend`.
+///
+/// Errors: a study without infinite friction or with a drawn e or H/B.
+fn e_trend_grid(study: &Study) -> Result<(Vec<f64>, Vec<f64>)> {
+    let es: Option<Vec<f64>> = study.restitutions.iter().map(|e| e.fixed()).collect();
+    let aspects: Option<Vec<f64>> = study.aspects.iter().map(|a| a.fixed()).collect();
+    let (Some(es), Some(aspects)) = (es, aspects) else {
+        return Err(Error::invalid(
+            "e_trend",
+            "(drawn e or H/B)",
+            "a study over fixed e and H/B",
+        ));
+    };
+    if !study.frictions.contains(&Param::Fixed(Friction::Infinite)) {
+        return Err(Error::invalid(
+            "e_trend",
+            "(no infinite friction)",
+            "a study with infinite friction",
+        ));
+    }
+    Ok((es, aspects))
+}
+
 /// The study's infinite-friction cases solved on its records with the
-/// paper's program rule: (e, overturned or lifted off, runs) per e. Counts
-/// are summed, so the result does not depend on the threads.
+/// paper's program rule, through the ensemble primitive
+/// ([`super::check::solve_study`]): (e, overturned or lifted off, runs) per
+/// e of `es`. Counts are summed, so the result does not depend on the
+/// threads.
+///
+/// Errors: a record or analysis that cannot be made.
 fn rock_rule_counts(study: &Study, es: &[f64]) -> Result<Vec<(f64, u64, u64)>> {
     let mut rule = study.clone();
     rule.frictions = vec![Param::Fixed(Friction::Infinite)];
     rule.uncertainty = None;
     rule.solver.rock_impact = RockImpact::Rock;
-    let cases: Vec<Case> = plan::cases(&rule);
-    let mut source = Source::new(&rule)?;
-    let units: Vec<usize> = (0..plan::unit_count(&rule)).collect();
-    // each member filtered once, then scaled to every level
-    source.prepare(&rule, &units);
-    let levels = rule.intensity.levels();
-    let per_unit = units
-        .par_iter()
-        .map_init(
-            || source.clone(),
-            |source, &u| -> Result<Vec<(usize, bool)>> {
-                let unit = plan::unit(&rule, u);
-                let record =
-                    source.record(&rule.intensity, levels[unit.level], unit.record, rule.g)?;
-                cases
-                    .iter()
-                    .enumerate()
-                    .map(|(number, case)| {
-                        let (own, scene) = plan::analysis(&rule, case, number, &unit);
-                        let o = simulate(&scene?.into_block()?, &record, &rule.solver, None)?;
-                        let e = own.restitution;
-                        let ei = es.iter().position(|&x| x == e).expect("the study's e");
-                        Ok((ei, o.overturned || o.uplifted))
-                    })
-                    .collect()
-            },
-        )
-        .collect::<Result<Vec<_>>>()?;
+    let fell = solve_study(&rule, |_, _, own, o| {
+        (own.restitution, o.overturned || o.uplifted)
+    })?;
     let mut counts: Vec<(f64, u64, u64)> = es.iter().map(|&e| (e, 0, 0)).collect();
-    for (ei, fell) in per_unit.into_iter().flatten() {
-        counts[ei].1 += u64::from(fell);
-        counts[ei].2 += 1;
+    for (e, fell) in fell {
+        let Some(c) = counts.iter_mut().find(|c| c.0 == e) else {
+            return Err(Error::invalid("e_trend", e, "one of the study's e"));
+        };
+        c.1 += u64::from(fell);
+        c.2 += 1;
     }
     Ok(counts)
 }

@@ -20,6 +20,7 @@
 //! killed between rounds resumes by replaying them from its checkpoint
 //! (`adaptive-checkpoint.json`, the rows done) to the same bytes.
 
+use super::ensemble;
 use super::single::analyse;
 use super::source::{Source, UnitMotion};
 use super::{
@@ -34,7 +35,6 @@ use crate::fragility::{
 };
 use crate::outcomes_csv::Columns;
 use crate::spec::{Adaptive, Study};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -371,34 +371,29 @@ fn solve(
 ) -> Vec<String> {
     let mut units: Vec<(usize, usize)> = jobs.iter().map(|&(l, r, _)| (l, r)).collect();
     units.dedup();
-    let motions: Vec<std::result::Result<UnitMotion, String>> = units
-        .par_iter()
-        .map_init(
-            || source.clone(),
-            |src, &(l, r)| src.motion(study, levels[l], r).map_err(|e| e.to_string()),
-        )
-        .collect();
+    let motions: Vec<std::result::Result<UnitMotion, String>> =
+        ensemble::motions(source, &units, |src, &(l, r)| {
+            src.motion(study, levels[l], r).map_err(|e| e.to_string())
+        });
     let records = study.records();
-    jobs.par_iter()
-        .map(|&(l, r, c)| {
-            let ui = units.partition_point(|&u| u < (l, r));
-            let unit = plan::Unit {
-                index: l * records + r,
-                level: l,
-                record: r,
-            };
-            let file = study.record_file(r);
-            analyse(
-                study,
-                cols,
-                (&cases[c], c),
-                &unit,
-                &motions[ui],
-                file.as_deref(),
-            )
-            .1
-        })
-        .collect()
+    ensemble::analyses(jobs, |&(l, r, c)| {
+        let ui = units.partition_point(|&u| u < (l, r));
+        let unit = plan::Unit {
+            index: l * records + r,
+            level: l,
+            record: r,
+        };
+        let file = study.record_file(r);
+        analyse(
+            study,
+            cols,
+            (&cases[c], c),
+            &unit,
+            &motions[ui],
+            file.as_deref(),
+        )
+        .1
+    })
 }
 
 /// The fits (as `fragility.csv` would have them) of the cases still

@@ -28,6 +28,7 @@
 //! manifest, and the run carries on; the caller decides the exit status.
 
 pub mod adaptive;
+pub mod ensemble;
 pub mod files;
 mod lock;
 mod manifest;
@@ -64,7 +65,6 @@ use crate::error::{Error, Result};
 use crate::outcomes_csv::Columns;
 use crate::spec::{Motions, Study, fnv1a64};
 use plan::columns;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::io::{Seek, Write};
@@ -557,42 +557,39 @@ fn solve_units(
     chunk: &[usize],
 ) -> Vec<(String, f64)> {
     let levels = study.intensity.levels();
-    let (records, record_seconds): (Vec<std::result::Result<UnitMotion, String>>, Vec<f64>) = chunk
-        .par_iter()
-        .map_init(
-            || source.clone(),
-            |src, &u| {
-                let t0 = Instant::now();
-                let unit = plan::unit(study, u);
-                let record = src
-                    .motion(study, levels[unit.level], unit.record)
-                    .map_err(|e| e.to_string());
-                (record, t0.elapsed().as_secs_f64())
-            },
-        )
+    let (records, record_seconds): (Vec<std::result::Result<UnitMotion, String>>, Vec<f64>) =
+        ensemble::motions(source, chunk, |src, &u| {
+            let t0 = Instant::now();
+            let unit = plan::unit(study, u);
+            let record = src
+                .motion(study, levels[unit.level], unit.record)
+                .map_err(|e| e.to_string());
+            (record, t0.elapsed().as_secs_f64())
+        })
+        .into_iter()
         .unzip();
     // each unit's record file, once per unit (not per analysis)
     let file_names: Vec<Option<String>> = chunk
         .iter()
         .map(|&u| study.record_file(plan::unit(study, u).record))
         .collect();
-    let rows: Vec<(String, f64)> = (0..chunk.len() * cases.len())
-        .into_par_iter()
-        .map(|k| {
-            let t0 = Instant::now();
-            let (ui, ci) = (k / cases.len(), k % cases.len());
-            let unit = plan::unit(study, chunk[ui]);
-            let (_, text) = analyse(
-                study,
-                cols,
-                (&cases[ci], ci),
-                &unit,
-                &records[ui],
-                file_names[ui].as_deref(),
-            );
-            (text, t0.elapsed().as_secs_f64())
-        })
+    // every case of each unit, unit-major: `outcomes.csv`'s order
+    let jobs: Vec<(usize, usize)> = (0..chunk.len())
+        .flat_map(|ui| (0..cases.len()).map(move |ci| (ui, ci)))
         .collect();
+    let rows: Vec<(String, f64)> = ensemble::analyses(&jobs, |&(ui, ci)| {
+        let t0 = Instant::now();
+        let unit = plan::unit(study, chunk[ui]);
+        let (_, text) = analyse(
+            study,
+            cols,
+            (&cases[ci], ci),
+            &unit,
+            &records[ui],
+            file_names[ui].as_deref(),
+        );
+        (text, t0.elapsed().as_secs_f64())
+    });
     rows.chunks(cases.len().max(1))
         .zip(record_seconds)
         .map(|(unit, record)| {

@@ -7,16 +7,15 @@
 //! as its line of `outcomes.csv`. [`simulate_command`] is the one text of
 //! the command, for the figures and the docs.
 
+use super::ensemble::solve;
 use super::plan::{self, Unit};
 use super::source::{Source, UnitMotion};
 use crate::case::{Case, CaseValues, Scene};
 use crate::error::{Error, Result, number};
 use crate::im::ImValues;
-use crate::motion::Record;
 use crate::outcome::Outcome;
 use crate::outcomes_csv::{Columns, RecordInfo};
-use crate::solver::stack::simulate_stack;
-use crate::solver::{Friction, History, Sensitivity, sensitivity, simulate};
+use crate::solver::{Friction, History, Sensitivity, sensitivity};
 use crate::spec::Study;
 use std::path::Path;
 
@@ -225,14 +224,17 @@ pub(super) fn analyse(
     let (own, analysis) = plan::analysis(study, case.0, case.1, unit);
     let (result, sensitive) = match (&analysis, motion) {
         (Ok(analysis), Ok(m)) => {
-            let result = solve(analysis, &m.felt, study, None);
+            let result = solve(analysis, &m.felt, &study.solver, None);
             // the same analysis under the motion it feels scaled by 1 + 1e-9
             let sensitive = match &result {
-                Ok(base) if cols.sensitivity => {
-                    solve(analysis, &sensitivity::perturbed(&m.felt), study, None)
-                        .ok()
-                        .map(|o| Sensitivity::compare(base, &o).sensitive)
-                }
+                Ok(base) if cols.sensitivity => solve(
+                    analysis,
+                    &sensitivity::perturbed(&m.felt),
+                    &study.solver,
+                    None,
+                )
+                .ok()
+                .map(|o| Sensitivity::compare(base, &o).sensitive),
                 _ => None,
             };
             (result, sensitive)
@@ -273,38 +275,5 @@ fn scene_word(case: &Case) -> &'static str {
         "stack"
     } else {
         "block"
-    }
-}
-
-/// One analysis, by the solver made for its scene: the single block's, or
-/// the stack's; a solver error or panic becomes a message, and so does a
-/// stack's motion that left the modes the stack solver models (its numbers
-/// up to then are not the run's response).
-fn solve(
-    analysis: &Scene,
-    record: &Record,
-    study: &Study,
-    history: Option<&mut crate::solver::History>,
-) -> std::result::Result<Outcome, String> {
-    let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match analysis {
-        Scene::Block(a) => simulate(a, record, &study.solver, history).map(Ok),
-        Scene::Stack(stack) => {
-            simulate_stack(stack, record, &study.solver, None).map(|o| match &o.failure {
-                Some(why) => Err(format!("stack solver: {why} (not modelled)")),
-                None => Ok(o.summary()),
-            })
-        }
-    }));
-    match attempt {
-        Ok(Ok(o)) => o,
-        Ok(Err(e)) => Err(e.to_string()),
-        Err(panic) => Err(format!(
-            "solver panicked: {}",
-            panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_default()
-        )),
     }
 }
