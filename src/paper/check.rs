@@ -214,32 +214,42 @@ where
     // each member filtered once, then scaled to every level
     source.prepare(study, &(0..units.len()).collect::<Vec<_>>());
     let levels = study.intensity.levels();
-    let records = ensemble::motions(&source, &units, |src, unit| {
-        src.record(&study.intensity, levels[unit.level], unit.record, study.g)
-    });
-    let records = records.into_iter().collect::<Result<Vec<Record>>>()?;
-    let jobs: Vec<(usize, usize)> = (0..units.len())
-        .flat_map(|u| (0..cases.len()).map(move |c| (u, c)))
-        .collect();
-    ensemble::analyses(&jobs, |&(u, number)| -> Result<T> {
-        let unit = &units[u];
-        let (own, scene) = plan::analysis(study, &cases[number], number, unit);
-        let scene = Scene::Block(scene?.into_block()?);
-        let o = ensemble::solve(&scene, &records[u], &study.solver, None).map_err(|why| {
-            Error::invalid(
-                "analysis",
-                format!(
-                    "{own} on record {} at {} g: {why}",
-                    unit.record, levels[unit.level]
-                ),
-                "one the solver finishes",
-            )
-        })?;
-        Ok(each(unit, number, &own, &o))
-    })
-    .into_iter()
-    .collect()
+    let mut out = Vec::with_capacity(units.len() * cases.len());
+    // a chunk of units at a time: its records, then its analyses (the
+    // records of a whole study need not be held at once)
+    for units in units.chunks(UNITS_AT_ONCE) {
+        let records = ensemble::motions(&source, units, |src, unit| {
+            src.record(&study.intensity, levels[unit.level], unit.record, study.g)
+        });
+        let records = records.into_iter().collect::<Result<Vec<Record>>>()?;
+        let jobs: Vec<(usize, usize)> = (0..units.len())
+            .flat_map(|u| (0..cases.len()).map(move |c| (u, c)))
+            .collect();
+        let solved = ensemble::analyses(&jobs, |&(u, number)| -> Result<T> {
+            let unit = &units[u];
+            let (own, scene) = plan::analysis(study, &cases[number], number, unit);
+            let scene = Scene::Block(scene?.into_block()?);
+            let o = ensemble::solve(&scene, &records[u], &study.solver, None).map_err(|why| {
+                Error::invalid(
+                    "analysis",
+                    format!(
+                        "{own} on record {} at {} g: {why}",
+                        unit.record, levels[unit.level]
+                    ),
+                    "one the solver finishes",
+                )
+            })?;
+            Ok(each(unit, number, &own, &o))
+        });
+        for t in solved {
+            out.push(t?);
+        }
+    }
+    Ok(out)
 }
+
+/// Units whose records [`solve_study`] holds at once.
+const UNITS_AT_ONCE: usize = 64;
 
 fn run_ensemble(study: &Study) -> Result<[Cell; CELLS]> {
     let rows = solve_study(study, |unit, number, _, o| {
