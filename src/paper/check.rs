@@ -249,7 +249,7 @@ where
 }
 
 /// Units whose records [`solve_study`] holds at once.
-const UNITS_AT_ONCE: usize = 64;
+const UNITS_AT_ONCE: usize = 16;
 
 fn run_ensemble(study: &Study) -> Result<[Cell; CELLS]> {
     let rows = solve_study(study, |unit, number, _, o| {
