@@ -348,6 +348,10 @@ impl Run<'_> {
                 .min(t_cascade);
             self.out.time_in_mode[Mode::Rock.index()] += t_rock;
             self.out.time_in_mode[Mode::Rest.index()] -= t_rock;
+            // until the run ends, `end_time` holds when the last settled
+            // cascade ends: a run that stops at rest after the record lasts
+            // at least that long (its time in rest stays ≥ 0)
+            self.out.end_time = self.out.end_time.max(t + t_rock);
             return true;
         }
         false

@@ -549,6 +549,17 @@ impl<'a> Run<'a> {
         Segment::of(self.acc, self.acc_v, self.dt, k)
     }
 
+    /// Past the record (still ground), whether `state` is final: rest, or a
+    /// flat slide with μk = 0, which nothing can stop or tip (the slip then
+    /// grows without bound; it is reported at the record's end).
+    fn settled(&self, state: &State) -> bool {
+        match state {
+            State::Rest => true,
+            State::Slide(_) => self.fric.is_some_and(|(_, mu_k)| mu_k == 0.0),
+            _ => false,
+        }
+    }
+
     /// Samples of the record followed by those of still ground up to the
     /// free-motion cap ([`SolverSettings::free_motion_max`]).
     #[inline]
@@ -601,8 +612,7 @@ impl<'a> Run<'a> {
         self.push_row(t, &state, &seg0, false);
         self.note_theta(&state);
         while k + 1 < n {
-            if k + 1 >= n_rec && matches!(state, State::Rest) {
-                // past the record the ground is still: rest is final
+            if k + 1 >= n_rec && self.settled(&state) {
                 break;
             }
             if matches!(state, State::Rest) && self.quiet > 0.0 {
@@ -723,8 +733,17 @@ impl<'a> Run<'a> {
                 }
             }
         }
+        if self.out.end_time > t {
+            // a cascade settled at rest ends after the loop's last instant
+            self.out.time_in_mode[Mode::Rest.index()] += self.out.end_time - t;
+            t = self.out.end_time;
+            if self.hist.is_some() {
+                let seg = self.segment(k);
+                self.push_row(t, &state, &seg, false);
+            }
+        }
         self.out.end_time = t;
-        if n > n_rec && !self.out.overturned && !matches!(state, State::Rest) {
+        if n > n_rec && !self.out.overturned && !self.settled(&state) {
             return Err(Error::Solver {
                 time: t,
                 message: format!(
