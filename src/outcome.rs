@@ -115,7 +115,9 @@ pub struct Outcome {
     /// Number of ring-down settles (an impact rebound below the settle threshold
     /// treated as plastic, or a flat block with negligible velocity set to rest).
     pub settles: u64,
-    /// Time at which the analysis ended (overturning or end of record).
+    /// Time at which the analysis ended: overturning, or rest after the
+    /// record's end (the free motion after it, `solver.free_motion_max`),
+    /// or the record's end for a body at rest then.
     pub end_time: f64,
     /// Time of the first impact, if any.
     pub first_impact_time: Option<f64>,

@@ -250,7 +250,10 @@ fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
     let col = |name: &str| header.iter().position(|h| h == name).unwrap();
     let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
     let names: Vec<&str> = rows.iter().map(|r| &r[col("limit_state")]).collect();
-    assert_eq!(names, ["rocks-20pc", "slides-5cm", "overturning"]);
+    // (5 mm: with the free motion after the record, every block of this
+    // study that slides 5 cm also overturns, so that limit state was the
+    // overturning's)
+    assert_eq!(names, ["rocks-20pc", "slides-5mm", "overturning"]);
     let mut last = (0.0, usize::MAX);
     for r in &rows {
         let median: f64 = r[col("median")].parse().unwrap();
@@ -280,7 +283,7 @@ fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
         let theta: f64 = r[oc("theta_max_over_theta_c")].parse().unwrap();
         let slip: f64 = r[oc("slip_max")].parse().unwrap();
         rocks += usize::from(o || theta > 0.2);
-        slides += usize::from(o || slip > 0.05);
+        slides += usize::from(o || slip > 0.005);
         overturned += usize::from(o);
     }
     let count = |i: usize| rows[i][col("n_exceeded")].parse::<usize>().unwrap();
@@ -302,7 +305,7 @@ fn a_study_with_three_limit_states_has_medians_rising_with_severity() {
         .unwrap();
     assert_eq!(
         ls.text().unwrap().trim(),
-        "rocks-20pc slides-5cm overturning"
+        "rocks-20pc slides-5mm overturning"
     );
     let functions: Vec<_> = doc
         .descendants()

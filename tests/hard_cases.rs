@@ -181,7 +181,14 @@ fn uplift_at_impact_and_two_corner_landing() {
             y_dot: 0.3,
             ..Initial::default()
         };
-        check(&an, &quiet_record(0.01, 2.0), "flat landing");
+        if e < 1.0 {
+            check(&an, &quiet_record(0.01, 2.0), "flat landing");
+        } else {
+            // e = 1 (energetic law) loses nothing: the flat bounce never
+            // ends, and past the record the analysis says so
+            let err = simulate(&an, &quiet_record(0.01, 2.0), &settings(), None).unwrap_err();
+            assert!(err.to_string().contains("free_motion_max"), "{err}");
+        }
     }
 }
 

@@ -155,7 +155,11 @@ fn static_threshold_of_rocking() {
             above.moved && above.theta_max_over_theta_c > 0.0,
             "H/B {aspect}"
         );
-        assert_eq!(above.time_in_mode[Mode::Rest.index()], 0.0);
+        // no rest before rocking starts; after the record the block comes
+        // to rest by a cascade whose duration is moved from rest to rock and
+        // the analysis ends there, so rest is 0 to rounding (1e-12 s)
+        let rest = above.time_in_mode[Mode::Rest.index()];
+        assert!(rest.abs() < 1e-12, "H/B {aspect}: {rest}");
     }
 }
 
@@ -193,13 +197,13 @@ fn thrown_block_lands_at_the_analytical_time() {
                 y_dot: v,
                 ..Initial::default()
             };
-            let out = simulate(
-                &an,
-                &quiet_record(0.01, 1.0),
-                &SolverSettings::default(),
-                None,
-            )
-            .unwrap();
+            // within the record (1 s): the landing and what follows it at
+            // once; the motion after the record is tests/free_motion.rs's
+            let set = SolverSettings {
+                free_motion_max: 0.0,
+                ..SolverSettings::default()
+            };
+            let out = simulate(&an, &quiet_record(0.01, 1.0), &set, None).unwrap();
             let t = out.first_impact_time.unwrap();
             assert!((t - 2.0 * v / G).abs() < 1e-10, "v {v} e {e}: {t}");
             // a flat landing strikes both corners (two-contact rule)

@@ -128,7 +128,12 @@ fn statue_analyses_that_failed_run_to_their_end() {
         let o = simulate_stack(&stack, &rec, &SolverSettings::default(), None).unwrap();
         let case = format!("{friction:?} e {e} record {index} at {pga} g");
         assert!(o.failure.is_none(), "{case}: {:?}", o.failure);
-        assert!((o.end_time - rec.duration()).abs() < 1e-9, "{case}");
+        // to the record's end, and on under still ground until it rests
+        // (free_motion_max) unless the base overturned
+        assert!(
+            o.end_time >= rec.duration() - 1e-9 || o.bodies[0].overturned,
+            "{case}"
+        );
         for (k, b) in o.bodies.iter().enumerate() {
             let end = b.overturn_time.unwrap_or(o.end_time);
             let total: f64 = b.time_in_mode.iter().sum();

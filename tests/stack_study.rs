@@ -283,7 +283,17 @@ fn a_two_block_study_runs_with_columns_and_limit_states_by_body() {
     );
     // every fall here is the top's, so any.overturned is the top's curve
     if !ok.iter().any(|r| r["base.overturned"] == "true") {
-        assert_eq!(fit("any-falls").median, falls.median);
+        let any = fit("any-falls");
+        assert_eq!(any.n_exceeded, falls.n_exceeded);
+        if falls.beta_model == "separate" {
+            assert_eq!(any.median, falls.median);
+        } else {
+            // the top's curves would cross, so its limit states share one β
+            // (the crossing rule); any.overturned, of no body, is fitted
+            // alone: the same data, a median within 2 % (0.5 % here)
+            let (a, f) = (any.median.unwrap(), falls.median.unwrap());
+            assert!((a / f - 1.0).abs() < 0.02, "{a} vs {f}");
+        }
         assert!(fit("base-falls").median.is_none());
     }
 }

@@ -492,7 +492,8 @@ impl HistoryFigure {
         let window = match (active.first(), active.last()) {
             (Some(a), Some(b)) => (
                 (a.t0 - ZOOM_PAD_S).max(0.0),
-                (b.t1 + ZOOM_PAD_S).min(record.duration()),
+                // the analysis may end after the record (its free motion)
+                (b.t1 + ZOOM_PAD_S).min(end.max(record.duration())),
             ),
             _ => (0.0, record.duration()),
         };

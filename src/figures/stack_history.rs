@@ -172,7 +172,8 @@ impl StackHistoryFigure {
         let window = match (first, last) {
             (Some(a), Some(b)) => (
                 (rows[a].t - ZOOM_PAD_S).max(0.0),
-                (rows[(b + 1).min(rows.len() - 1)].t + ZOOM_PAD_S).min(record.duration()),
+                // the analysis may end after the record (its free motion)
+                (rows[(b + 1).min(rows.len() - 1)].t + ZOOM_PAD_S).min(end.max(record.duration())),
             ),
             _ => (0.0, end.max(record.dt)),
         };

@@ -113,6 +113,14 @@ pub struct SolverSettings {
     pub max_events: u64,
     /// Track the work of the ground and report the energy residual (default: false).
     pub audit_energy: bool,
+    /// Longest free motion followed after the record's end (s, default 60).
+    /// A body still moving when the record ends goes on under still ground
+    /// (rocking, sliding, flight and impacts as before) until it is at rest
+    /// or overturns, so every analysis ends decided; peaks include this
+    /// motion. One still moving this long after the record is a solver
+    /// failure naming it, never a silent answer. 0 stops at the record's
+    /// end, as the paper's program did.
+    pub free_motion_max: f64,
 }
 
 impl Default for SolverSettings {
@@ -128,11 +136,18 @@ impl Default for SolverSettings {
             settle_cascades: true,
             max_events: 1_000_000,
             audit_energy: false,
+            free_motion_max: 60.0,
         }
     }
 }
 
 impl SolverSettings {
+    /// Record samples of still ground appended after a record sampled every
+    /// `dt` to follow the free motion for up to `free_motion_max`.
+    pub(crate) fn free_samples(&self, dt: f64) -> usize {
+        (self.free_motion_max / dt).ceil() as usize
+    }
+
     /// Checks every field's range; errors name the field and the accepted range.
     pub fn validate(&self) -> Result<()> {
         if !(self.rtol > 0.0 && self.rtol < 1.0) {
@@ -154,6 +169,13 @@ impl SolverSettings {
                 "settle_tol",
                 self.settle_tol,
                 "a threshold in (0, 1)",
+            ));
+        }
+        if !(self.free_motion_max.is_finite() && (0.0..=3600.0).contains(&self.free_motion_max)) {
+            return Err(Error::invalid(
+                "free_motion_max",
+                self.free_motion_max,
+                "a time in [0, 3600] s (0: stop at the record's end)",
             ));
         }
         if self.max_events == 0 {

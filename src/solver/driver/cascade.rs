@@ -116,7 +116,7 @@ impl Run<'_> {
         // Housner's ratio of angular velocities at a rock impact with e = 0
         // (with e > 0, that of the plastic impact that closes its series)
         let eta = impact::rock_impact_ratio(&bl, 0.0);
-        let n = self.acc.len();
+        let n = self.samples();
         let bouncing = self.e > 0.0;
         if !(self.set.settle_cascades && eta > 0.0 && eta < 1.0)
             || n < 2
@@ -156,7 +156,7 @@ impl Run<'_> {
         mu_s: f64,
     ) -> bool {
         let bl = self.bl;
-        let n = self.acc.len();
+        let n = self.samples();
         let bouncing = BOUNCING;
         let u0 = rs.omega.abs();
         // e > 0: the rotation the series left, on the side the block rocks
@@ -348,6 +348,10 @@ impl Run<'_> {
                 .min(t_cascade);
             self.out.time_in_mode[Mode::Rock.index()] += t_rock;
             self.out.time_in_mode[Mode::Rest.index()] -= t_rock;
+            // until the run ends, `end_time` holds when the last settled
+            // cascade ends: a run that stops at rest after the record lasts
+            // at least that long (its time in rest stays ≥ 0)
+            self.out.end_time = self.out.end_time.max(t + t_rock);
             return true;
         }
         false

@@ -29,7 +29,7 @@ impl Run<'_> {
     fn series_sums(&self, t0: f64, u0: f64, w_p: f64, rx: f64, ry: f64) -> SeriesSums {
         let bl = self.bl;
         let e = self.e;
-        let n = self.acc.len();
+        let n = self.samples();
         let i_b = bl.inertia_corner();
         let mut k = ((t0 / self.dt) as usize).min(n - 2);
         let mut seg = self.segment(k);
@@ -117,7 +117,7 @@ impl Run<'_> {
         plastic: Velocity,
     ) -> Option<Chatter> {
         let bl = self.bl;
-        let n = self.acc.len();
+        let n = self.samples();
         let e = self.e;
         // rock about corner `side` means θ on the side s = −side
         let s = -side;
@@ -354,7 +354,7 @@ impl Run<'_> {
         // and F_θ = −V_θθ = (g + ÿg) ρ_y + ẍg ρ_x
         let (rx, ry) = bl.corner_offset(-rs.s, rs.theta);
         let (px, py) = (-rx, -ry);
-        let k = ((t0 / self.dt) as usize).min(self.acc.len() - 2);
+        let k = ((t0 / self.dt) as usize).min(self.samples() - 2);
         let seg = self.segment(k);
         let (ax, ay) = seg.at(t0);
         let gy = bl.g + ay;

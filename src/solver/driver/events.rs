@@ -235,7 +235,7 @@ impl Run<'_> {
 
     /// Ground acceleration (ẍg, ÿg) at time t.
     pub(super) fn ground_at(&self, t: f64) -> (f64, f64) {
-        let k = ((t / self.dt) as usize).min(self.acc.len() - 2);
+        let k = ((t / self.dt) as usize).min(self.samples() - 2);
         self.segment(k).at(t)
     }
 

@@ -357,10 +357,20 @@ pub(in crate::solver) struct Segment {
 impl Segment {
     /// The interval from sample `k` to `k + 1` of a record's acceleration
     /// `acc` (and vertical acceleration `acc_v`, zero without one),
-    /// sampled every `dt`: linear between samples.
+    /// sampled every `dt`: linear between samples. Past the record's last
+    /// sample the ground is still (the free motion after the record).
     #[inline]
     pub(in crate::solver) fn of(acc: &[f64], acc_v: Option<&[f64]>, dt: f64, k: usize) -> Segment {
         let t0 = k as f64 * dt;
+        if k + 1 >= acc.len() {
+            return Segment {
+                t0,
+                a0: 0.0,
+                a1: 0.0,
+                v0: 0.0,
+                v1: 0.0,
+            };
+        }
         let (a0, a1) = (acc[k], (acc[k + 1] - acc[k]) / dt);
         let (v0, v1) = match acc_v {
             Some(v) => (v[k], (v[k + 1] - v[k]) / dt),
@@ -539,6 +549,24 @@ impl<'a> Run<'a> {
         Segment::of(self.acc, self.acc_v, self.dt, k)
     }
 
+    /// Past the record (still ground), whether `state` is final: rest, or a
+    /// flat slide with μk = 0, which nothing can stop or tip (the slip then
+    /// grows without bound; it is reported at the record's end).
+    fn settled(&self, state: &State) -> bool {
+        match state {
+            State::Rest => true,
+            State::Slide(_) => self.fric.is_some_and(|(_, mu_k)| mu_k == 0.0),
+            _ => false,
+        }
+    }
+
+    /// Samples of the record followed by those of still ground up to the
+    /// free-motion cap ([`SolverSettings::free_motion_max`]).
+    #[inline]
+    fn samples(&self) -> usize {
+        self.acc.len() + self.set.free_samples(self.dt)
+    }
+
     fn initial_state(&self) -> State {
         let (th, om) = (self.init.theta, self.init.theta_dot);
         if self.init.y_dot > 0.0 {
@@ -566,7 +594,8 @@ impl<'a> Run<'a> {
     }
 
     fn solve(&mut self) -> Result<()> {
-        let n = self.acc.len();
+        let n_rec = self.acc.len();
+        let n = self.samples();
         let mut state = self.initial_state();
         match state {
             State::Rest => {}
@@ -583,12 +612,15 @@ impl<'a> Run<'a> {
         self.push_row(t, &state, &seg0, false);
         self.note_theta(&state);
         while k + 1 < n {
+            if k + 1 >= n_rec && self.settled(&state) {
+                break;
+            }
             if matches!(state, State::Rest) && self.quiet > 0.0 {
                 // Fast-forward over samples where the ground is too weak, at both
                 // ends, to break rest (the forcing is linear in between).
                 let k0 = k;
                 if self.acc[k].abs() < self.quiet {
-                    while k + 1 < n && self.acc[k + 1].abs() < self.quiet {
+                    while k + 1 < n_rec && self.acc[k + 1].abs() < self.quiet {
                         k += 1;
                     }
                 }
@@ -701,7 +733,27 @@ impl<'a> Run<'a> {
                 }
             }
         }
+        if self.out.end_time > t {
+            // a cascade settled at rest ends after the loop's last instant
+            self.out.time_in_mode[Mode::Rest.index()] += self.out.end_time - t;
+            t = self.out.end_time;
+            if self.hist.is_some() {
+                let seg = self.segment(k);
+                self.push_row(t, &state, &seg, false);
+            }
+        }
         self.out.end_time = t;
+        if n > n_rec && !self.out.overturned && !self.settled(&state) {
+            return Err(Error::Solver {
+                time: t,
+                message: format!(
+                    "still in {} motion {} s after the record's end (free_motion_max): \
+                     no decided state",
+                    state.mode().name(),
+                    self.set.free_motion_max
+                ),
+            });
+        }
         if !self.out.overturned {
             // the last excursion beyond θc came back (or the record ended)
             self.out.mu_motion = self.out.mu_motion.max(self.mu_beyond);

@@ -230,7 +230,13 @@ impl<'a> Run<'a> {
         }
         self.push_row(true);
         let mut repeats = 0;
-        for i in 0..n_samples - 1 {
+        // the record's samples, then still ground up to the free-motion cap
+        let n_all = n_samples + self.set.free_samples(self.rec.dt);
+        for i in 0..n_all - 1 {
+            if i + 1 >= n_samples && self.modes.dof() == 0 {
+                // past the record the ground is still: rest is final
+                return;
+            }
             let seg = self.segment(i);
             let t_end = (i + 1) as f64 * self.rec.dt;
             while self.t < t_end {
@@ -292,6 +298,12 @@ impl<'a> Run<'a> {
             }
             self.t = t_end;
             self.push_row(false);
+        }
+        if n_all > n_samples && self.modes.dof() > 0 {
+            self.fail(format!(
+                "still moving {} s after the record's end (free_motion_max): no decided state",
+                self.set.free_motion_max
+            ));
         }
     }
 

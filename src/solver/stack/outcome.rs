@@ -43,9 +43,11 @@ pub struct StackOutcome {
     pub bodies: Vec<BodyOutcome>,
     /// Which body overturned first (0-based, bottom first).
     pub first_overturned: Option<usize>,
-    /// Why the analysis stopped before the end of the record, if it could
-    /// not continue in the modes this solver models: its numbers then cover
-    /// only up to `end_time` and must not be read as the run's response.
+    /// Why the analysis stopped before its end (every body at rest or the
+    /// base overturned, the free motion after the record included), if it
+    /// could not continue in the modes this solver models or was still
+    /// moving `solver.free_motion_max` after the record: its numbers then
+    /// cover only up to `end_time` and must not be read as the run's response.
     pub failure: Option<String>,
     /// Time at which the analysis ended (s).
     pub end_time: f64,
