@@ -116,12 +116,12 @@ impl Run<'_> {
                 y: 0.0,
                 y_dot: 0.0,
                 n: bl.g + ay,
-                f: -self.fric.map_or(0.0, |f| f.1) * ss.sigma * (bl.g + ay),
+                f: -self.fric.mu_k * ss.sigma * (bl.g + ay),
                 event,
             },
             State::SlideRock(r) => {
                 let [x, vx, y, vy] = ph::rock_kinematics(bl, r.s, r.theta, r.omega);
-                let mu_k = self.fric.map_or(0.0, |f| f.1);
+                let mu_k = self.fric.mu_k;
                 let a = ph::slide_rock_accel(bl, r.s, r.sigma, mu_k, r.theta, r.omega, ax, ay);
                 HistoryRow {
                     t,

@@ -128,12 +128,11 @@ impl Run<'_> {
             return false;
         }
         // μs, or infinity under infinite friction
-        let mu_s = match self.fric {
-            None => f64::INFINITY,
-            // paper eq. (8): the rock impact's friction demand
-            Some((mu_s, _)) if impact::rock_impact_mu(&bl) < mu_s => mu_s,
-            Some(_) => return false,
-        };
+        let mu_s = self.fric.mu_s;
+        // paper eq. (8): the rock impact's friction demand
+        if self.fric.finite() && !(impact::rock_impact_mu(&bl) < mu_s) {
+            return false;
+        }
         // one copy of the bounds per kind of cascade, each with only its own
         // terms (the e = 0, infinite-friction one as lean as it always was)
         match (mu_s.is_finite(), bouncing) {

@@ -150,7 +150,7 @@ impl Run<'_> {
         // that this impact sticks; the later ones are bounded below, and the
         // rock about the corner over the series by its smallest friction
         // margin μs N − |F| at (θ, ω_p) (concave in the forcing).
-        let mu_s = self.fric.map_or(f64::INFINITY, |(mu_s, _)| mu_s);
+        let mu_s = self.fric.mu_s;
         let (sp, cp) = bl.phi_sin_cos(psi);
         let rock_c = |ax: f64, ay: f64| ph::rock_contact_sc(&bl, s, sp, cp, plastic.omega, ax, ay);
         let margin = |c: ph::RockContact| {

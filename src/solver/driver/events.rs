@@ -69,7 +69,7 @@ impl Run<'_> {
                 // the impact happens at θ = 0 (the path's θ there is zero to
                 // within the root's tolerance)
                 let fs = self.rock_to_flight(&RockState { theta: 0.0, ..rs });
-                if self.e > 0.0 && self.fric.is_none() && self.set.rock_impact == RockImpact::Rock {
+                if self.e > 0.0 && !self.fric.finite() && self.set.rock_impact == RockImpact::Rock {
                     return Ok(self.rock_impact_no_flight(t, fs, &rs));
                 }
                 let after = self.impacts(t, fs, rs.s);
@@ -116,7 +116,7 @@ impl Run<'_> {
                 self.out.stick_holds += 1;
                 let (ax, ay) = self.ground_at(t);
                 let c = ph::rock_contact(&self.bl, sr.s, sr.theta, sr.omega, ax, ay);
-                let hold = c.f.abs() > self.fric.map_or(f64::INFINITY, |f| f.0) * c.n;
+                let hold = c.f.abs() > self.fric.mu_s * c.n;
                 State::Rock(RockState {
                     s: sr.s,
                     theta: sr.theta,
@@ -158,7 +158,7 @@ impl Run<'_> {
         vp: f64,
         t: f64,
     ) -> State {
-        let (_, mu_k) = self.fric.expect("finite friction");
+        let mu_k = self.fric.mu_k;
         let (ax, ay) = self.ground_at(t);
         let accel = |sg: f64| ph::slide_rock_accel(&self.bl, s, sg, mu_k, theta, omega, ax, ay);
         let sigma = if vp != 0.0 {
@@ -199,7 +199,7 @@ impl Run<'_> {
     /// Slide-rock's slip stopped: stick (rock) if the sticking friction demand
     /// is within μs N, otherwise slip on in the consistent direction.
     fn after_slip_stop(&mut self, sr: SlideRockState, t: f64) -> State {
-        let (mu_s, _) = self.fric.expect("finite friction");
+        let mu_s = self.fric.mu_s;
         let (ax, ay) = self.ground_at(t);
         let c = ph::rock_contact(&self.bl, sr.s, sr.theta, sr.omega, ax, ay);
         if c.f.abs() <= mu_s * c.n {
@@ -219,7 +219,7 @@ impl Run<'_> {
     /// Sliding on both corners stopped: rest if |ẍg| ≤ μs (g + ÿg), otherwise
     /// slide on, opposite to the ground's acceleration.
     fn after_slide_stop(&mut self, ss: SlideState, t: f64) -> State {
-        let (mu_s, _) = self.fric.expect("finite friction");
+        let mu_s = self.fric.mu_s;
         let (ax, ay) = self.ground_at(t);
         self.x_base = ss.x;
         if ax.abs() <= mu_s * (self.bl.g + ay) {

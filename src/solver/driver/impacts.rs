@@ -2,7 +2,7 @@
 //! chatter rule's place in them (see the driver's module documentation;
 //! the cascade rule is in `cascade.rs`).
 
-use super::{Chatter, FlightState, RockState, Run, SlideState, State};
+use super::{Chatter, FlightState, Grip, RockState, Run, SlideState, State};
 use crate::solver::impact::{self, ImpactLaw, ImpactResult, Velocity};
 use crate::solver::physics as ph;
 
@@ -107,12 +107,10 @@ impl Run<'_> {
         });
         match staying {
             [true, true] => {
-                if let Some((_, mu_k)) = self.fric
-                    && vel.vx.abs() > self.v_settle
-                {
+                if self.fric.finite() && vel.vx.abs() > self.v_settle {
                     // flat on both corners, still moving sideways: slide
                     let sigma = vel.vx.signum();
-                    if mu_k > bl.b / bl.h {
+                    if self.fric.mu_k > bl.b / bl.h {
                         // kinetic friction tips the block: N on the trailing corner < 0
                         return self.start_slide_rock(-sigma, pose.theta, 0.0, pose.x, vel.vx, t);
                     }
@@ -130,7 +128,7 @@ impl Run<'_> {
             [true, false] | [false, true] => {
                 let pivot = if staying[0] { -1.0 } else { 1.0 };
                 let s = -pivot;
-                if self.fric.is_some() {
+                if self.fric.finite() {
                     let (rx, ry) = offset(pivot);
                     let ut = impact::point_velocity(&vel, rx, ry).0;
                     if ut.abs() > self.v_settle {
@@ -173,7 +171,7 @@ impl Run<'_> {
     #[inline]
     pub(super) fn chatter_due(&self, side: f64, u: f64) -> bool {
         self.set.settle_cascades
-            && (self.fric.is_none() || self.set.impact == ImpactLaw::Newton)
+            && (!self.fric.finite() || self.set.impact == ImpactLaw::Newton)
             && self.e > 0.0
             && self.e < 1.0
             && u <= self.v_close
@@ -217,8 +215,7 @@ impl Run<'_> {
     /// holds whatever the rounding of `corner_impact_friction`'s own.
     #[inline]
     pub(super) fn sticks(&self, demand: f64) -> bool {
-        self.fric
-            .is_none_or(|(mu_s, _)| demand <= mu_s * (1.0 - 1e-12))
+        !self.fric.finite() || demand <= self.fric.mu_s * (1.0 - 1e-12)
     }
 
     /// One impact of the corner at offset (rx, ry) from G with restitution
@@ -229,14 +226,12 @@ impl Run<'_> {
     #[inline(always)]
     pub(super) fn hit(&self, vel: &Velocity, rx: f64, ry: f64, e: f64) -> (ImpactResult, f64) {
         let law = self.set.impact;
-        match self.fric {
-            None => {
-                let r = impact::corner_impact(&self.bl, vel, rx, ry, e, law);
-                (r, r.friction_demand())
-            }
-            Some((mu_s, mu_k)) => {
-                impact::corner_impact_friction(&self.bl, vel, rx, ry, e, law, mu_s, mu_k)
-            }
+        let Grip { mu_s, mu_k } = self.fric;
+        if self.fric.finite() {
+            impact::corner_impact_friction(&self.bl, vel, rx, ry, e, law, mu_s, mu_k)
+        } else {
+            let r = impact::corner_impact(&self.bl, vel, rx, ry, e, law);
+            (r, r.friction_demand())
         }
     }
 

@@ -259,6 +259,38 @@ impl State {
     }
 }
 
+/// The ground contact's friction as the driver reads it: static and kinetic
+/// coefficients, both infinite under infinite friction (the contact never
+/// slips) and finite under Coulomb friction (`Analysis::validate` sees to
+/// it), so a rule that needs μs or μk reads it without unwrapping, and one
+/// that differs between the two models asks [`Grip::finite`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Grip {
+    /// Static coefficient μs (∞: infinite friction).
+    mu_s: f64,
+    /// Kinetic coefficient μk (∞: infinite friction).
+    mu_k: f64,
+}
+
+impl Grip {
+    /// The coefficients of an analysis' friction model.
+    fn of(friction: Friction) -> Grip {
+        match friction {
+            Friction::Infinite => Grip {
+                mu_s: f64::INFINITY,
+                mu_k: f64::INFINITY,
+            },
+            Friction::Coulomb { mu_s, mu_k } => Grip { mu_s, mu_k },
+        }
+    }
+
+    /// True under Coulomb friction: contacts can slip.
+    #[inline]
+    fn finite(&self) -> bool {
+        self.mu_s.is_finite()
+    }
+}
+
 /// A bounce whose rebound is below `CLOSE_TOL`·√(gR) may close its series.
 /// The closure's error is fourth order in the rebound (measured over 100
 /// records × H/B 2, 4, 6 at 0.6 g and e = 0.9: the median |Δθmax/θc|
@@ -456,8 +488,8 @@ struct Run<'a> {
     closed_series: Option<(f64, Velocity, f64, f64, f64)>,
     /// Contact distance of the two-contact rule (m).
     h_touch: f64,
-    /// Coulomb friction (μs, μk), or `None` for infinite friction.
-    fric: Option<(f64, f64)>,
+    /// The ground contact's friction coefficients.
+    fric: Grip,
     /// The last release of a rock pivot into flight: (time, rock state).
     released: Option<(f64, RockState)>,
     /// |ẍg| below which rest cannot break (the smaller of the rocking and
@@ -511,20 +543,13 @@ impl<'a> Run<'a> {
             chatter_tried: None,
             closed_series: None,
             h_touch: 1e-9 * bl.b,
-            fric: match an.friction {
-                Friction::Infinite => None,
-                Friction::Coulomb { mu_s, mu_k } => Some((mu_s, mu_k)),
-            },
+            fric: Grip::of(an.friction),
             released: None,
             quiet: if rec.acc_v.is_none() && hist_none {
                 // rest breaks when |ẍg| > g tanθc (eq. (1) at θ = 0), or slides
                 // when |ẍg| > μs g; the margin covers the rounding of the
                 // interpolated forcing at a sample's end
-                let mu = match an.friction {
-                    Friction::Infinite => f64::INFINITY,
-                    Friction::Coulomb { mu_s, .. } => mu_s,
-                };
-                (bl.sin_c * bl.g / bl.cos_c).min(mu * bl.g) * (1.0 - 1e-9)
+                (bl.sin_c * bl.g / bl.cos_c).min(Grip::of(an.friction).mu_s * bl.g) * (1.0 - 1e-9)
             } else {
                 0.0
             },
@@ -604,7 +629,7 @@ impl<'a> Run<'a> {
             let t_start = t;
             let mode = state.mode();
             let event = match &mut state {
-                State::Rest => match self.fric {
+                State::Rest => {
                     // Shenton (1996): from rest a block slides if μs < B/H and rocks if
                     // μs > B/H. At μs = B/H both thresholds coincide, and a block that
                     // starts to tip needs F/N rising above B/H at once (d(F/N)/dẍg = 1/4g
@@ -612,13 +637,15 @@ impl<'a> Run<'a> {
                     // A block coming to rest (after a landing) while |ẍg| already
                     // exceeds μs (g + ÿg) cannot stay stuck, nor rock on a stuck
                     // corner: it slides.
-                    Some((mu_s, _))
-                        if mu_s <= self.bl.b / self.bl.h || self.slide_exceeded(&seg, t, mu_s) =>
+                    let mu_s = self.fric.mu_s;
+                    if self.fric.finite()
+                        && (mu_s <= self.bl.b / self.bl.h || self.slide_exceeded(&seg, t, mu_s))
                     {
                         self.rest_slide(&seg, &mut t, t_end, mu_s)
+                    } else {
+                        self.rest(&seg, &mut t, t_end)
                     }
-                    _ => self.rest(&seg, &mut t, t_end),
-                },
+                }
                 State::Slide(ss) => self.slide(ss, &seg, &mut t, t_end),
                 State::SlideRock(sr) => {
                     if self.set.audit_energy {

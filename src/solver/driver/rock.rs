@@ -2,7 +2,7 @@
 //! or in closed form for the linearised model; and the location of its
 //! events (impact, lift-off and holds, slip, overturning) on the dense output.
 
-use super::{Event, RockState, Run, Segment, State, earliest};
+use super::{Event, Grip, RockState, Run, Segment, State, earliest};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
 use crate::solver::block::Block;
@@ -285,7 +285,8 @@ impl Run<'_> {
         };
         let (mut n0, mut q0) = (c_a.n, release_q(&c_a));
         let mut c_end: Option<ph::RockContact> = None;
-        if let Some((mu_s, mu_k)) = self.fric {
+        if self.fric.finite() {
+            let Grip { mu_s, mu_k } = self.fric;
             // Stuck pivot under Coulomb friction: slip starts when |F| reaches
             // μs N (this comes before N = 0, since |F| ≤ μs N fails first). If
             // neither sticking nor slipping is consistent (Painlevé), the pivot
@@ -355,7 +356,7 @@ impl Run<'_> {
         let width = (tb - ta) / n as f64;
         let mut t0 = ta;
         for i in 1..=n {
-            if self.fric.is_some() {
+            if self.fric.finite() {
                 break;
             }
             let t1 = if i == n { tb } else { ta + width * i as f64 };

@@ -19,7 +19,7 @@ impl Run<'_> {
         t: &mut f64,
         t_end: f64,
     ) -> Option<Event> {
-        let (_, mu_k) = self.fric.expect("slide needs finite friction");
+        let mu_k = self.fric.mu_k;
         let t0 = *t;
         let (a0, b0) = seg.at(t0);
         let sg = ss.sigma;
@@ -66,7 +66,7 @@ impl Run<'_> {
         t: &mut f64,
         t_end: f64,
     ) -> Result<Option<Event>> {
-        let (_, mu_k) = self.fric.expect("slide-rock needs finite friction");
+        let mu_k = self.fric.mu_k;
         let bl = self.bl;
         let (s, sg) = (sr.s, sr.sigma);
         let seg = *seg;
