@@ -7,7 +7,7 @@
 //! in what such a series can change ([`Run::series_bounds`]). Under Coulomb
 //! friction the rule applies while nothing in the cascade can slip.
 
-use super::{RockState, Run};
+use super::{ChatterImpact, RockState, Run};
 use crate::outcome::Mode;
 use crate::solver::block::Block;
 use crate::solver::impact::{self, ImpactLaw, Velocity};
@@ -94,8 +94,8 @@ impl Run<'_> {
     /// e = 0; for e > 0 the rock state its closed bounce series leaves),
     /// provably die out before the ground can lift the block. Then the
     /// cascade's friction demand is noted and the caller sets the block to
-    /// rest. `series` is the closed series of this impact (e > 0): the
-    /// velocity the Newton impact left, the corner's offset and its rebound.
+    /// rest. `series` is the impact at which the chatter rule closed this
+    /// impact's bounce series (e > 0).
     ///
     /// Under Coulomb friction the cascade is the same motion, impulse for
     /// impulse, as long as nothing slips (a sticking impact gives the
@@ -110,7 +110,7 @@ impl Run<'_> {
         &mut self,
         t: f64,
         rs: &RockState,
-        series: Option<(Velocity, f64, f64, f64)>,
+        series: Option<&ChatterImpact>,
     ) -> bool {
         let bl = self.bl;
         // Housner's ratio of angular velocities at a rock impact with e = 0
@@ -127,10 +127,10 @@ impl Run<'_> {
         {
             return false;
         }
-        // μs, or infinity under infinite friction
+        // μs, or infinity under infinite friction; the rock impacts must
+        // stick: paper eq. (8), their friction demand, below μs
         let mu_s = self.fric.mu_s;
-        // paper eq. (8): the rock impact's friction demand
-        if self.fric.finite() && !(impact::rock_impact_mu(&bl) < mu_s) {
+        if self.fric.finite() && impact::rock_impact_mu(&bl) >= mu_s {
             return false;
         }
         // one copy of the bounds per kind of cascade, each with only its own
@@ -150,7 +150,7 @@ impl Run<'_> {
         &mut self,
         t: f64,
         rs: &RockState,
-        series: Option<(Velocity, f64, f64, f64)>,
+        series: Option<&ChatterImpact>,
         eta: f64,
         mu_s: f64,
     ) -> bool {
@@ -310,7 +310,10 @@ impl Run<'_> {
             self.out.mu_motion = self.out.mu_motion.max(demand);
             // e > 0: the later impacts of its bounce series, on either corner
             // (mirror images), as the chatter rule takes them, at its two ends
-            if let Some((newton, rx, ry, u1)) = series {
+            if let Some(&ChatterImpact {
+                newton, rx, ry, u1, ..
+            }) = series
+            {
                 let mirror = Velocity {
                     vx: -newton.vx,
                     vy: newton.vy,

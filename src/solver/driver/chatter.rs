@@ -4,7 +4,7 @@
 //! its drift, rotation and duration summed in closed form (the derivation is
 //! in the driver's module documentation).
 
-use super::{Chatter, RockState, Run, SeriesEnd, SeriesSums};
+use super::{Chatter, ChatterImpact, RockState, Run, SeriesEnd, SeriesSums};
 use crate::solver::impact::{self, Velocity};
 use crate::solver::physics as ph;
 
@@ -97,25 +97,24 @@ impl Run<'_> {
         }
     }
 
-    /// The chatter rule: at an impact of corner `side` (offset (rx, ry) from
-    /// G, the other corner off the ground or lifting) that leaves the corner
-    /// rebounding at `u1` ∈ (ε√(gR), CLOSE_TOL·√(gR)] with velocity `newton`,
-    /// while the same impact made plastic leaves `plastic` (rock about the
-    /// corner), decides from bounds on the coming samples whether the series
-    /// converges onto rock about the corner before anything else can happen.
-    /// Returns the series' closed-form sums if so.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn chatter_settles(
-        &self,
-        t: f64,
-        theta: f64,
-        side: f64,
-        rx: f64,
-        ry: f64,
-        newton: Velocity,
-        u1: f64,
-        plastic: Velocity,
-    ) -> Option<Chatter> {
+    /// The chatter rule: at the impact `imp` of corner `side` at `t` (offset
+    /// (rx, ry) from G, the other corner off the ground or lifting) that
+    /// leaves the corner rebounding at `u1` ∈ (ε√(gR), CLOSE_TOL·√(gR)] with
+    /// velocity `newton`, while the same impact made plastic leaves `plastic`
+    /// (rock about the corner), decides from bounds on the coming samples
+    /// whether the series converges onto rock about the corner before
+    /// anything else can happen. Returns the series' closed-form sums if so.
+    pub(super) fn chatter_settles(&self, imp: &ChatterImpact) -> Option<Chatter> {
+        let ChatterImpact {
+            t,
+            theta,
+            side,
+            rx,
+            ry,
+            newton,
+            u1,
+            plastic,
+        } = *imp;
         let bl = self.bl;
         let n = self.acc.len();
         let e = self.e;

@@ -74,13 +74,9 @@ impl Run<'_> {
                 }
                 let after = self.impacts(t, fs, rs.s);
                 // the series the chatter rule closed at this impact (e > 0), if any
-                let series = self
-                    .closed_series
-                    .take()
-                    .filter(|c| c.0 == t)
-                    .map(|(_, v, rx, ry, u)| (v, rx, ry, u));
+                let series = self.closed_series.take().filter(|c| c.t == t);
                 match after {
-                    State::Rock(after) if self.cascade_settles(t, &after, series) => {
+                    State::Rock(after) if self.cascade_settles(t, &after, series.as_ref()) => {
                         self.out.settles += 1;
                         State::Rest
                     }

@@ -1,6 +1,6 @@
 //! Free flight in closed form, and the location of landings and overturning.
 
-use super::{Event, FlightState, Run, Segment, earliest};
+use super::{ChatterImpact, ChatterTry, Event, FlightState, Run, Segment, earliest};
 use crate::solver::impact::{Velocity, point_velocity};
 use crate::solver::physics as ph;
 use crate::solver::scan::first_descent_bounded;
@@ -77,10 +77,18 @@ impl Run<'_> {
             let (plastic, plastic_demand) = self.hit(&vel, rx, ry, 0.0);
             if self.sticks(demand)
                 && self.sticks(plastic_demand)
-                && let Some(ch) =
-                    self.try_chatter(t, fs.theta, side, rx, ry, r.after, un_after, plastic.after)
+                && let Some(chatter) = self.try_chatter(&ChatterImpact {
+                    t,
+                    theta: fs.theta,
+                    side,
+                    rx,
+                    ry,
+                    newton: r.after,
+                    u1: un_after,
+                    plastic: plastic.after,
+                })
             {
-                self.chatter_tried = Some((t, side, ch));
+                self.chatter_tried = Some(ChatterTry { t, side, chatter });
                 return None;
             }
         }

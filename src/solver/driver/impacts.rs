@@ -2,7 +2,7 @@
 //! chatter rule's place in them (see the driver's module documentation;
 //! the cascade rule is in `cascade.rs`).
 
-use super::{Chatter, FlightState, Grip, RockState, Run, SlideState, State};
+use super::{Chatter, ChatterImpact, FlightState, Grip, RockState, Run, SlideState, State};
 use crate::solver::impact::{self, ImpactLaw, ImpactResult, Velocity};
 use crate::solver::physics as ph;
 
@@ -48,16 +48,17 @@ impl Run<'_> {
                 let (plastic, plastic_demand) = hit(0.0);
                 if self.sticks(demand)
                     && self.sticks(plastic_demand)
-                    && let Some(ch) = self.try_chatter(
+                    && let imp = (ChatterImpact {
                         t,
-                        pose.theta,
-                        sd,
+                        theta: pose.theta,
+                        side: sd,
                         rx,
                         ry,
-                        r.after,
-                        un_after,
-                        plastic.after,
-                    )
+                        newton: r.after,
+                        u1: un_after,
+                        plastic: plastic.after,
+                    })
+                    && let Some(ch) = self.try_chatter(&imp)
                 {
                     self.out.mu_impact = self.out.mu_impact.max(demand).max(ch.demand);
                     self.out.mu_impact_eq5 = self
@@ -68,7 +69,7 @@ impl Run<'_> {
                     series_end = Some((sd, ch.end));
                     if pose.theta == 0.0 {
                         // a rock impact: for the cascade rule
-                        self.closed_series = Some((t, r.after, rx, ry, un_after));
+                        self.closed_series = Some(imp);
                     }
                     (r, demand) = (plastic, plastic_demand);
                     e_applied = 0.0;
@@ -178,33 +179,21 @@ impl Run<'_> {
             && (self.chatter_retry.0 != side || u <= self.chatter_retry.1)
     }
 
-    /// A try of the chatter rule at an impact of corner `side` (the arguments
-    /// of [`Run::chatter_settles`]), or the result `bounce` already found for
-    /// this very impact. After a failure the next try on this corner waits
-    /// until the rebound has halved (the bounds need a shorter series); a
-    /// success clears that wait. (The velocities come by value: a reference
-    /// would keep the caller's impact result in memory on every bounce, not
-    /// only on a try.)
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn try_chatter(
-        &mut self,
-        t: f64,
-        theta: f64,
-        side: f64,
-        rx: f64,
-        ry: f64,
-        newton: Velocity,
-        u1: f64,
-        plastic: Velocity,
-    ) -> Option<Chatter> {
+    /// A try of the chatter rule at the impact `imp` ([`Run::chatter_settles`]),
+    /// or the result `bounce` already found for this very impact. After a
+    /// failure the next try on this corner waits until the rebound has halved
+    /// (the bounds need a shorter series); a success clears that wait. (The
+    /// caller builds `imp` only for a try, by value from its impact results:
+    /// a reference to them would keep them in memory on every bounce.)
+    pub(super) fn try_chatter(&mut self, imp: &ChatterImpact) -> Option<Chatter> {
         let tried = match self.chatter_tried.take() {
-            Some((tt, ts, ch)) if tt == t && ts == side => Some(ch),
-            _ => self.chatter_settles(t, theta, side, rx, ry, newton, u1, plastic),
+            Some(tried) if tried.t == imp.t && tried.side == imp.side => Some(tried.chatter),
+            _ => self.chatter_settles(imp),
         };
         self.chatter_retry = if tried.is_some() {
             (0.0, f64::INFINITY)
         } else {
-            (side, 0.5 * u1)
+            (imp.side, 0.5 * imp.u1)
         };
         tried
     }

@@ -298,6 +298,41 @@ impl Grip {
 /// integrators, and 4e-9 at 3e-3).
 const CLOSE_TOL: f64 = 1e-3;
 
+/// An impact at which the chatter rule is tried: a bounce of one corner whose
+/// Newton rebound is slow enough to close its series (`Run::chatter_due`),
+/// with what the impact leaves under Newton's law and made plastic.
+#[derive(Clone, Copy, Debug)]
+struct ChatterImpact {
+    /// Time of the impact (s).
+    t: f64,
+    /// The block's rotation θ at it (rad; 0 at a rock impact).
+    theta: f64,
+    /// The corner's side (±1).
+    side: f64,
+    /// The corner's offset (r_x, r_y) from G (m).
+    rx: f64,
+    ry: f64,
+    /// The block's velocity after the impact under Newton's law.
+    newton: Velocity,
+    /// The corner's rebound (normal velocity) after it (m/s).
+    u1: f64,
+    /// The block's velocity after the same impact made plastic (rock about
+    /// the corner).
+    plastic: Velocity,
+}
+
+/// A try of the chatter rule that succeeded inside a flight ([`Run::bounce`]),
+/// kept for the event loop's impact at the same instant.
+#[derive(Clone, Copy, Debug)]
+struct ChatterTry {
+    /// Time of the impact (s).
+    t: f64,
+    /// The corner's side (±1).
+    side: f64,
+    /// What the rule found.
+    chatter: Chatter,
+}
+
 /// What a closed series leaves to apply: rock about the corner from the
 /// plastic impact, corrected by the series' sums at the drift's centroid
 /// (carried back to the impact by [`Run::close_series`]).
@@ -479,13 +514,11 @@ struct Run<'a> {
     /// below which it tries again.
     chatter_retry: (f64, f64),
     /// A try of the chatter rule that succeeded inside a flight
-    /// ([`Run::bounce`]), for the event loop's impact at the same instant:
-    /// (time, corner, result).
-    chatter_tried: Option<(f64, f64, Chatter)>,
-    /// The bounce series the chatter rule last closed at a rock impact, for
-    /// the cascade rule at the same instant: (time, the velocity the Newton
-    /// impact left, the corner's offset (r_x, r_y), its rebound).
-    closed_series: Option<(f64, Velocity, f64, f64, f64)>,
+    /// ([`Run::bounce`]), for the event loop's impact at the same instant.
+    chatter_tried: Option<ChatterTry>,
+    /// The impact at which the chatter rule last closed a bounce series
+    /// started by a rock impact, for the cascade rule at the same instant.
+    closed_series: Option<ChatterImpact>,
     /// Contact distance of the two-contact rule (m).
     h_touch: f64,
     /// The ground contact's friction coefficients.
