@@ -23,9 +23,11 @@ impl Run<'_> {
     pub(super) fn note_angle(&mut self, th: f64) {
         // the division only where θ may raise the peak (a bound with margin
         // for the rounding of the ratio)
-        if th.abs() >= self.out.theta_max_over_theta_c * self.bl.theta_c * (1.0 - 1e-12) {
-            let ratio = (th.abs() / self.bl.theta_c).min(FRAC_PI_2 / self.bl.theta_c);
-            self.out.theta_max_over_theta_c = self.out.theta_max_over_theta_c.max(ratio);
+        if th.abs() >= self.tally.out.theta_max_over_theta_c * self.given.bl.theta_c * (1.0 - 1e-12)
+        {
+            let ratio = (th.abs() / self.given.bl.theta_c).min(FRAC_PI_2 / self.given.bl.theta_c);
+            self.tally.out.theta_max_over_theta_c =
+                self.tally.out.theta_max_over_theta_c.max(ratio);
         }
     }
 
@@ -38,8 +40,8 @@ impl Run<'_> {
             State::SlideRock(sr) => sr.xp,
             State::Flight(_) => return,
         };
-        self.out.slip_max = self.out.slip_max.max(x.abs());
-        self.out.slip_final = x;
+        self.tally.out.slip_max = self.tally.out.slip_max.max(x.abs());
+        self.tally.out.slip_final = x;
     }
 
     /// Mechanical energy per unit mass in the ground frame.
@@ -48,31 +50,36 @@ impl Run<'_> {
             State::Rest => 0.0,
             State::Slide(ss) => 0.5 * ss.v * ss.v,
             State::Rock(r) => {
-                let [_, vx, y, vy] = ph::rock_kinematics(&self.bl, r.s, r.theta, r.omega);
-                ph::energy(&self.bl, vx, vy, r.omega, y)
+                let [_, vx, y, vy] = ph::rock_kinematics(&self.given.bl, r.s, r.theta, r.omega);
+                ph::energy(&self.given.bl, vx, vy, r.omega, y)
             }
             State::SlideRock(r) => {
-                let [_, vx, y, vy] = ph::rock_kinematics(&self.bl, r.s, r.theta, r.omega);
-                ph::energy(&self.bl, r.vp + vx, vy, r.omega, y)
+                let [_, vx, y, vy] = ph::rock_kinematics(&self.given.bl, r.s, r.theta, r.omega);
+                ph::energy(&self.given.bl, r.vp + vx, vy, r.omega, y)
             }
-            State::Flight(f) => ph::energy(&self.bl, f.vx, f.vy, f.omega, f.y),
+            State::Flight(f) => ph::energy(&self.given.bl, f.vx, f.vy, f.omega, f.y),
         }
     }
 
     pub(super) fn audit(&mut self, state: &State) {
-        if self.set.audit_energy {
+        if self.given.set.audit_energy {
             let e = self.energy(state);
-            let r = e - self.e0 - self.work - self.jumps;
-            self.resid = self.resid.max(r.abs());
-            self.escale = self.escale.max(e.abs()).max(self.work.abs());
+            let r = e - self.tally.audit.e0 - self.tally.audit.work - self.tally.audit.jumps;
+            self.tally.audit.resid = self.tally.audit.resid.max(r.abs());
+            self.tally.audit.escale = self
+                .tally
+                .audit
+                .escale
+                .max(e.abs())
+                .max(self.tally.audit.work.abs());
         }
     }
 
     pub(super) fn push_row(&mut self, t: f64, state: &State, seg: &Segment, event: bool) {
-        let Some(hist) = self.hist.as_deref_mut() else {
+        let Some(hist) = self.tally.hist.as_deref_mut() else {
             return;
         };
-        let bl = &self.bl;
+        let bl = &self.given.bl;
         let (ax, ay) = seg.at(t);
         let row = match state {
             State::Rest => HistoryRow {
@@ -116,12 +123,12 @@ impl Run<'_> {
                 y: 0.0,
                 y_dot: 0.0,
                 n: bl.g + ay,
-                f: -self.fric.map_or(0.0, |f| f.1) * ss.sigma * (bl.g + ay),
+                f: -self.given.fric.mu_k * ss.sigma * (bl.g + ay),
                 event,
             },
             State::SlideRock(r) => {
                 let [x, vx, y, vy] = ph::rock_kinematics(bl, r.s, r.theta, r.omega);
-                let mu_k = self.fric.map_or(0.0, |f| f.1);
+                let mu_k = self.given.fric.mu_k;
                 let a = ph::slide_rock_accel(bl, r.s, r.sigma, mu_k, r.theta, r.omega, ax, ay);
                 HistoryRow {
                     t,

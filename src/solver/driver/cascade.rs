@@ -7,7 +7,7 @@
 //! in what such a series can change ([`Run::series_bounds`]). Under Coulomb
 //! friction the rule applies while nothing in the cascade can slip.
 
-use super::{RockState, Run};
+use super::{ChatterImpact, RockState, Run};
 use crate::outcome::Mode;
 use crate::solver::block::Block;
 use crate::solver::impact::{self, ImpactLaw, Velocity};
@@ -94,8 +94,8 @@ impl Run<'_> {
     /// e = 0; for e > 0 the rock state its closed bounce series leaves),
     /// provably die out before the ground can lift the block. Then the
     /// cascade's friction demand is noted and the caller sets the block to
-    /// rest. `series` is the closed series of this impact (e > 0): the
-    /// velocity the Newton impact left, the corner's offset and its rebound.
+    /// rest. `series` is the impact at which the chatter rule closed this
+    /// impact's bounce series (e > 0).
     ///
     /// Under Coulomb friction the cascade is the same motion, impulse for
     /// impulse, as long as nothing slips (a sticking impact gives the
@@ -110,30 +110,29 @@ impl Run<'_> {
         &mut self,
         t: f64,
         rs: &RockState,
-        series: Option<(Velocity, f64, f64, f64)>,
+        series: Option<&ChatterImpact>,
     ) -> bool {
-        let bl = self.bl;
+        let bl = self.given.bl;
         // Housner's ratio of angular velocities at a rock impact with e = 0
         // (with e > 0, that of the plastic impact that closes its series)
         let eta = impact::rock_impact_ratio(&bl, 0.0);
         let n = self.samples();
-        let bouncing = self.e > 0.0;
-        if !(self.set.settle_cascades && eta > 0.0 && eta < 1.0)
+        let bouncing = self.given.e > 0.0;
+        if !(self.given.set.settle_cascades && eta > 0.0 && eta < 1.0)
             || n < 2
             || (!bouncing && rs.theta != 0.0)
             // e > 0: only after a series the chatter rule closed, whose
             // analysis takes Newton's stick at every bounce (e < 1 there)
-            || (bouncing && (series.is_none() || self.set.impact != ImpactLaw::Newton))
+            || (bouncing && (series.is_none() || self.given.set.impact != ImpactLaw::Newton))
         {
             return false;
         }
-        // μs, or infinity under infinite friction
-        let mu_s = match self.fric {
-            None => f64::INFINITY,
-            // paper eq. (8): the rock impact's friction demand
-            Some((mu_s, _)) if impact::rock_impact_mu(&bl) < mu_s => mu_s,
-            Some(_) => return false,
-        };
+        // μs, or infinity under infinite friction; the rock impacts must
+        // stick: paper eq. (8), their friction demand, below μs
+        let mu_s = self.given.fric.mu_s;
+        if self.given.fric.finite() && impact::rock_impact_mu(&bl) >= mu_s {
+            return false;
+        }
         // one copy of the bounds per kind of cascade, each with only its own
         // terms (the e = 0, infinite-friction one as lean as it always was)
         match (mu_s.is_finite(), bouncing) {
@@ -151,11 +150,11 @@ impl Run<'_> {
         &mut self,
         t: f64,
         rs: &RockState,
-        series: Option<(Velocity, f64, f64, f64)>,
+        series: Option<&ChatterImpact>,
         eta: f64,
         mu_s: f64,
     ) -> bool {
-        let bl = self.bl;
+        let bl = self.given.bl;
         let n = self.samples();
         let bouncing = BOUNCING;
         let u0 = rs.omega.abs();
@@ -182,16 +181,16 @@ impl Run<'_> {
             rate_v: 0.0,
         };
         let mut rate = 0.0_f64;
-        let k0 = ((t / self.dt) as usize).min(n - 2);
+        let k0 = ((t / self.given.dt) as usize).min(n - 2);
         let k_end = (k0 + MAX_SAMPLES).min(n - 1);
         // the window's farthest end: a cascade bound past it never fits (the
         // bounds only grow with the window)
-        let t_far = k_end as f64 * self.dt;
+        let t_far = k_end as f64 * self.given.dt;
         let at_start = self.segment(k0).at(t);
         w.include::<FRICTION, BOUNCING>(&bl, mu_s, at_start.0, at_start.1);
         for k in k0..k_end {
             let seg = self.segment(k);
-            let tw = (k + 1) as f64 * self.dt;
+            let tw = (k + 1) as f64 * self.given.dt;
             let (ax, ay) = seg.at(tw);
             w.include::<FRICTION, BOUNCING>(&bl, mu_s, ax, ay);
             let Window {
@@ -252,7 +251,9 @@ impl Run<'_> {
                 };
                 let eta_w = eta + sb.c_omega * v_top;
                 let eta_e = (eta_w * eta_w + 2.0 * a_hi * sb.c_theta).sqrt();
-                if psi_m + sb.dev * v_top * v_top > self.out.theta_max_over_theta_c * bl.theta_c {
+                if psi_m + sb.dev * v_top * v_top
+                    > self.tally.out.theta_max_over_theta_c * bl.theta_c
+                {
                     // the cascade might set the peak rotation: follow it
                     return false;
                 }
@@ -272,7 +273,7 @@ impl Run<'_> {
             if t + t_cascade > tw {
                 continue;
             }
-            if psi_m > self.out.theta_max_over_theta_c * bl.theta_c {
+            if psi_m > self.tally.out.theta_max_over_theta_c * bl.theta_c {
                 // the cascade might set the peak rotation: follow it
                 return false;
             }
@@ -299,7 +300,7 @@ impl Run<'_> {
             }
             // The cascade's friction demand: the contact forces at θ = 0,
             // θ̇ = 0 on either side at its two ends.
-            let k1 = (((t + t_cascade) / self.dt) as usize).clamp(k0, k);
+            let k1 = (((t + t_cascade) / self.given.dt) as usize).clamp(k0, k);
             let ends = [at_start, self.segment(k1).at(t + t_cascade)];
             let mut demand = 0.0_f64;
             for (ax, ay) in ends {
@@ -308,10 +309,13 @@ impl Run<'_> {
                     demand = demand.max(c.f.abs() / c.n);
                 }
             }
-            self.out.mu_motion = self.out.mu_motion.max(demand);
+            self.tally.out.mu_motion = self.tally.out.mu_motion.max(demand);
             // e > 0: the later impacts of its bounce series, on either corner
             // (mirror images), as the chatter rule takes them, at its two ends
-            if let Some((newton, rx, ry, u1)) = series {
+            if let Some(&ChatterImpact {
+                newton, rx, ry, u1, ..
+            }) = series
+            {
                 let mirror = Velocity {
                     vx: -newton.vx,
                     vy: newton.vy,
@@ -320,8 +324,8 @@ impl Run<'_> {
                 for (ax, ay) in ends {
                     for (v, rx) in [(newton, rx), (mirror, -rx)] {
                         let (d, d5) = self.later_impact_demand(&v, rx, ry, u1, ax, ay);
-                        self.out.mu_impact = self.out.mu_impact.max(d);
-                        self.out.mu_impact_eq5 = self.out.mu_impact_eq5.max(d5);
+                        self.tally.out.mu_impact = self.tally.out.mu_impact.max(d);
+                        self.tally.out.mu_impact_eq5 = self.tally.out.mu_impact_eq5.max(d5);
                     }
                 }
             }
@@ -346,12 +350,12 @@ impl Run<'_> {
                 + 2.0 / 3.0 * u0 * u0 * u0 / (1.0 - e3 * e3)
                     * (c_s(rs.s) / (a0 * a0 * a0) + e3 * c_s(-rs.s) / (a1 * a1 * a1)))
                 .min(t_cascade);
-            self.out.time_in_mode[Mode::Rock.index()] += t_rock;
-            self.out.time_in_mode[Mode::Rest.index()] -= t_rock;
+            self.tally.out.time_in_mode[Mode::Rock.index()] += t_rock;
+            self.tally.out.time_in_mode[Mode::Rest.index()] -= t_rock;
             // until the run ends, `end_time` holds when the last settled
             // cascade ends: a run that stops at rest after the record lasts
             // at least that long (its time in rest stays ≥ 0)
-            self.out.end_time = self.out.end_time.max(t + t_rock);
+            self.tally.out.end_time = self.tally.out.end_time.max(t + t_rock);
             return true;
         }
         false
@@ -389,8 +393,8 @@ impl Run<'_> {
         eta: f64,
         mu_s: f64,
     ) -> Option<SeriesBounds> {
-        let bl = self.bl;
-        let (e, r, i) = (self.e, bl.r, bl.inertia);
+        let bl = self.given.bl;
+        let (e, r, i) = (self.given.e, bl.r, bl.inertia);
         let i_b = bl.inertia_corner();
         let kk = 0.75 / r; // eq. (1): I_O = 4mR²/3
         // the corner's offset from G within ψm of θ = 0: |r_x| ≤ B + H ψm,

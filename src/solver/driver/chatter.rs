@@ -4,7 +4,7 @@
 //! its drift, rotation and duration summed in closed form (the derivation is
 //! in the driver's module documentation).
 
-use super::{Chatter, RockState, Run, SeriesEnd, SeriesSums};
+use super::{Chatter, ChatterImpact, RockState, Run, SeriesEnd, SeriesSums};
 use crate::solver::impact::{self, Velocity};
 use crate::solver::physics as ph;
 
@@ -27,11 +27,11 @@ impl Run<'_> {
     /// one sample of the record, where the forcing is linear; that rest is
     /// summed in closed form ([`geometric_sums`]).
     fn series_sums(&self, t0: f64, u0: f64, w_p: f64, rx: f64, ry: f64) -> SeriesSums {
-        let bl = self.bl;
-        let e = self.e;
+        let bl = self.given.bl;
+        let e = self.given.e;
         let n = self.samples();
         let i_b = bl.inertia_corner();
-        let mut k = ((t0 / self.dt) as usize).min(n - 2);
+        let mut k = ((t0 / self.given.dt) as usize).min(n - 2);
         let mut seg = self.segment(k);
         // rock about the corner at the start: eq. (1) as I_B θ̈ = (g + ÿg) r_x − ẍg r_y
         let (ax0, ay0) = seg.at(t0);
@@ -39,7 +39,7 @@ impl Run<'_> {
         let mut sums = SeriesSums::default();
         let (mut t, mut u) = (t0, u0);
         loop {
-            while k + 2 < n && t >= (k + 1) as f64 * self.dt {
+            while k + 2 < n && t >= (k + 1) as f64 * self.given.dt {
                 k += 1;
                 seg = self.segment(k);
             }
@@ -58,7 +58,7 @@ impl Run<'_> {
             let a = bl.g + ay + w2 * cy;
             // the rest of the series, to leading order, inside this sample (or
             // the record's last): summed in closed form
-            if t + 2.0 * u / (a * (1.0 - e)) <= (k + 1) as f64 * self.dt || k + 2 >= n {
+            if t + 2.0 * u / (a * (1.0 - e)) <= (k + 1) as f64 * self.given.dt || k + 2 >= n {
                 let rest = geometric_sums(&GeometricStart {
                     e,
                     u,
@@ -97,31 +97,30 @@ impl Run<'_> {
         }
     }
 
-    /// The chatter rule: at an impact of corner `side` (offset (rx, ry) from
-    /// G, the other corner off the ground or lifting) that leaves the corner
-    /// rebounding at `u1` ∈ (ε√(gR), CLOSE_TOL·√(gR)] with velocity `newton`,
-    /// while the same impact made plastic leaves `plastic` (rock about the
-    /// corner), decides from bounds on the coming samples whether the series
-    /// converges onto rock about the corner before anything else can happen.
-    /// Returns the series' closed-form sums if so.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn chatter_settles(
-        &self,
-        t: f64,
-        theta: f64,
-        side: f64,
-        rx: f64,
-        ry: f64,
-        newton: Velocity,
-        u1: f64,
-        plastic: Velocity,
-    ) -> Option<Chatter> {
-        let bl = self.bl;
+    /// The chatter rule: at the impact `imp` of corner `side` at `t` (offset
+    /// (rx, ry) from G, the other corner off the ground or lifting) that
+    /// leaves the corner rebounding at `u1` ∈ (ε√(gR), CLOSE_TOL·√(gR)] with
+    /// velocity `newton`, while the same impact made plastic leaves `plastic`
+    /// (rock about the corner), decides from bounds on the coming samples
+    /// whether the series converges onto rock about the corner before
+    /// anything else can happen. Returns the series' closed-form sums if so.
+    pub(super) fn chatter_settles(&self, imp: &ChatterImpact) -> Option<Chatter> {
+        let ChatterImpact {
+            t,
+            theta,
+            side,
+            rx,
+            ry,
+            newton,
+            u1,
+            plastic,
+        } = *imp;
+        let bl = self.given.bl;
         let n = self.samples();
-        let e = self.e;
+        let e = self.given.e;
         // rock about corner `side` means θ on the side s = −side
         let s = -side;
-        if !(self.set.settle_cascades && e > 0.0 && e < 1.0)
+        if !(self.given.set.settle_cascades && e > 0.0 && e < 1.0)
             || s * theta < 0.0
             || (theta == 0.0 && !(s * plastic.omega > 0.0 && 3.0 * bl.sin_c * bl.sin_c < 1.0))
             || n < 2
@@ -138,7 +137,7 @@ impl Run<'_> {
         let w0 = plastic.omega.abs();
         let kk = 0.75 / bl.r; // eq. (1): I_O = 4mR²/3
         let psi = s * theta;
-        let k0 = ((t / self.dt) as usize).min(n - 2);
+        let k0 = ((t / self.given.dt) as usize).min(n - 2);
         let (ax0, ay0) = self.segment(k0).at(t);
         // over the window: the smallest g + ÿg, the largest |ẍg|, |g + ÿg| and
         // |d ÿg/dt|, and the smallest N of rock at (θ, ω_p) (affine in the
@@ -150,7 +149,7 @@ impl Run<'_> {
         // that this impact sticks; the later ones are bounded below, and the
         // rock about the corner over the series by its smallest friction
         // margin μs N − |F| at (θ, ω_p) (concave in the forcing).
-        let mu_s = self.fric.map_or(f64::INFINITY, |(mu_s, _)| mu_s);
+        let mu_s = self.given.fric.mu_s;
         let (sp, cp) = bl.phi_sin_cos(psi);
         let rock_c = |ax: f64, ay: f64| ph::rock_contact_sc(&bl, s, sp, cp, plastic.omega, ax, ay);
         let margin = |c: ph::RockContact| {
@@ -164,7 +163,7 @@ impl Run<'_> {
         let (mut n_min, mut f_min) = (c0.n, margin(c0));
         for k in k0..(k0 + MAX_SAMPLES).min(n - 1) {
             let seg = self.segment(k);
-            let tw = (k + 1) as f64 * self.dt;
+            let tw = (k + 1) as f64 * self.given.dt;
             let (ax, ay) = seg.at(tw);
             gmin = gmin.min(bl.g + ay);
             ax_max = ax_max.max(ax.abs());
@@ -312,7 +311,7 @@ impl Run<'_> {
         ax: f64,
         ay: f64,
     ) -> (f64, f64) {
-        let bl = self.bl;
+        let bl = self.given.bl;
         let a = bl.g + ay + newton.omega * newton.omega * ry;
         let tau = 2.0 * u1 / a;
         let before = Velocity {
@@ -320,10 +319,10 @@ impl Run<'_> {
             vy: newton.vy - (bl.g + ay) * tau,
             omega: newton.omega,
         };
-        let r = impact::corner_impact(&bl, &before, rx, ry, self.e, self.set.impact);
+        let r = impact::corner_impact(&bl, &before, rx, ry, self.given.e, self.given.set.impact);
         (
             r.friction_demand(),
-            impact::eq5_mu(&bl, &before, rx, ry, self.e),
+            impact::eq5_mu(&bl, &before, rx, ry, self.given.e),
         )
     }
 
@@ -345,7 +344,7 @@ impl Run<'_> {
     /// keeps its fourth-order error, and rock goes on from t0 with no stop at
     /// t*. Also moves the footprint by the drift D.
     pub(super) fn close_series(&mut self, t0: f64, rs: RockState, end: &SeriesEnd) -> RockState {
-        let bl = self.bl;
+        let bl = self.given.bl;
         let m = &end.sums;
         let l = end.t - t0;
         let i_b = bl.inertia_corner();
@@ -354,7 +353,7 @@ impl Run<'_> {
         // and F_θ = −V_θθ = (g + ÿg) ρ_y + ẍg ρ_x
         let (rx, ry) = bl.corner_offset(-rs.s, rs.theta);
         let (px, py) = (-rx, -ry);
-        let k = ((t0 / self.dt) as usize).min(self.samples() - 2);
+        let k = ((t0 / self.given.dt) as usize).min(self.samples() - 2);
         let seg = self.segment(k);
         let (ax, ay) = seg.at(t0);
         let gy = bl.g + ay;

@@ -1,6 +1,6 @@
 //! The reset map of each event, and the changes of mode it leads to.
 
-use super::{Event, FlightState, RockState, Run, SlideRockState, SlideState, State};
+use super::{Event, FlightState, Released, RockState, Run, SlideRockState, SlideState, State};
 use crate::error::{Error, Result};
 use crate::solver::impact;
 use crate::solver::physics as ph;
@@ -11,13 +11,13 @@ impl Run<'_> {
     pub(super) fn handle(&mut self, ev: Event, state: State, t: f64) -> Result<State> {
         Ok(match (ev, state) {
             (Event::Overturn, st) => {
-                self.out.overturned = true;
-                self.out.overturn_time = Some(t);
+                self.tally.out.overturned = true;
+                self.tally.out.overturn_time = Some(t);
                 st
             }
             (Event::StartRock(s), _) => {
-                self.out.moved = true;
-                self.h = self.h.min(0.25 * self.dt);
+                self.tally.out.moved = true;
+                self.h = self.h.min(0.25 * self.given.dt);
                 State::Rock(RockState {
                     s,
                     theta: 0.0,
@@ -29,8 +29,8 @@ impl Run<'_> {
             (Event::HoldStart, State::Rock(mut rs)) => {
                 // N reached 0: the paper's program stopped here and counted the
                 // run as overturned, whether or not flight was consistent
-                self.out.uplifted = true;
-                self.out.liftoff_holds += 1;
+                self.tally.out.uplifted = true;
+                self.tally.out.liftoff_holds += 1;
                 rs.hold = true;
                 State::Rock(rs)
             }
@@ -39,26 +39,27 @@ impl Run<'_> {
                 State::Rock(rs)
             }
             (Event::Uplift | Event::Release, State::Rock(rs)) => {
-                self.out.uplifted = true;
-                self.out.uplifts += 1;
-                self.out.flights += 1;
-                self.released = Some((t, rs));
+                self.tally.out.uplifted = true;
+                self.tally.out.uplifts += 1;
+                self.tally.out.flights += 1;
+                self.rules.released = Some(Released { t, rock: rs });
                 State::Flight(self.rock_to_flight(&rs))
             }
             (Event::Landing(side), State::Flight(_))
                 if self
+                    .rules
                     .released
-                    .is_some_and(|(tr, rs)| tr == t && side == -rs.s) =>
+                    .is_some_and(|r| r.t == t && side == -r.rock.s) =>
             {
                 // The freed pivot is driven back into the ground at the
                 // instant of release (q ≈ 0 and the rotation pushes it down):
                 // no flight is possible, so the pivot is held instead.
-                let Some((_, rs)) = self.released.take() else {
+                let Some(Released { rock: rs, .. }) = self.rules.released.take() else {
                     unreachable!("the guard checked `released`")
                 };
-                self.out.uplifts -= 1;
-                self.out.flights -= 1;
-                self.out.liftoff_holds += 1;
+                self.tally.out.uplifts -= 1;
+                self.tally.out.flights -= 1;
+                self.tally.out.liftoff_holds += 1;
                 State::Rock(RockState {
                     hold: true,
                     last: None,
@@ -69,19 +70,18 @@ impl Run<'_> {
                 // the impact happens at θ = 0 (the path's θ there is zero to
                 // within the root's tolerance)
                 let fs = self.rock_to_flight(&RockState { theta: 0.0, ..rs });
-                if self.e > 0.0 && self.fric.is_none() && self.set.rock_impact == RockImpact::Rock {
+                if self.given.e > 0.0
+                    && !self.given.fric.finite()
+                    && self.given.set.rock_impact == RockImpact::Rock
+                {
                     return Ok(self.rock_impact_no_flight(t, fs, &rs));
                 }
                 let after = self.impacts(t, fs, rs.s);
                 // the series the chatter rule closed at this impact (e > 0), if any
-                let series = self
-                    .closed_series
-                    .take()
-                    .filter(|c| c.0 == t)
-                    .map(|(_, v, rx, ry, u)| (v, rx, ry, u));
+                let series = self.rules.closed_series.take().filter(|c| c.t == t);
                 match after {
-                    State::Rock(after) if self.cascade_settles(t, &after, series) => {
-                        self.out.settles += 1;
+                    State::Rock(after) if self.cascade_settles(t, &after, series.as_ref()) => {
+                        self.tally.out.settles += 1;
                         State::Rest
                     }
                     st => st,
@@ -89,7 +89,7 @@ impl Run<'_> {
             }
             (Event::Landing(side), State::Flight(fs)) => self.impacts(t, fs, side),
             (Event::StartSlide(sigma), State::Rest) => {
-                self.out.moved = true;
+                self.tally.out.moved = true;
                 State::Slide(SlideState {
                     x: self.x_base,
                     v: 0.0,
@@ -101,7 +101,7 @@ impl Run<'_> {
                 match self.start_slide_rock(rs.s, rs.theta, rs.omega, self.x_base, 0.0, t) {
                     State::Rock(mut held) => {
                         // neither sticking nor slipping is consistent: hold the pivot
-                        self.out.stick_holds += 1;
+                        self.tally.out.stick_holds += 1;
                         held.hold = true;
                         State::Rock(held)
                     }
@@ -113,10 +113,10 @@ impl Run<'_> {
                 // Painlevé: no slipping solution; the pivot sticks, held if the
                 // friction demand exceeds μs N
                 self.x_base = sr.xp;
-                self.out.stick_holds += 1;
+                self.tally.out.stick_holds += 1;
                 let (ax, ay) = self.ground_at(t);
-                let c = ph::rock_contact(&self.bl, sr.s, sr.theta, sr.omega, ax, ay);
-                let hold = c.f.abs() > self.fric.map_or(f64::INFINITY, |f| f.0) * c.n;
+                let c = ph::rock_contact(&self.given.bl, sr.s, sr.theta, sr.omega, ax, ay);
+                let hold = c.f.abs() > self.given.fric.mu_s * c.n;
                 State::Rock(RockState {
                     s: sr.s,
                     theta: sr.theta,
@@ -126,9 +126,9 @@ impl Run<'_> {
                 })
             }
             (Event::SlideRockLiftoff, State::SlideRock(sr)) => {
-                self.out.uplifted = true;
-                self.out.uplifts += 1;
-                self.out.flights += 1;
+                self.tally.out.uplifted = true;
+                self.tally.out.uplifts += 1;
+                self.tally.out.flights += 1;
                 State::Flight(self.slide_rock_to_flight(&sr))
             }
             (Event::RockImpact, State::SlideRock(sr)) => {
@@ -158,9 +158,10 @@ impl Run<'_> {
         vp: f64,
         t: f64,
     ) -> State {
-        let (_, mu_k) = self.fric.expect("finite friction");
+        let mu_k = self.given.fric.mu_k;
         let (ax, ay) = self.ground_at(t);
-        let accel = |sg: f64| ph::slide_rock_accel(&self.bl, s, sg, mu_k, theta, omega, ax, ay);
+        let accel =
+            |sg: f64| ph::slide_rock_accel(&self.given.bl, s, sg, mu_k, theta, omega, ax, ay);
         let sigma = if vp != 0.0 {
             // Slipping with no slipping solution (Painlevé, den ≤ 0): the slip is
             // stopped by a tangential impulse (dynamic jamming) and the pivot sticks.
@@ -172,7 +173,7 @@ impl Run<'_> {
             })
         };
         if vp != 0.0 && sigma.is_none() {
-            self.out.stick_holds += 1;
+            self.tally.out.stick_holds += 1;
         }
         match sigma {
             Some(sigma) => State::SlideRock(SlideRockState {
@@ -199,9 +200,9 @@ impl Run<'_> {
     /// Slide-rock's slip stopped: stick (rock) if the sticking friction demand
     /// is within μs N, otherwise slip on in the consistent direction.
     fn after_slip_stop(&mut self, sr: SlideRockState, t: f64) -> State {
-        let (mu_s, _) = self.fric.expect("finite friction");
+        let mu_s = self.given.fric.mu_s;
         let (ax, ay) = self.ground_at(t);
-        let c = ph::rock_contact(&self.bl, sr.s, sr.theta, sr.omega, ax, ay);
+        let c = ph::rock_contact(&self.given.bl, sr.s, sr.theta, sr.omega, ax, ay);
         if c.f.abs() <= mu_s * c.n {
             self.x_base = sr.xp;
             State::Rock(RockState {
@@ -219,10 +220,10 @@ impl Run<'_> {
     /// Sliding on both corners stopped: rest if |ẍg| ≤ μs (g + ÿg), otherwise
     /// slide on, opposite to the ground's acceleration.
     fn after_slide_stop(&mut self, ss: SlideState, t: f64) -> State {
-        let (mu_s, _) = self.fric.expect("finite friction");
+        let mu_s = self.given.fric.mu_s;
         let (ax, ay) = self.ground_at(t);
         self.x_base = ss.x;
-        if ax.abs() <= mu_s * (self.bl.g + ay) {
+        if ax.abs() <= mu_s * (self.given.bl.g + ay) {
             State::Rest
         } else {
             State::Slide(SlideState {
@@ -235,13 +236,13 @@ impl Run<'_> {
 
     /// Ground acceleration (ẍg, ÿg) at time t.
     pub(super) fn ground_at(&self, t: f64) -> (f64, f64) {
-        let k = ((t / self.dt) as usize).min(self.samples() - 2);
+        let k = ((t / self.given.dt) as usize).min(self.samples() - 2);
         self.segment(k).at(t)
     }
 
     /// Rock state → rigid-body pose and velocity in the flight representation.
     fn rock_to_flight(&self, rs: &RockState) -> FlightState {
-        let [x, vx, y, vy] = ph::rock_kinematics(&self.bl, rs.s, rs.theta, rs.omega);
+        let [x, vx, y, vy] = ph::rock_kinematics(&self.given.bl, rs.s, rs.theta, rs.omega);
         FlightState {
             x: self.x_base + x,
             vx,
@@ -257,15 +258,19 @@ impl Run<'_> {
     /// is set to rest if the new corner's speed is below the settle speed.
     fn rock_impact_no_flight(&mut self, t: f64, pose: FlightState, rs: &RockState) -> State {
         // physics.md, impact from rocking: ω2 = δ ω1, δ = 1 − 1.5 (1+e) sin²θc
-        let delta = impact::rock_impact_ratio(&self.bl, self.e);
-        self.out.impacts += 1;
-        self.out.first_impact_time.get_or_insert(t);
+        let delta = impact::rock_impact_ratio(&self.given.bl, self.given.e);
+        self.tally.out.impacts += 1;
+        self.tally.out.first_impact_time.get_or_insert(t);
         // paper eq. (8): the rock impact's friction demand, independent of e
-        self.out.mu_impact = self.out.mu_impact.max(impact::rock_impact_mu(&self.bl));
+        self.tally.out.mu_impact = self
+            .tally
+            .out
+            .mu_impact
+            .max(impact::rock_impact_mu(&self.given.bl));
         let omega = delta * rs.omega;
-        if omega.abs() * 2.0 * self.bl.b <= self.v_settle {
+        if omega.abs() * 2.0 * self.given.bl.b <= self.rules.v_settle {
             // the same ring-down threshold as a plastic impact's
-            self.out.settles += 1;
+            self.tally.out.settles += 1;
             self.x_base = pose.x;
             return State::Rest;
         }
@@ -276,14 +281,14 @@ impl Run<'_> {
             hold: false,
             last: None,
         };
-        let [x, ..] = ph::rock_kinematics(&self.bl, after.s, 0.0, omega);
+        let [x, ..] = ph::rock_kinematics(&self.given.bl, after.s, 0.0, omega);
         self.x_base = pose.x - x;
         State::Rock(after)
     }
 
     /// Slide-rock state → flight representation.
     fn slide_rock_to_flight(&self, sr: &SlideRockState) -> FlightState {
-        let [x, vx, y, vy] = ph::rock_kinematics(&self.bl, sr.s, sr.theta, sr.omega);
+        let [x, vx, y, vy] = ph::rock_kinematics(&self.given.bl, sr.s, sr.theta, sr.omega);
         FlightState {
             x: sr.xp + x,
             vx: sr.vp + vx,

@@ -1,6 +1,6 @@
 //! Free flight in closed form, and the location of landings and overturning.
 
-use super::{Event, FlightState, Run, Segment, earliest};
+use super::{ChatterImpact, ChatterTry, Event, FlightState, Run, Segment, earliest};
 use crate::solver::impact::{Velocity, point_velocity};
 use crate::solver::physics as ph;
 use crate::solver::scan::first_descent_bounded;
@@ -45,18 +45,18 @@ impl Run<'_> {
     /// of the pose are returned. Not taken with a history or the energy
     /// audit, which record every event.
     fn bounce(&mut self, fs: &mut FlightState, side: f64, t: f64) -> Option<(f64, f64)> {
-        if self.hist.is_some()
-            || self.set.audit_energy
-            || self.out.stats.events >= self.set.max_events
-            || self.released.is_some_and(|(tr, _)| tr == t)
+        if self.tally.hist.is_some()
+            || self.given.set.audit_energy
+            || self.tally.out.stats.events >= self.given.set.max_events
+            || self.rules.released.is_some_and(|r| r.t == t)
         {
             return None;
         }
-        let bl = self.bl;
+        let bl = self.given.bl;
         // as `impacts` takes the pose
         let (sn, cs) = ph::sin_cos_small(fs.theta);
         let (_, oy) = bl.corner_offset_sc(-side, sn, cs);
-        if bl.h + fs.y + oy <= self.h_touch {
+        if bl.h + fs.y + oy <= self.rules.h_touch {
             return None;
         }
         let (rx, ry) = bl.corner_offset_sc(side, sn, cs);
@@ -65,9 +65,9 @@ impl Run<'_> {
             vy: fs.vy,
             omega: fs.omega,
         };
-        let (r, demand) = self.hit(&vel, rx, ry, self.e);
+        let (r, demand) = self.hit(&vel, rx, ry, self.given.e);
         let un_after = point_velocity(&r.after, rx, ry).1;
-        if un_after <= self.v_settle {
+        if un_after <= self.rules.v_settle {
             return None;
         }
         if self.chatter_due(side, un_after) {
@@ -77,16 +77,24 @@ impl Run<'_> {
             let (plastic, plastic_demand) = self.hit(&vel, rx, ry, 0.0);
             if self.sticks(demand)
                 && self.sticks(plastic_demand)
-                && let Some(ch) =
-                    self.try_chatter(t, fs.theta, side, rx, ry, r.after, un_after, plastic.after)
+                && let Some(chatter) = self.try_chatter(&ChatterImpact {
+                    t,
+                    theta: fs.theta,
+                    side,
+                    rx,
+                    ry,
+                    newton: r.after,
+                    u1: un_after,
+                    plastic: plastic.after,
+                })
             {
-                self.chatter_tried = Some((t, side, ch));
+                self.rules.chatter_tried = Some(ChatterTry { t, side, chatter });
                 return None;
             }
         }
-        self.out.stats.events += 1;
-        self.note_impact(t, &vel, &r, demand, rx, ry, self.e);
-        self.out.flights += 1;
+        self.tally.out.stats.events += 1;
+        self.note_impact(t, &vel, &r, demand, rx, ry, self.given.e);
+        self.tally.out.flights += 1;
         fs.vx = r.after.vx;
         fs.vy = r.after.vy;
         fs.omega = r.after.omega;
@@ -103,7 +111,7 @@ impl Run<'_> {
         t_end: f64,
         trig: Option<(f64, f64)>,
     ) -> Option<Event> {
-        let bl = &self.bl;
+        let bl = &self.given.bl;
         let t0 = *t;
         let (a0, b0) = seg.at(t0);
         let (a1, b1) = (seg.a1, seg.v1);
@@ -164,14 +172,14 @@ impl Run<'_> {
                 let m2 = (gy_abs + f.omega * f.omega * bl.r) * (1.0 + 1e-12);
                 // a dip shallower than the height at which a corner counts as
                 // touching is not sought
-                let floor = self.h_touch;
+                let floor = self.rules.h_touch;
                 let width = span / n as f64;
                 for side in [-1.0, 1.0] {
                     // a corner leaving the ground at the start of this piece of
                     // flight (just released by an impact or a lift-off) is departing
                     let (h0, u0) = height(side, 0.0);
                     let fd = |tau| height(side, tau);
-                    let released = h0 <= self.h_touch && u0 >= -self.v_settle;
+                    let released = h0 <= self.rules.h_touch && u0 >= -self.rules.v_settle;
                     let mut found = None;
                     for i in 0..n {
                         let a = width * i as f64;
@@ -199,7 +207,7 @@ impl Run<'_> {
             }
         }
         let tau_end = best.map_or(span, |(te, _)| te);
-        if self.set.audit_energy {
+        if self.given.set.audit_energy {
             // ∫ (−ẍg ẋ − ÿg ẏ) dτ, exact by 3-point Gauss–Legendre (integrand is cubic)
             let (half, mid) = (0.5 * tau_end, 0.5 * tau_end);
             let nodes = [
@@ -210,7 +218,8 @@ impl Run<'_> {
             for (xi, w) in nodes {
                 let tau = mid + half * xi;
                 let p = pos(tau);
-                self.work += w * half * ph::ground_power(a0 + a1 * tau, b0 + b1 * tau, p.vx, p.vy);
+                self.tally.audit.work +=
+                    w * half * ph::ground_power(a0 + a1 * tau, b0 + b1 * tau, p.vx, p.vy);
             }
         }
         *fs = pos(tau_end);
@@ -248,7 +257,7 @@ impl Run<'_> {
         xtol: f64,
         height: impl Fn(f64, f64) -> (f64, f64),
     ) -> Option<(f64, Option<f64>)> {
-        let bl = &self.bl;
+        let bl = &self.given.bl;
         let w2r = f.omega * f.omega * bl.r;
         if gy_min <= w2r {
             return None;
@@ -271,7 +280,7 @@ impl Run<'_> {
         // the lower corner at τ = 0: height and rate
         let (rx0, ry0) = bl.corner_offset_sc(low, s0, c0);
         let (h0, d0) = (bl.h + f.y + ry0, f.vy + f.omega * rx0);
-        if h0 <= self.h_touch && d0 <= 0.0 {
+        if h0 <= self.rules.h_touch && d0 <= 0.0 {
             // touching and not departing: the general search decides
             return None;
         }

@@ -2,7 +2,9 @@
 //! chatter rule's place in them (see the driver's module documentation;
 //! the cascade rule is in `cascade.rs`).
 
-use super::{Chatter, FlightState, RockState, Run, SlideState, State};
+use super::{
+    Chatter, ChatterImpact, ChatterRetry, FlightState, Grip, RockState, Run, SlideState, State,
+};
 use crate::solver::impact::{self, ImpactLaw, ImpactResult, Velocity};
 use crate::solver::physics as ph;
 
@@ -10,7 +12,7 @@ impl Run<'_> {
     /// Sequential corner impacts starting with corner `side`, then the choice
     /// of the next mode (rest, rock or flight).
     pub(super) fn impacts(&mut self, t: f64, pose: FlightState, side: f64) -> State {
-        let bl = self.bl;
+        let bl = self.given.bl;
         let mut vel = Velocity {
             vx: pose.vx,
             vy: pose.vy,
@@ -21,7 +23,7 @@ impl Run<'_> {
         let (sn, cs) = ph::sin_cos_small(pose.theta);
         let offset = |sd: f64| bl.corner_offset_sc(sd, sn, cs);
         let touching: [bool; 2] =
-            [-1.0, 1.0].map(|sd| bl.h + pose.y + offset(sd).1 <= self.h_touch);
+            [-1.0, 1.0].map(|sd| bl.h + pose.y + offset(sd).1 <= self.rules.h_touch);
         let mut next = Some(side);
         let mut count = 0;
         // the end of a bounce series closed by the chatter rule
@@ -29,14 +31,14 @@ impl Run<'_> {
         while let Some(sd) = next {
             let (rx, ry) = offset(sd);
             let hit = |e: f64| self.hit(&vel, rx, ry, e);
-            let (mut r, mut demand) = hit(self.e);
-            let mut e_applied = self.e;
+            let (mut r, mut demand) = hit(self.given.e);
+            let mut e_applied = self.given.e;
             let un_after = impact::point_velocity(&r.after, rx, ry).1;
-            if self.e > 0.0 && un_after > 0.0 && un_after <= self.v_settle {
+            if self.given.e > 0.0 && un_after > 0.0 && un_after <= self.rules.v_settle {
                 // ring-down: a rebound below the threshold is plastic
                 (r, demand) = hit(0.0);
                 e_applied = 0.0;
-                self.out.settles += 1;
+                self.tally.out.settles += 1;
             } else if un_after > 0.0
                 && count == 0
                 && self.chatter_due(sd, un_after)
@@ -48,31 +50,33 @@ impl Run<'_> {
                 let (plastic, plastic_demand) = hit(0.0);
                 if self.sticks(demand)
                     && self.sticks(plastic_demand)
-                    && let Some(ch) = self.try_chatter(
+                    && let imp = (ChatterImpact {
                         t,
-                        pose.theta,
-                        sd,
+                        theta: pose.theta,
+                        side: sd,
                         rx,
                         ry,
-                        r.after,
-                        un_after,
-                        plastic.after,
-                    )
+                        newton: r.after,
+                        u1: un_after,
+                        plastic: plastic.after,
+                    })
+                    && let Some(ch) = self.try_chatter(&imp)
                 {
-                    self.out.mu_impact = self.out.mu_impact.max(demand).max(ch.demand);
-                    self.out.mu_impact_eq5 = self
+                    self.tally.out.mu_impact = self.tally.out.mu_impact.max(demand).max(ch.demand);
+                    self.tally.out.mu_impact_eq5 = self
+                        .tally
                         .out
                         .mu_impact_eq5
-                        .max(impact::eq5_mu(&bl, &vel, rx, ry, self.e))
+                        .max(impact::eq5_mu(&bl, &vel, rx, ry, self.given.e))
                         .max(ch.demand_eq5);
                     series_end = Some((sd, ch.end));
                     if pose.theta == 0.0 {
                         // a rock impact: for the cascade rule
-                        self.closed_series = Some((t, r.after, rx, ry, un_after));
+                        self.rules.closed_series = Some(imp);
                     }
                     (r, demand) = (plastic, plastic_demand);
                     e_applied = 0.0;
-                    self.out.settles += 1;
+                    self.tally.out.settles += 1;
                 }
             }
             self.note_impact(t, &vel, &r, demand, rx, ry, e_applied);
@@ -80,12 +84,12 @@ impl Run<'_> {
             count += 1;
             if count >= 64 {
                 // no convergence of sequential impacts: set the block down flat
-                self.out.settles += 1;
+                self.tally.out.settles += 1;
                 return self.land_flat(pose);
             }
             // the contact corner approaching fastest, if any
             next = None;
-            let mut worst = -self.v_settle;
+            let mut worst = -self.rules.v_settle;
             for (i, sd) in [-1.0, 1.0].into_iter().enumerate() {
                 if touching[i] {
                     let (rx, ry) = offset(sd);
@@ -102,17 +106,15 @@ impl Run<'_> {
             let i = if sd < 0.0 { 0 } else { 1 };
             touching[i] && {
                 let (rx, ry) = offset(sd);
-                impact::point_velocity(&vel, rx, ry).1 <= self.v_settle
+                impact::point_velocity(&vel, rx, ry).1 <= self.rules.v_settle
             }
         });
         match staying {
             [true, true] => {
-                if let Some((_, mu_k)) = self.fric
-                    && vel.vx.abs() > self.v_settle
-                {
+                if self.given.fric.finite() && vel.vx.abs() > self.rules.v_settle {
                     // flat on both corners, still moving sideways: slide
                     let sigma = vel.vx.signum();
-                    if mu_k > bl.b / bl.h {
+                    if self.given.fric.mu_k > bl.b / bl.h {
                         // kinetic friction tips the block: N on the trailing corner < 0
                         return self.start_slide_rock(-sigma, pose.theta, 0.0, pose.x, vel.vx, t);
                     }
@@ -123,17 +125,17 @@ impl Run<'_> {
                     });
                 }
                 if vel.vx != 0.0 || vel.vy != 0.0 || vel.omega != 0.0 {
-                    self.out.settles += 1;
+                    self.tally.out.settles += 1;
                 }
                 self.land_flat(pose)
             }
             [true, false] | [false, true] => {
                 let pivot = if staying[0] { -1.0 } else { 1.0 };
                 let s = -pivot;
-                if self.fric.is_some() {
+                if self.given.fric.finite() {
                     let (rx, ry) = offset(pivot);
                     let ut = impact::point_velocity(&vel, rx, ry).0;
-                    if ut.abs() > self.v_settle {
+                    if ut.abs() > self.rules.v_settle {
                         let [x, ..] = ph::rock_kinematics(&bl, s, pose.theta, vel.omega);
                         return self.start_slide_rock(s, pose.theta, vel.omega, pose.x - x, ut, t);
                     }
@@ -153,7 +155,7 @@ impl Run<'_> {
                 }
             }
             [false, false] => {
-                self.out.flights += 1;
+                self.tally.out.flights += 1;
                 State::Flight(FlightState {
                     vx: vel.vx,
                     vy: vel.vy,
@@ -172,41 +174,35 @@ impl Run<'_> {
     /// halved since.
     #[inline]
     pub(super) fn chatter_due(&self, side: f64, u: f64) -> bool {
-        self.set.settle_cascades
-            && (self.fric.is_none() || self.set.impact == ImpactLaw::Newton)
-            && self.e > 0.0
-            && self.e < 1.0
-            && u <= self.v_close
-            && (self.chatter_retry.0 != side || u <= self.chatter_retry.1)
+        self.given.set.settle_cascades
+            && (!self.given.fric.finite() || self.given.set.impact == ImpactLaw::Newton)
+            && self.given.e > 0.0
+            && self.given.e < 1.0
+            && u <= self.rules.v_close
+            && self
+                .rules
+                .chatter_retry
+                .is_none_or(|r| r.side != side || u <= r.below)
     }
 
-    /// A try of the chatter rule at an impact of corner `side` (the arguments
-    /// of [`Run::chatter_settles`]), or the result `bounce` already found for
-    /// this very impact. After a failure the next try on this corner waits
-    /// until the rebound has halved (the bounds need a shorter series); a
-    /// success clears that wait. (The velocities come by value: a reference
-    /// would keep the caller's impact result in memory on every bounce, not
-    /// only on a try.)
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn try_chatter(
-        &mut self,
-        t: f64,
-        theta: f64,
-        side: f64,
-        rx: f64,
-        ry: f64,
-        newton: Velocity,
-        u1: f64,
-        plastic: Velocity,
-    ) -> Option<Chatter> {
-        let tried = match self.chatter_tried.take() {
-            Some((tt, ts, ch)) if tt == t && ts == side => Some(ch),
-            _ => self.chatter_settles(t, theta, side, rx, ry, newton, u1, plastic),
+    /// A try of the chatter rule at the impact `imp` ([`Run::chatter_settles`]),
+    /// or the result `bounce` already found for this very impact. After a
+    /// failure the next try on this corner waits until the rebound has halved
+    /// (the bounds need a shorter series); a success clears that wait. (The
+    /// caller builds `imp` only for a try, by value from its impact results:
+    /// a reference to them would keep them in memory on every bounce.)
+    pub(super) fn try_chatter(&mut self, imp: &ChatterImpact) -> Option<Chatter> {
+        let tried = match self.rules.chatter_tried.take() {
+            Some(tried) if tried.t == imp.t && tried.side == imp.side => Some(tried.chatter),
+            _ => self.chatter_settles(imp),
         };
-        self.chatter_retry = if tried.is_some() {
-            (0.0, f64::INFINITY)
+        self.rules.chatter_retry = if tried.is_some() {
+            None
         } else {
-            (side, 0.5 * u1)
+            Some(ChatterRetry {
+                side: imp.side,
+                below: 0.5 * imp.u1,
+            })
         };
         tried
     }
@@ -217,8 +213,7 @@ impl Run<'_> {
     /// holds whatever the rounding of `corner_impact_friction`'s own.
     #[inline]
     pub(super) fn sticks(&self, demand: f64) -> bool {
-        self.fric
-            .is_none_or(|(mu_s, _)| demand <= mu_s * (1.0 - 1e-12))
+        !self.given.fric.finite() || demand <= self.given.fric.mu_s * (1.0 - 1e-12)
     }
 
     /// One impact of the corner at offset (rx, ry) from G with restitution
@@ -228,15 +223,13 @@ impl Run<'_> {
     // field by field and read back in pairs, which stalls store forwarding)
     #[inline(always)]
     pub(super) fn hit(&self, vel: &Velocity, rx: f64, ry: f64, e: f64) -> (ImpactResult, f64) {
-        let law = self.set.impact;
-        match self.fric {
-            None => {
-                let r = impact::corner_impact(&self.bl, vel, rx, ry, e, law);
-                (r, r.friction_demand())
-            }
-            Some((mu_s, mu_k)) => {
-                impact::corner_impact_friction(&self.bl, vel, rx, ry, e, law, mu_s, mu_k)
-            }
+        let law = self.given.set.impact;
+        let Grip { mu_s, mu_k } = self.given.fric;
+        if self.given.fric.finite() {
+            impact::corner_impact_friction(&self.given.bl, vel, rx, ry, e, law, mu_s, mu_k)
+        } else {
+            let r = impact::corner_impact(&self.given.bl, vel, rx, ry, e, law);
+            (r, r.friction_demand())
         }
     }
 
@@ -255,17 +248,17 @@ impl Run<'_> {
         ry: f64,
         e_applied: f64,
     ) {
-        let bl = &self.bl;
-        self.out.impacts += 1;
-        self.out.first_impact_time.get_or_insert(t);
+        let bl = &self.given.bl;
+        self.tally.out.impacts += 1;
+        self.tally.out.first_impact_time.get_or_insert(t);
         // friction needed to prevent sliding during this impact
-        self.out.mu_impact = self.out.mu_impact.max(demand);
+        self.tally.out.mu_impact = self.tally.out.mu_impact.max(demand);
         // the same, as the paper's eq. (5) evaluates it
         let eq5 = impact::eq5_mu(bl, vel, rx, ry, e_applied);
-        self.out.mu_impact_eq5 = self.out.mu_impact_eq5.max(eq5);
+        self.tally.out.mu_impact_eq5 = self.tally.out.mu_impact_eq5.max(eq5);
         let t_before = bl.kinetic(vel.vx, vel.vy, vel.omega);
         if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
-            self.out.energy_gains += 1;
+            self.tally.out.energy_gains += 1;
         }
     }
 

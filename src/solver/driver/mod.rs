@@ -187,7 +187,7 @@ use super::block::Block;
 use super::history::History;
 use super::impact::Velocity;
 use super::physics as ph;
-use super::settings::{Analysis, Friction, Integrator, Model, SolverSettings};
+use super::settings::{Analysis, Friction, Initial, Integrator, Model, SolverSettings};
 use crate::error::{Error, Result};
 use crate::motion::Record;
 use crate::outcome::{Mode, Outcome};
@@ -259,12 +259,79 @@ impl State {
     }
 }
 
+/// The ground contact's friction as the driver reads it: static and kinetic
+/// coefficients, both infinite under infinite friction (the contact never
+/// slips) and finite under Coulomb friction (`Analysis::validate` sees to
+/// it), so a rule that needs μs or μk reads it without unwrapping, and one
+/// that differs between the two models asks [`Grip::finite`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Grip {
+    /// Static coefficient μs (∞: infinite friction).
+    mu_s: f64,
+    /// Kinetic coefficient μk (∞: infinite friction).
+    mu_k: f64,
+}
+
+impl Grip {
+    /// The coefficients of an analysis' friction model.
+    fn of(friction: Friction) -> Grip {
+        match friction {
+            Friction::Infinite => Grip {
+                mu_s: f64::INFINITY,
+                mu_k: f64::INFINITY,
+            },
+            Friction::Coulomb { mu_s, mu_k } => Grip { mu_s, mu_k },
+        }
+    }
+
+    /// True under Coulomb friction: contacts can slip.
+    #[inline]
+    fn finite(&self) -> bool {
+        self.mu_s.is_finite()
+    }
+}
+
 /// A bounce whose rebound is below `CLOSE_TOL`·√(gR) may close its series.
 /// The closure's error is fourth order in the rebound (measured over 100
 /// records × H/B 2, 4, 6 at 0.6 g and e = 0.9: the median |Δθmax/θc|
 /// against every bounce followed is 3e-11 at 1e-3, as between the two
 /// integrators, and 4e-9 at 3e-3).
 const CLOSE_TOL: f64 = 1e-3;
+
+/// An impact at which the chatter rule is tried: a bounce of one corner whose
+/// Newton rebound is slow enough to close its series (`Run::chatter_due`),
+/// with what the impact leaves under Newton's law and made plastic.
+#[derive(Clone, Copy, Debug)]
+struct ChatterImpact {
+    /// Time of the impact (s).
+    t: f64,
+    /// The block's rotation θ at it (rad; 0 at a rock impact).
+    theta: f64,
+    /// The corner's side (±1).
+    side: f64,
+    /// The corner's offset (r_x, r_y) from G (m).
+    rx: f64,
+    ry: f64,
+    /// The block's velocity after the impact under Newton's law.
+    newton: Velocity,
+    /// The corner's rebound (normal velocity) after it (m/s).
+    u1: f64,
+    /// The block's velocity after the same impact made plastic (rock about
+    /// the corner).
+    plastic: Velocity,
+}
+
+/// A try of the chatter rule that succeeded inside a flight ([`Run::bounce`]),
+/// kept for the event loop's impact at the same instant.
+#[derive(Clone, Copy, Debug)]
+struct ChatterTry {
+    /// Time of the impact (s).
+    t: f64,
+    /// The corner's side (±1).
+    side: f64,
+    /// What the rule found.
+    chatter: Chatter,
+}
 
 /// What a closed series leaves to apply: rock about the corner from the
 /// plastic impact, corrected by the series' sums at the drift's centroid
@@ -423,59 +490,46 @@ pub fn simulate(
     }
     let mut run = Run::new(analysis, record, settings, history);
     run.solve()?;
-    Ok(run.out)
+    Ok(run.tally.out)
 }
 
+/// One analysis being solved: what it is given, what it accumulates, the
+/// rules' thresholds and memory, and the two quantities carried from step to
+/// step besides the mode's own state ([`State`]).
 struct Run<'a> {
-    bl: Block,
-    e: f64,
-    set: &'a SolverSettings,
-    acc: &'a [f64],
-    acc_v: Option<&'a [f64]>,
-    dt: f64,
-    init: super::settings::Initial,
-    out: Outcome,
-    hist: Option<&'a mut History>,
+    given: Given<'a>,
+    tally: Tally<'a>,
+    rules: Rules,
     /// Step size carried between steps (s).
     h: f64,
     /// Horizontal offset of the block's footprint from its initial place (m).
     x_base: f64,
-    /// Accumulated work of the ground (J/kg), energy audit.
-    work: f64,
-    /// Accumulated energy jumps at events (J/kg), energy audit.
-    jumps: f64,
-    /// Energy at t = 0 (J/kg).
-    e0: f64,
-    /// Largest |E − E0 − W − jumps| seen and the energy scale.
-    resid: f64,
-    escale: f64,
-    /// Ring-down velocity threshold ε√(gR) (m/s).
-    v_settle: f64,
-    /// Rebound below which the chatter rule may close a bounce series (m/s).
-    v_close: f64,
-    /// After a failed try of the chatter rule on corner `.0`: the rebound
-    /// below which it tries again.
-    chatter_retry: (f64, f64),
-    /// A try of the chatter rule that succeeded inside a flight
-    /// ([`Run::bounce`]), for the event loop's impact at the same instant:
-    /// (time, corner, result).
-    chatter_tried: Option<(f64, f64, Chatter)>,
-    /// The bounce series the chatter rule last closed at a rock impact, for
-    /// the cascade rule at the same instant: (time, the velocity the Newton
-    /// impact left, the corner's offset (r_x, r_y), its rebound).
-    closed_series: Option<(f64, Velocity, f64, f64, f64)>,
-    /// Contact distance of the two-contact rule (m).
-    h_touch: f64,
-    /// Coulomb friction (μs, μk), or `None` for infinite friction.
-    fric: Option<(f64, f64)>,
-    /// The last release of a rock pivot into flight: (time, rock state).
-    released: Option<(f64, RockState)>,
-    /// |ẍg| below which rest cannot break (the smaller of the rocking and
-    /// sliding thresholds, less a margin for rounding); 0 when rest is
-    /// decided sample by sample (vertical ground motion, or a history).
-    quiet: f64,
-    /// The time rest was last left.
-    left_rest: f64,
+}
+
+/// What a run is given: the block and its contact, the settings and the
+/// record. Read-only while it runs.
+struct Given<'a> {
+    bl: Block,
+    /// Coefficient of restitution e.
+    e: f64,
+    /// The ground contact's friction coefficients.
+    fric: Grip,
+    set: &'a SolverSettings,
+    /// The record's horizontal acceleration ẍg (m/s²), sampled every `dt` (s),
+    /// and its vertical acceleration ÿg, if it has one.
+    acc: &'a [f64],
+    acc_v: Option<&'a [f64]>,
+    dt: f64,
+    /// Initial conditions.
+    init: Initial,
+}
+
+/// What a run accumulates: the outcome, the history (when asked for), the
+/// energy audit and the peak friction demand not yet counted.
+struct Tally<'a> {
+    out: Outcome,
+    hist: Option<&'a mut History>,
+    audit: Audit,
     /// The peak friction demand |F|/N of the rock steps that ended beyond θc
     /// since the last one that ended within θc (0 if none). It joins
     /// `mu_motion` when the block comes back within θc or the run ends
@@ -483,10 +537,73 @@ struct Run<'a> {
     /// `mu_motion` leaves out the final fall, where N → 0 and F/N grows
     /// without bound (to 1e13–1e16).
     mu_beyond: f64,
+}
+
+/// The energy audit (`audit_energy`), per unit mass: E − E0 should equal
+/// the ground's work plus the jumps at events.
+struct Audit {
+    /// Energy at t = 0 (J/kg).
+    e0: f64,
+    /// Accumulated work of the ground (and of friction) (J/kg).
+    work: f64,
+    /// Accumulated energy jumps at events (J/kg).
+    jumps: f64,
+    /// Largest |E − E0 − W − jumps| seen (J/kg).
+    resid: f64,
+    /// The energy scale the residual is reported against (J/kg); also the
+    /// tolerance scale of the integrated work.
+    escale: f64,
+}
+
+/// The rules' thresholds, fixed at the start, and their memory: what one
+/// rule leaves for another, or for itself, at a later instant.
+struct Rules {
+    /// Ring-down velocity threshold ε√(gR) (m/s).
+    v_settle: f64,
+    /// Rebound below which the chatter rule may close a bounce series (m/s).
+    v_close: f64,
+    /// Contact distance of the two-contact rule (m).
+    h_touch: f64,
+    /// |ẍg| below which rest cannot break (the smaller of the rocking and
+    /// sliding thresholds, less a margin for rounding); `None` when rest is
+    /// decided sample by sample (vertical ground motion, or a history).
+    quiet: Option<f64>,
+    /// After a failed try of the chatter rule, when it may try again.
+    chatter_retry: Option<ChatterRetry>,
+    /// A try of the chatter rule that succeeded inside a flight
+    /// ([`Run::bounce`]), for the event loop's impact at the same instant.
+    chatter_tried: Option<ChatterTry>,
+    /// The impact at which the chatter rule last closed a bounce series
+    /// started by a rock impact, for the cascade rule at the same instant.
+    closed_series: Option<ChatterImpact>,
+    /// The last release of a rock pivot into flight.
+    released: Option<Released>,
+    /// The time rest was last left, if it was.
+    left_rest: Option<f64>,
     /// A time at which rest was left and re-entered: the mode it broke into
     /// found no motion (a threshold met within rounding), so rest does not
     /// break again at that instant (it would loop there).
-    stuck_at: f64,
+    stuck_at: Option<f64>,
+}
+
+/// After a failed try of the chatter rule on a corner: the next try there
+/// waits until the rebound is below `below`.
+#[derive(Clone, Copy, Debug)]
+struct ChatterRetry {
+    /// The corner's side (±1).
+    side: f64,
+    /// Half the rebound of the failed try (m/s).
+    below: f64,
+}
+
+/// A release of a rock pivot into flight, for the landing at the same
+/// instant that would undo it.
+#[derive(Clone, Copy, Debug)]
+struct Released {
+    /// Time of the release (s).
+    t: f64,
+    /// The rock state released.
+    rock: RockState,
 }
 
 impl<'a> Run<'a> {
@@ -497,56 +614,57 @@ impl<'a> Run<'a> {
         hist: Option<&'a mut History>,
     ) -> Self {
         let bl = an.block;
-        let hist_none = hist.is_none();
+        let fric = Grip::of(an.friction);
+        let quiet = (rec.acc_v.is_none() && hist.is_none()).then(|| {
+            // rest breaks when |ẍg| > g tanθc (eq. (1) at θ = 0), or slides
+            // when |ẍg| > μs g; the margin covers the rounding of the
+            // interpolated forcing at a sample's end
+            (bl.sin_c * bl.g / bl.cos_c).min(fric.mu_s * bl.g) * (1.0 - 1e-9)
+        });
         Run {
-            bl,
-            e: an.restitution,
-            set,
-            acc: &rec.acc,
-            acc_v: rec.acc_v.as_deref(),
-            dt: rec.dt,
-            init: an.initial,
-            out: Outcome::default(),
-            hist,
+            given: Given {
+                bl,
+                e: an.restitution,
+                fric,
+                set,
+                acc: &rec.acc,
+                acc_v: rec.acc_v.as_deref(),
+                dt: rec.dt,
+                init: an.initial,
+            },
+            tally: Tally {
+                out: Outcome::default(),
+                hist,
+                audit: Audit {
+                    e0: 0.0,
+                    work: 0.0,
+                    jumps: 0.0,
+                    resid: 0.0,
+                    escale: bl.g * bl.r * (1.0 - bl.cos_c),
+                },
+                mu_beyond: 0.0,
+            },
+            rules: Rules {
+                v_settle: set.settle_tol * (bl.g * bl.r).sqrt(),
+                v_close: CLOSE_TOL * (bl.g * bl.r).sqrt(),
+                h_touch: 1e-9 * bl.b,
+                // (a threshold of 0, μs = 0, breaks rest at every sample)
+                quiet: quiet.filter(|&q| q > 0.0),
+                chatter_retry: None,
+                chatter_tried: None,
+                closed_series: None,
+                released: None,
+                left_rest: None,
+                stuck_at: None,
+            },
             h: rec.dt * 0.25,
             x_base: 0.0,
-            work: 0.0,
-            jumps: 0.0,
-            e0: 0.0,
-            resid: 0.0,
-            escale: bl.g * bl.r * (1.0 - bl.cos_c),
-            v_settle: set.settle_tol * (bl.g * bl.r).sqrt(),
-            v_close: CLOSE_TOL * (bl.g * bl.r).sqrt(),
-            chatter_retry: (0.0, f64::INFINITY),
-            chatter_tried: None,
-            closed_series: None,
-            h_touch: 1e-9 * bl.b,
-            fric: match an.friction {
-                Friction::Infinite => None,
-                Friction::Coulomb { mu_s, mu_k } => Some((mu_s, mu_k)),
-            },
-            released: None,
-            quiet: if rec.acc_v.is_none() && hist_none {
-                // rest breaks when |ẍg| > g tanθc (eq. (1) at θ = 0), or slides
-                // when |ẍg| > μs g; the margin covers the rounding of the
-                // interpolated forcing at a sample's end
-                let mu = match an.friction {
-                    Friction::Infinite => f64::INFINITY,
-                    Friction::Coulomb { mu_s, .. } => mu_s,
-                };
-                (bl.sin_c * bl.g / bl.cos_c).min(mu * bl.g) * (1.0 - 1e-9)
-            } else {
-                0.0
-            },
-            left_rest: f64::NAN,
-            stuck_at: f64::NAN,
-            mu_beyond: 0.0,
         }
     }
 
     #[inline]
     fn segment(&self, k: usize) -> Segment {
-        Segment::of(self.acc, self.acc_v, self.dt, k)
+        Segment::of(self.given.acc, self.given.acc_v, self.given.dt, k)
     }
 
     /// Past the record (still ground), whether `state` is final: rest, or a
@@ -555,7 +673,7 @@ impl<'a> Run<'a> {
     fn settled(&self, state: &State) -> bool {
         match state {
             State::Rest => true,
-            State::Slide(_) => self.fric.is_some_and(|(_, mu_k)| mu_k == 0.0),
+            State::Slide(_) => self.given.fric.finite() && self.given.fric.mu_k == 0.0,
             _ => false,
         }
     }
@@ -564,13 +682,13 @@ impl<'a> Run<'a> {
     /// free-motion cap ([`SolverSettings::free_motion_max`]).
     #[inline]
     fn samples(&self) -> usize {
-        self.acc.len() + self.set.free_samples(self.dt)
+        self.given.acc.len() + self.given.set.free_samples(self.given.dt)
     }
 
     fn initial_state(&self) -> State {
-        let (th, om) = (self.init.theta, self.init.theta_dot);
-        if self.init.y_dot > 0.0 {
-            let i = self.init;
+        let (th, om) = (self.given.init.theta, self.given.init.theta_dot);
+        if self.given.init.y_dot > 0.0 {
+            let i = self.given.init;
             State::Flight(FlightState {
                 x: 0.0,
                 vx: i.x_dot,
@@ -594,18 +712,18 @@ impl<'a> Run<'a> {
     }
 
     fn solve(&mut self) -> Result<()> {
-        let n_rec = self.acc.len();
+        let n_rec = self.given.acc.len();
         let n = self.samples();
         let mut state = self.initial_state();
         match state {
             State::Rest => {}
             State::Flight(_) => {
-                self.out.moved = true;
-                self.out.flights += 1;
+                self.tally.out.moved = true;
+                self.tally.out.flights += 1;
             }
-            State::Rock(_) | State::Slide(_) | State::SlideRock(_) => self.out.moved = true,
+            State::Rock(_) | State::Slide(_) | State::SlideRock(_) => self.tally.out.moved = true,
         }
-        self.e0 = self.energy(&state);
+        self.tally.audit.e0 = self.energy(&state);
         let mut k = 0usize;
         let mut t = 0.0;
         let seg0 = self.segment(0);
@@ -615,28 +733,30 @@ impl<'a> Run<'a> {
             if k + 1 >= n_rec && self.settled(&state) {
                 break;
             }
-            if matches!(state, State::Rest) && self.quiet > 0.0 {
+            if matches!(state, State::Rest)
+                && let Some(quiet) = self.rules.quiet
+            {
                 // Fast-forward over samples where the ground is too weak, at both
                 // ends, to break rest (the forcing is linear in between).
                 let k0 = k;
-                if self.acc[k].abs() < self.quiet {
-                    while k + 1 < n_rec && self.acc[k + 1].abs() < self.quiet {
+                if self.given.acc[k].abs() < quiet {
+                    while k + 1 < n_rec && self.given.acc[k + 1].abs() < quiet {
                         k += 1;
                     }
                 }
                 if k > k0 {
                     let t_start = t;
-                    t = k as f64 * self.dt;
-                    self.out.time_in_mode[Mode::Rest.index()] += t - t_start;
+                    t = k as f64 * self.given.dt;
+                    self.tally.out.time_in_mode[Mode::Rest.index()] += t - t_start;
                     continue;
                 }
             }
             let seg = self.segment(k);
-            let t_end = (k + 1) as f64 * self.dt;
+            let t_end = (k + 1) as f64 * self.given.dt;
             let t_start = t;
             let mode = state.mode();
             let event = match &mut state {
-                State::Rest => match self.fric {
+                State::Rest => {
                     // Shenton (1996): from rest a block slides if μs < B/H and rocks if
                     // μs > B/H. At μs = B/H both thresholds coincide, and a block that
                     // starts to tip needs F/N rising above B/H at once (d(F/N)/dẍg = 1/4g
@@ -644,27 +764,30 @@ impl<'a> Run<'a> {
                     // A block coming to rest (after a landing) while |ẍg| already
                     // exceeds μs (g + ÿg) cannot stay stuck, nor rock on a stuck
                     // corner: it slides.
-                    Some((mu_s, _))
-                        if mu_s <= self.bl.b / self.bl.h || self.slide_exceeded(&seg, t, mu_s) =>
+                    let mu_s = self.given.fric.mu_s;
+                    if self.given.fric.finite()
+                        && (mu_s <= self.given.bl.b / self.given.bl.h
+                            || self.slide_exceeded(&seg, t, mu_s))
                     {
                         self.rest_slide(&seg, &mut t, t_end, mu_s)
+                    } else {
+                        self.rest(&seg, &mut t, t_end)
                     }
-                    _ => self.rest(&seg, &mut t, t_end),
-                },
+                }
                 State::Slide(ss) => self.slide(ss, &seg, &mut t, t_end),
                 State::SlideRock(sr) => {
-                    if self.set.audit_energy {
+                    if self.given.set.audit_energy {
                         self.slide_rock::<5>(sr, &seg, &mut t, t_end)?
                     } else {
                         self.slide_rock::<4>(sr, &seg, &mut t, t_end)?
                     }
                 }
-                State::Rock(rs) => match (self.set.model, self.set.integrator) {
+                State::Rock(rs) => match (self.given.set.model, self.given.set.integrator) {
                     (Model::Linear, _) => self.rock_linear(rs, &seg, &mut t, t_end),
                     (Model::Nonlinear, Integrator::Taylor) => {
                         self.rock_taylor(rs, &seg, &mut t, t_end)?
                     }
-                    (Model::Nonlinear, Integrator::Dopri5) if self.set.audit_energy => {
+                    (Model::Nonlinear, Integrator::Dopri5) if self.given.set.audit_energy => {
                         self.rock_nonlinear::<3>(rs, &seg, &mut t, t_end)?
                     }
                     (Model::Nonlinear, Integrator::Dopri5) => {
@@ -673,12 +796,12 @@ impl<'a> Run<'a> {
                 },
                 State::Flight(fs) => self.flight(fs, &seg, &mut t, t_end),
             };
-            self.out.time_in_mode[mode.index()] += t - t_start;
+            self.tally.out.time_in_mode[mode.index()] += t - t_start;
             match event {
                 None => {
                     t = t_end;
                     k += 1;
-                    if self.hist.is_some() {
+                    if self.tally.hist.is_some() {
                         let seg_end = if k + 1 < n {
                             self.segment(k)
                         } else {
@@ -693,19 +816,19 @@ impl<'a> Run<'a> {
                     }
                 }
                 Some(ev) => {
-                    self.out.stats.events += 1;
-                    if self.out.stats.events > self.set.max_events {
+                    self.tally.out.stats.events += 1;
+                    if self.tally.out.stats.events > self.given.set.max_events {
                         return Err(Error::Solver {
                             time: t,
                             message: format!(
                                 "more than {} events (max_events)",
-                                self.set.max_events
+                                self.given.set.max_events
                             ),
                         });
                     }
                     self.audit(&state);
                     self.push_row(t, &state, &seg, true);
-                    let before = if self.set.audit_energy {
+                    let before = if self.given.set.audit_energy {
                         self.energy(&state)
                     } else {
                         0.0
@@ -714,52 +837,52 @@ impl<'a> Run<'a> {
                     state = self.handle(ev, state, t)?;
                     let to = state.mode();
                     if from != to {
-                        self.out.transitions[from.index()][to.index()] += 1;
+                        self.tally.out.transitions[from.index()][to.index()] += 1;
                         if from == Mode::Rest {
-                            self.left_rest = t;
-                        } else if to == Mode::Rest && t == self.left_rest {
-                            self.stuck_at = t;
+                            self.rules.left_rest = Some(t);
+                        } else if to == Mode::Rest && self.rules.left_rest == Some(t) {
+                            self.rules.stuck_at = Some(t);
                         }
                     }
                     self.note_slip(&state);
-                    if self.set.audit_energy {
-                        self.jumps += self.energy(&state) - before;
+                    if self.given.set.audit_energy {
+                        self.tally.audit.jumps += self.energy(&state) - before;
                     }
                     self.note_theta(&state);
                     self.push_row(t, &state, &seg, true);
-                    if self.out.overturned {
+                    if self.tally.out.overturned {
                         break;
                     }
                 }
             }
         }
-        if self.out.end_time > t {
+        if self.tally.out.end_time > t {
             // a cascade settled at rest ends after the loop's last instant
-            self.out.time_in_mode[Mode::Rest.index()] += self.out.end_time - t;
-            t = self.out.end_time;
-            if self.hist.is_some() {
+            self.tally.out.time_in_mode[Mode::Rest.index()] += self.tally.out.end_time - t;
+            t = self.tally.out.end_time;
+            if self.tally.hist.is_some() {
                 let seg = self.segment(k);
                 self.push_row(t, &state, &seg, false);
             }
         }
-        self.out.end_time = t;
-        if n > n_rec && !self.out.overturned && !self.settled(&state) {
+        self.tally.out.end_time = t;
+        if n > n_rec && !self.tally.out.overturned && !self.settled(&state) {
             return Err(Error::Solver {
                 time: t,
                 message: format!(
                     "still in {} motion {} s after the record's end (free_motion_max): \
                      no decided state",
                     state.mode().name(),
-                    self.set.free_motion_max
+                    self.given.set.free_motion_max
                 ),
             });
         }
-        if !self.out.overturned {
+        if !self.tally.out.overturned {
             // the last excursion beyond θc came back (or the record ended)
-            self.out.mu_motion = self.out.mu_motion.max(self.mu_beyond);
+            self.tally.out.mu_motion = self.tally.out.mu_motion.max(self.tally.mu_beyond);
         }
-        if self.set.audit_energy {
-            self.out.energy_residual = Some(self.resid / self.escale);
+        if self.given.set.audit_energy {
+            self.tally.out.energy_residual = Some(self.tally.audit.resid / self.tally.audit.escale);
         }
         Ok(())
     }

@@ -6,10 +6,10 @@ impl Run<'_> {
     /// Rest: find the first time in [t, t_end] where |ẍg| > (g + ÿg)·B/H
     /// (exact on linear forcing: both sides of the inequality are linear in t).
     pub(super) fn rest(&mut self, seg: &Segment, t: &mut f64, t_end: f64) -> Option<Event> {
-        let (sc, cc, g) = (self.bl.sin_c, self.bl.cos_c, self.bl.g);
+        let (sc, cc, g) = (self.given.bl.sin_c, self.given.bl.cos_c, self.given.bl.g);
         // f = cosθc·s·ẍg − sinθc·(g + ÿg) ∝ s·θ̈ of eq. (1) at θ = 0 (same
         // floating-point operations, so f > 0 ⇔ the block departs)
-        let stuck = *t == self.stuck_at;
+        let stuck = self.rules.stuck_at == Some(*t);
         let found = first_exceedance(seg, t, t_end, stuck, |s, ax, ay| {
             cc * (s * ax) - sc * (g + ay)
         });
@@ -26,8 +26,8 @@ impl Run<'_> {
         t_end: f64,
         mu_s: f64,
     ) -> Option<Event> {
-        let g = self.bl.g;
-        let stuck = *t == self.stuck_at;
+        let g = self.given.bl.g;
+        let stuck = self.rules.stuck_at == Some(*t);
         let found = first_exceedance(seg, t, t_end, stuck, |s, ax, ay| s * ax - mu_s * (g + ay));
         found.map(|s| Event::StartSlide(-s))
     }
@@ -35,7 +35,7 @@ impl Run<'_> {
     /// True if |ẍg(t)| > μs (g + ÿg(t)): friction cannot hold the block at rest.
     pub(super) fn slide_exceeded(&self, seg: &Segment, t: f64, mu_s: f64) -> bool {
         let (ax, ay) = seg.at(t);
-        ax.abs() > mu_s * (self.bl.g + ay)
+        ax.abs() > mu_s * (self.given.bl.g + ay)
     }
 }
 

@@ -2,7 +2,7 @@
 //! or in closed form for the linearised model; and the location of its
 //! events (impact, lift-off and holds, slip, overturning) on the dense output.
 
-use super::{Event, RockState, Run, Segment, State, earliest};
+use super::{Event, Grip, RockState, Run, Segment, State, earliest};
 use crate::detmath as dm;
 use crate::error::{Error, Result};
 use crate::solver::block::Block;
@@ -22,7 +22,7 @@ impl Run<'_> {
         t: &mut f64,
         t_end: f64,
     ) -> Result<Option<Event>> {
-        let bl = self.bl;
+        let bl = self.given.bl;
         let s = rs.s;
         let seg = *seg;
         let rhs = |tt: f64, y: &[f64; N]| -> [f64; N] {
@@ -54,7 +54,7 @@ impl Run<'_> {
                 run.rock_events(rs, &path, &trig, unknown, curv, &seg, ta, tb, 1)
             })?;
         if N == 3 {
-            self.work += ye[N - 1];
+            self.tally.audit.work += ye[N - 1];
         }
         rs.theta = ye[0];
         rs.omega = ye[1];
@@ -72,12 +72,12 @@ impl Run<'_> {
         t: &mut f64,
         t_end: f64,
     ) -> Result<Option<Event>> {
-        let bl = self.bl;
+        let bl = self.given.bl;
         let s = rs.s;
         let k = 0.75 / bl.r; // eq. (1): I_O = 4mR²/3
         let (atol_th, atol_om) = (
-            self.set.atol * bl.theta_c,
-            self.set.atol * bl.p * bl.theta_c,
+            self.given.set.atol * bl.theta_c,
+            self.given.set.atol * bl.p * bl.theta_c,
         );
         let h_min = 1e-14 * t_end.abs().max(1.0);
         while *t < t_end {
@@ -92,9 +92,9 @@ impl Run<'_> {
             let (psi0, dpsi0) = (s * rs.theta, s * rs.omega);
             let (sin0, cos0) = bl.phi_sin_cos(psi0);
             let series = taylor::RockSeries::new(sin0, cos0, k, s, psi0, dpsi0, &forcing);
-            self.out.stats.rhs_calls += 1;
-            let tol_psi = atol_th + self.set.rtol * psi0.abs();
-            let tol_dpsi = atol_om + self.set.rtol * dpsi0.abs();
+            self.tally.out.stats.rhs_calls += 1;
+            let tol_psi = atol_th + self.given.set.rtol * psi0.abs();
+            let tol_dpsi = atol_om + self.given.set.rtol * dpsi0.abs();
             let h = series.step(t_end - t0, tol_psi, tol_dpsi);
             // A step that reaches the segment's end is taken however short:
             // rock entered a hair before a sample (a grazing lift-off at
@@ -108,7 +108,7 @@ impl Run<'_> {
                     ),
                 });
             }
-            self.out.stats.steps_accepted += 1;
+            self.tally.out.stats.steps_accepted += 1;
             let t1 = if h == t_end - t0 { t_end } else { t0 + h };
             // the ends are asked for several times by the event checks: once each
             let start = (psi0, dpsi0, series.sin[0], series.cos[0]);
@@ -139,9 +139,9 @@ impl Run<'_> {
                 .then(|| (series.curvature_bound(t1 - t0), tol_psi));
             let found = self.rock_events(rs, &path, &trig, range, curv, seg, t0, t1, 1);
             let t_stop = found.map_or(t1, |(te, _)| te);
-            if self.set.audit_energy {
+            if self.given.set.audit_energy {
                 let w = series.work(bl.r, s, &forcing, bl.g);
-                self.work += taylor::eval(&w, t_stop - t0);
+                self.tally.audit.work += taylor::eval(&w, t_stop - t0);
             }
             (rs.theta, rs.omega) = path(t_stop);
             *t = t_stop;
@@ -162,7 +162,7 @@ impl Run<'_> {
         t_end: f64,
     ) -> Option<Event> {
         let (ax0, _) = seg.at(*t);
-        let (l2, c0, c1) = ph::linear_coeffs(&self.bl, rs.s, ax0, seg.a1);
+        let (l2, c0, c1) = ph::linear_coeffs(&self.given.bl, rs.s, ax0, seg.a1);
         let lam = l2.sqrt();
         let (th0, om0) = (rs.theta, rs.omega);
         let t0 = *t;
@@ -186,8 +186,8 @@ impl Run<'_> {
             (th, om)
         };
         let n = 1 + (2.0 * lam * (t_end - t0)) as usize;
-        self.out.stats.steps_accepted += 1;
-        let (s, theta_c) = (rs.s, self.bl.theta_c);
+        self.tally.out.stats.steps_accepted += 1;
+        let (s, theta_c) = (rs.s, self.given.bl.theta_c);
         let trig = |tt: f64| dm::sin_cos(theta_c - s * path(tt).0);
         let unknown = (f64::NEG_INFINITY, f64::INFINITY);
         // linearised eq. (1): θ″ = (λ²θ0 + c0) cosh λτ + (λω0 + c1/λ) sinh λτ
@@ -198,7 +198,7 @@ impl Run<'_> {
         let m2 = ((l2 * th0 + c0).abs() * dm::cosh(x_end)
             + (lam * om0 + c1 / lam).abs() * dm::sinh(x_end))
             * (1.0 + 1e-12);
-        let floor = self.set.atol * theta_c + self.set.rtol * th0.abs();
+        let floor = self.given.set.atol * theta_c + self.given.set.rtol * th0.abs();
         let curv = Some((m2, floor));
         if let Some((te, ev)) = self.rock_events(rs, &path, &trig, unknown, curv, seg, t0, t_end, n)
         {
@@ -236,7 +236,7 @@ impl Run<'_> {
         n: usize,
     ) -> Option<(f64, Event)> {
         let s = rs.s;
-        let bl = self.bl;
+        let bl = self.given.bl;
         let xtol = 1e-15 * tb.abs().max(1.0);
         // the hot call sites call `rock_contact_at` directly: this closure
         // would be kept out of line and its result returned through memory,
@@ -285,7 +285,8 @@ impl Run<'_> {
         };
         let (mut n0, mut q0) = (c_a.n, release_q(&c_a));
         let mut c_end: Option<ph::RockContact> = None;
-        if let Some((mu_s, mu_k)) = self.fric {
+        if self.given.fric.finite() {
+            let Grip { mu_s, mu_k } = self.given.fric;
             // Stuck pivot under Coulomb friction: slip starts when |F| reaches
             // μs N (this comes before N = 0, since |F| ≤ μs N fails first). If
             // neither sticking nor slipping is consistent (Painlevé), the pivot
@@ -355,7 +356,7 @@ impl Run<'_> {
         let width = (tb - ta) / n as f64;
         let mut t0 = ta;
         for i in 1..=n {
-            if self.fric.is_some() {
+            if self.given.fric.finite() {
                 break;
             }
             let t1 = if i == n { tb } else { ta + width * i as f64 };
@@ -408,12 +409,12 @@ impl Run<'_> {
         let (th_b, om_b) = path(t_stop);
         let mut peak = th_a.abs().max(th_b.abs());
         // a turning point can only raise θmax if ψ's bound exceeds it
-        let may_raise = psi_range.1 > self.out.theta_max_over_theta_c * bl.theta_c;
-        if om_a * om_b < 0.0 && (may_raise || self.hist.is_some()) {
+        let may_raise = psi_range.1 > self.tally.out.theta_max_over_theta_c * bl.theta_c;
+        if om_a * om_b < 0.0 && (may_raise || self.tally.hist.is_some()) {
             let tm = brent(|tt| path(tt).1, ta, t_stop, om_a, om_b, xtol);
             let (th_m, om_m) = path(tm);
             peak = peak.max(th_m.abs());
-            if self.hist.is_some() {
+            if self.tally.hist.is_some() {
                 // turning points are part of the history: they are the amplitudes
                 let st = State::Rock(RockState {
                     theta: th_m,
@@ -424,22 +425,26 @@ impl Run<'_> {
             }
         }
         let ratio = peak / bl.theta_c;
-        if ratio > self.out.theta_max_over_theta_c {
-            self.out.theta_max_over_theta_c = ratio.min(FRAC_PI_2 / bl.theta_c);
+        if ratio > self.tally.out.theta_max_over_theta_c {
+            self.tally.out.theta_max_over_theta_c = ratio.min(FRAC_PI_2 / bl.theta_c);
         }
         // Friction demand |F|/N at the end of the step (N > 0 only); beyond
         // θc it waits in `mu_beyond` until the block is back within θc, so
-        // that the fall of an overturning block is left out (`Run::mu_beyond`)
+        // that the fall of an overturning block is left out (`Tally::mu_beyond`)
         let demand = if c_b.n > 0.0 {
             c_b.f.abs() / c_b.n
         } else {
             0.0
         };
         if th_b.abs() <= bl.theta_c {
-            self.out.mu_motion = self.out.mu_motion.max(demand.max(self.mu_beyond));
-            self.mu_beyond = 0.0;
+            self.tally.out.mu_motion = self
+                .tally
+                .out
+                .mu_motion
+                .max(demand.max(self.tally.mu_beyond));
+            self.tally.mu_beyond = 0.0;
         } else {
-            self.mu_beyond = self.mu_beyond.max(demand);
+            self.tally.mu_beyond = self.tally.mu_beyond.max(demand);
         }
         best
     }

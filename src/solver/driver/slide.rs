@@ -19,12 +19,12 @@ impl Run<'_> {
         t: &mut f64,
         t_end: f64,
     ) -> Option<Event> {
-        let (_, mu_k) = self.fric.expect("slide needs finite friction");
+        let mu_k = self.given.fric.mu_k;
         let t0 = *t;
         let (a0, b0) = seg.at(t0);
         let sg = ss.sigma;
         // ẍ = A + Bτ
-        let acc0 = -a0 - mu_k * sg * (self.bl.g + b0);
+        let acc0 = -a0 - mu_k * sg * (self.given.bl.g + b0);
         let acc1 = -seg.a1 - mu_k * sg * seg.v1;
         let st = *ss;
         let vel = move |tau: f64| st.v + acc0 * tau + 0.5 * acc1 * tau * tau;
@@ -39,9 +39,9 @@ impl Run<'_> {
             first_descent(fd, 0.0, span, 1, xtol)
         };
         let tau_end = found.unwrap_or(span);
-        if self.set.audit_energy {
+        if self.given.set.audit_energy {
             // ground and friction work: ∫ v·ẍ dτ (cubic integrand: 3-point Gauss is exact)
-            self.work += gauss3(tau_end, |tau| vel(tau) * (acc0 + acc1 * tau));
+            self.tally.audit.work += gauss3(tau_end, |tau| vel(tau) * (acc0 + acc1 * tau));
         }
         ss.x = st.x
             + st.v * tau_end
@@ -66,8 +66,8 @@ impl Run<'_> {
         t: &mut f64,
         t_end: f64,
     ) -> Result<Option<Event>> {
-        let (_, mu_k) = self.fric.expect("slide-rock needs finite friction");
-        let bl = self.bl;
+        let mu_k = self.given.fric.mu_k;
+        let bl = self.given.bl;
         let (s, sg) = (sr.s, sr.sigma);
         let seg = *seg;
         let rhs = |tt: f64, y: &[f64; N]| -> [f64; N] {
@@ -149,11 +149,12 @@ impl Run<'_> {
                 let t_stop = best.map_or(t1, |(te, _)| te);
                 let ratio = (comp(0, t_stop).abs().max(comp(0, ta).abs()) / bl.theta_c)
                     .min(FRAC_PI_2 / bl.theta_c);
-                run.out.theta_max_over_theta_c = run.out.theta_max_over_theta_c.max(ratio);
+                run.tally.out.theta_max_over_theta_c =
+                    run.tally.out.theta_max_over_theta_c.max(ratio);
                 best
             })?;
         if N == 5 {
-            self.work += ye[4];
+            self.tally.audit.work += ye[4];
         }
         sr.theta = ye[0];
         sr.omega = ye[1];

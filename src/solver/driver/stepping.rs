@@ -25,7 +25,7 @@ impl Run<'_> {
         tol: Tolerance<N>,
         mut events: impl FnMut(&mut Self, &Step<N>, f64, f64) -> Option<(f64, Event)>,
     ) -> Result<(f64, Option<Event>, [f64; N])> {
-        let mut st = Stepper::new(&mut rhs, t, y, t_end, self.h, tol, self.dt);
+        let mut st = Stepper::new(&mut rhs, t, y, t_end, self.h, tol, self.given.dt);
         let mut found = None;
         loop {
             let step = match st.step(&mut rhs) {
@@ -59,18 +59,19 @@ impl Run<'_> {
     /// (θc for angles, p·θc for rates, …), and the energy scale for the
     /// audit's work component that follows them when N is one larger.
     pub(super) fn tolerance<const N: usize>(&self, scales: &[f64]) -> Tolerance<N> {
-        let atol =
-            std::array::from_fn(|i| self.set.atol * scales.get(i).copied().unwrap_or(self.escale));
+        let atol = std::array::from_fn(|i| {
+            self.given.set.atol * scales.get(i).copied().unwrap_or(self.tally.audit.escale)
+        });
         Tolerance {
-            rtol: self.set.rtol,
+            rtol: self.given.set.rtol,
             atol,
         }
     }
 
     /// Adds a stepper's counters to the run's statistics.
     fn count(&mut self, c: &StepCounts) {
-        self.out.stats.rhs_calls += c.rhs_calls;
-        self.out.stats.steps_accepted += c.accepted;
-        self.out.stats.steps_rejected += c.rejected;
+        self.tally.out.stats.rhs_calls += c.rhs_calls;
+        self.tally.out.stats.steps_accepted += c.accepted;
+        self.tally.out.stats.steps_rejected += c.rejected;
     }
 }
