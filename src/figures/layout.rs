@@ -573,7 +573,9 @@ where
 /// Ticks and labels of a logarithmic axis over [lo, hi], chosen by how many
 /// decades it spans (d):
 ///
-/// - d ≤ 1.5: 1, 2 and 5 × 10ᵏ;
+/// - d ≤ 1.5: 1, 2 and 5 × 10ᵏ; where that gives fewer than three ticks,
+///   1, 1.5, 2, 3, 4, 5, 6 and 8 × 10ᵏ; where that still does (an axis
+///   under a factor of about 1.3), evenly spaced ticks at a round step;
 /// - d ≤ 3: 1 and 3 × 10ᵏ;
 /// - d ≤ 8: the powers of ten;
 /// - more: every n-th power of ten, so that at most 8 are labelled.
@@ -613,20 +615,47 @@ impl LogAxis {
         };
         let first = dm::log10(lo).floor() as i32;
         let last = dm::log10(hi).ceil() as i32;
-        let mut ticks = Vec::new();
-        for k in first..=last {
-            if k.rem_euclid(every) != 0 {
-                continue;
-            }
-            let decade = dm::powf(10.0, k as f64);
-            for m in multiples {
-                let t = m * decade;
-                // a tick computed at the end of the range may sit an ulp
-                // outside it
-                if t >= lo * (1.0 - 1e-9) && t <= hi * (1.0 + 1e-9) {
-                    ticks.push(t);
+        let inside = |t: f64| t >= lo * (1.0 - 1e-9) && t <= hi * (1.0 + 1e-9);
+        let on_decades = |multiples: &[f64], every: i32| {
+            let mut ticks = Vec::new();
+            for k in first..=last {
+                if k.rem_euclid(every) != 0 {
+                    continue;
+                }
+                let decade = dm::powf(10.0, k as f64);
+                for m in multiples {
+                    let t = m * decade;
+                    // a tick computed at the end of the range may sit an
+                    // ulp outside it
+                    if inside(t) {
+                        ticks.push(t);
+                    }
                 }
             }
+            ticks
+        };
+        let mut ticks = on_decades(multiples, every);
+        if ticks.len() < 3 && decades <= 1.5 {
+            // a narrow axis (under a factor of about 3): 1, 1.5, 2, 3, 4, 5,
+            // 6 and 8 × 10ᵏ
+            ticks = on_decades(&[1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0], 1);
+        }
+        if ticks.len() < 3 && decades <= 1.5 {
+            // narrower still (under a factor of about 1.3): evenly spaced
+            // ticks at a round step of 1, 2 or 5 × 10ᵏ, 3 to 8 of them
+            let span = hi - lo;
+            let unit = dm::powf(10.0, dm::log10(span / 8.0).floor());
+            let step = [1.0, 2.0, 5.0, 10.0]
+                .iter()
+                .map(|m| m * unit)
+                .find(|s| span / s < 8.0)
+                .unwrap_or(10.0 * unit);
+            let n0 = (lo / step - 1e-6).ceil() as i64;
+            ticks = (n0..)
+                .map(|n| n as f64 * step)
+                .take_while(|&t| t <= hi * (1.0 + 1e-9))
+                .filter(|&t| inside(t))
+                .collect();
         }
         let powers = decades > 3.0 || ticks.iter().any(|&t| !(1e-3..=1e4).contains(&t));
         LogAxis { ticks, powers }
@@ -893,6 +922,19 @@ mod tests {
         assert_eq!(labels, ["0.03", "0.1", "0.3", "1", "3"]);
         // Under a decade and a half: 1, 2, 5.
         assert_eq!(LogAxis::new(0.07, 0.6).ticks, [0.1, 0.2, 0.5]);
+        // A narrow axis, where 1, 2, 5 would label two ticks (0.5 and 1,
+        // the 2-D inference figure's PGA axis): at least three, and the
+        // finer multiples.
+        let labels = |a: &LogAxis| -> Vec<String> { a.ticks.iter().map(|&t| a.label(t)).collect() };
+        let axis = LogAxis::new(0.3, 1.4);
+        assert_eq!(labels(&axis), ["0.3", "0.4", "0.5", "0.6", "0.8", "1"]);
+        // Under a factor 1.3: evenly spaced at a round step.
+        let axis = LogAxis::new(0.42, 0.51);
+        assert_eq!(labels(&axis), ["0.42", "0.44", "0.46", "0.48", "0.5"]);
+        for (lo, hi) in [(0.42, 0.51), (3.3, 3.9), (1.01, 1.02), (0.3, 1.4), (0.11, 0.19)] {
+            let n = LogAxis::new(lo, hi).ticks.len();
+            assert!((3..=8).contains(&n), "[{lo}, {hi}]: {n} ticks");
+        }
         // Twenty decades: at most 8 labelled.
         assert!(LogAxis::new(1e-20, 1.0).ticks.len() <= 8);
         assert_eq!(power_label(2e-5), "2×10⁻⁵");
