@@ -386,6 +386,16 @@ fn figures_refuse_shards_and_point_infer_folders_to_infer() {
             && err.contains("--format png"),
         "{err}"
     );
+    // an inference over two IMs: the command names both, or it would redo
+    // a one-IM inference and draw no joint figure
+    std::fs::write(
+        infer.join("inference.json"),
+        r#"{"spec": "s.toml", "observations": "obs.csv", "prior": "log-uniform", "im": "pga",
+            "two_im": {"im1": "pga", "im2": "pgv"}}"#,
+    )
+    .unwrap();
+    let err = stderr(&rockfrag(&["figures", s(&infer)]));
+    assert!(err.contains("--im pga,pgv --format png"), "{err}");
 }
 
 /// Ctrl-C during a run: the run stops at the end of its chunk, says it was

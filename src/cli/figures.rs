@@ -134,6 +134,15 @@ fn refuse_inference(dir: &std::path::Path) -> anyhow::Result<()> {
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json)?)?;
     let text = |k: &str| v.get(k).and_then(|x| x.as_str()).unwrap_or("?").to_string();
     let prior = text("prior");
+    // an inference over two IMs names both (`--im pga,pgv`)
+    let im = match v
+        .get("two_im")
+        .and_then(|t| t.get("im2"))
+        .and_then(|x| x.as_str())
+    {
+        Some(im2) => format!("{},{im2}", text("im")),
+        None => text("im"),
+    };
     anyhow::bail!(
         "{}: holds an inference (`rockfrag infer`), not a study run: its figure is \
          figures/inference.svg there; for a PNG, run the inference again with --format png \
@@ -148,7 +157,7 @@ fn refuse_inference(dir: &std::path::Path) -> anyhow::Result<()> {
         } else {
             format!(" --prior {prior}")
         },
-        text("im")
+        im
     )
 }
 

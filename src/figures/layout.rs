@@ -931,7 +931,13 @@ mod tests {
         // Under a factor 1.3: evenly spaced at a round step.
         let axis = LogAxis::new(0.42, 0.51);
         assert_eq!(labels(&axis), ["0.42", "0.44", "0.46", "0.48", "0.5"]);
-        for (lo, hi) in [(0.42, 0.51), (3.3, 3.9), (1.01, 1.02), (0.3, 1.4), (0.11, 0.19)] {
+        for (lo, hi) in [
+            (0.42, 0.51),
+            (3.3, 3.9),
+            (1.01, 1.02),
+            (0.3, 1.4),
+            (0.11, 0.19),
+        ] {
             let n = LogAxis::new(lo, hi).ticks.len();
             assert!((3..=8).contains(&n), "[{lo}, {hi}]: {n} ticks");
         }
