@@ -82,6 +82,10 @@ def fitted(row):
 
 
 def case_key(row):
+    """A case's key: its id where the file has one (a stack's six case columns are its top
+    body's, the same as the top body alone on the ground), else its six case columns."""
+    if row.get("case_id"):
+        return (row["case_id"],)
     return tuple(row[k] for k in ("aspect", "width", "restitution", "friction", "mu_s", "mu_k"))
 
 
