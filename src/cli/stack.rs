@@ -252,6 +252,7 @@ fn print_summary(stack: &Stack, record: &Record, g: f64, out: &StackOutcome) {
         "impacts           {} (energy gains {}, settles {}, lift-off holds {})",
         out.impacts, out.energy_gains, out.settles, out.liftoff_holds
     );
+    println!("end time          {} s", fixed(out.end_time, 4));
     if let Some(reason) = &out.failure {
         println!("FAILED            {reason}");
     }
