@@ -69,3 +69,180 @@ fn bad_stacks_are_refused_naming_the_flag() {
         assert!(stderr(&o).contains(expected), "{flags:?}: {}", stderr(&o));
     }
 }
+
+/// A trimmed copy of `studies/statue-on-pedestal.toml` (fewer records and
+/// levels, a shorter motion, no figures) with a second stack whose statue
+/// can slide on its pedestal (μs 0.6, μk 0.5), run into `tmp/out`.
+fn small_statue_study(tmp: &std::path::Path) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/statue-on-pedestal.toml"),
+    )
+    .unwrap();
+    let mut trimmed = String::new();
+    for line in text.lines() {
+        let line = match line {
+            l if l.starts_with("records =") => "records = 4",
+            l if l.starts_with("duration =") => "duration = 8.0",
+            l if l.starts_with("pga =") => "pga = [0.3, 0.6, 0.9]",
+            l if l.starts_with("figures =") => "figures = false",
+            l if l.starts_with("bootstrap =") => "bootstrap = 0",
+            l => l,
+        };
+        trimmed.push_str(line);
+        trimmed.push('\n');
+        if line.starts_with("interfaces =") && !trimmed.contains("sliding_statue") {
+            trimmed.push_str(
+                "\n[[grid.stack]]\nname = \"sliding_statue\"\n\
+                 blocks = [ { width = 0.6, height = 1.0 }, { width = 0.3, height = 1.2 } ]\n\
+                 interfaces = [ { restitution = 0.0, friction = \"inf\" }, \
+                 { restitution = 0.0, mu_s = 0.6, mu_k = 0.5 } ]\n",
+            );
+        }
+    }
+    let spec = tmp.join("statue.toml");
+    std::fs::write(&spec, trimmed).unwrap();
+    let o = common::run_spec(&spec, &tmp.join("out"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    spec
+}
+
+/// `simulate --study … --case stack_NAME --json` solves a stack's analysis
+/// of a study again with the stack solver on the study's motion: every
+/// body's θmax/θc, overturning and slip equal that row's per-body columns
+/// of outcomes.csv (to 1e-12 relative: the same solve, so in fact to the
+/// bit), for every stack row of a small study, spec and folder alike.
+#[test]
+fn simulate_study_solves_a_stack_case_as_its_row() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = small_statue_study(tmp.path());
+    let out = tmp.path().join("out");
+    let text = std::fs::read_to_string(out.join("outcomes.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (mut checked, mut overturned, mut slid) = (0, 0, 0);
+    for (k, line) in lines.enumerate() {
+        let row: Vec<&str> = line.split(',').collect();
+        let stack = row[col("stack")];
+        if stack.is_empty() {
+            continue;
+        }
+        let study = if k % 2 == 0 { &spec } else { &out };
+        let case = format!("stack_{stack}");
+        let (level, record) = (row[col("pga")], row[col("record")]);
+        let o = rockfrag(&[
+            "simulate",
+            "--study",
+            study.to_str().unwrap(),
+            "--case",
+            &case,
+            "--level",
+            level,
+            "--record",
+            record,
+            "--json",
+        ]);
+        assert_eq!(row[col("status")], "ok", "{line}");
+        assert!(
+            o.status.success(),
+            "{case} {level} {record}: {}",
+            stderr(&o)
+        );
+        let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+        let bodies = v["bodies"].as_array().unwrap();
+        assert_eq!(bodies.len(), 2);
+        for (b, slot) in bodies.iter().zip(["base", "top"]) {
+            let field = |name: &str| row[col(&format!("{slot}.{name}"))];
+            let close = |key: &str| {
+                let want: f64 = field(key).parse().unwrap();
+                let got = b[key].as_f64().unwrap();
+                assert!(
+                    (got - want).abs() <= 1e-12 * want.abs(),
+                    "{case} {level} {record} {slot}.{key}: {got} against {want}"
+                );
+            };
+            close("theta_max_over_theta_c");
+            close("slip_max");
+            let over = field("overturned") == "true";
+            assert_eq!(b["overturned"].as_bool().unwrap(), over, "{case} {slot}");
+            overturned += over as usize;
+            slid += (b["slip_max"].as_f64().unwrap() > 0.0) as usize;
+        }
+        let first = row[col("first_overturned")];
+        let want = ["base", "top"].iter().position(|s| *s == first);
+        assert_eq!(v["first_overturned"].as_u64().map(|i| i as usize), want);
+        checked += 1;
+    }
+    assert_eq!(checked, 2 * 3 * 4, "every stack row");
+    assert!(
+        overturned > 0 && slid > 0,
+        "{overturned} overturned, {slid} slid"
+    );
+}
+
+/// A stack case's `--history` has every body's state, and its mistakes
+/// name the value: a case, level or record the study does not have.
+#[test]
+fn simulate_study_stack_history_and_mistakes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = small_statue_study(tmp.path());
+    let spec = spec.to_str().unwrap();
+    let hist = tmp.path().join("h.csv");
+    let o = rockfrag(&[
+        "simulate",
+        "--study",
+        spec,
+        "--case",
+        "stack_statue_on_pedestal",
+        "--level",
+        "0.6",
+        "--record",
+        "1",
+        "--history",
+        hist.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("case stack_statue_on_pedestal, level 0.6 and record 1"));
+    let text = std::fs::read_to_string(&hist).unwrap();
+    let head = text.lines().next().unwrap();
+    assert!(
+        head.starts_with("t,event,mode_1,") && head.contains(",mode_2,"),
+        "{head}"
+    );
+    assert!(text.lines().count() > 100);
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &["--case", "stack_nope", "--level", "0.6", "--record", "1"],
+            "stack_nope",
+        ),
+        (
+            &[
+                "--case",
+                "stack_statue_on_pedestal",
+                "--level",
+                "0.65",
+                "--record",
+                "1",
+            ],
+            "0.65",
+        ),
+        (
+            &[
+                "--case",
+                "stack_statue_on_pedestal",
+                "--level",
+                "0.6",
+                "--record",
+                "4",
+            ],
+            "record = 4",
+        ),
+    ];
+    for (flags, named) in cases {
+        let mut args = vec!["simulate", "--study", spec];
+        args.extend_from_slice(flags);
+        let o = rockfrag(&args);
+        assert!(!o.status.success(), "{flags:?} was accepted");
+        assert!(stderr(&o).contains(named), "{flags:?}: {}", stderr(&o));
+    }
+}

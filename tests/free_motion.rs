@@ -227,3 +227,51 @@ fn a_statue_falling_at_the_records_end_overturns_and_one_rocking_rests() {
     let why = out.failure.expect("still moving at the cap");
     assert!(why.contains("free_motion_max"), "{why}");
 }
+
+/// A stack on frictionless ground (μs = μk = 0; infinite friction between
+/// the bodies) stays put in space while the ground moves under it (physics.md,
+/// check 1b, for the single block): after a 0.1 s pulse of 1 m/s² the ground
+/// still moves at 0.1 m/s when the 0.5 s record ends, so the stack slides
+/// flat on it for ever, a rigid translation that nothing can stop or tip.
+/// That is final, as for the single block (its `settled`): the analysis
+/// ends at the record's end with the slip then, undecided by no cap. The
+/// old stack solver followed the slide for 60 s and failed at the cap. The
+/// slip is the ground's displacement at the end, to 1e-9 relative (the
+/// relative acceleration is −ẍg, piecewise linear, which Dormand–Prince
+/// integrates exactly up to rounding).
+#[test]
+fn a_stack_sliding_on_frictionless_ground_at_the_records_end_is_final() {
+    let mut acc = vec![0.0; 51];
+    acc[..=10].fill(1.0);
+    let rec = Record::from_acc("pulse", 0.01, acc).unwrap();
+    let mut stack = Stack::new(
+        vec![StackBody::new(0.6, 1.0), StackBody::new(0.3, 1.2)],
+        0.0,
+        G,
+    );
+    stack.interfaces[0].friction = rockfrag::solver::Friction::Coulomb {
+        mu_s: 0.0,
+        mu_k: 0.0,
+    };
+    let out = simulate_stack(&stack, &rec, &SolverSettings::default(), None).unwrap();
+    assert!(out.failure.is_none(), "{:?}", out.failure);
+    assert!(
+        (out.end_time - 0.5).abs() < 1e-12,
+        "ended at {}",
+        out.end_time
+    );
+    let d_end = rec.disp.last().unwrap().abs();
+    assert!(d_end > 0.04, "the ground moved {d_end} m");
+    let slip = out.bodies[0].slip_max;
+    assert!(
+        (slip - d_end).abs() <= 1e-9 * d_end,
+        "slip {slip}, ground {d_end}"
+    );
+    // the statue rides along: no slip, no rotation on its pedestal
+    let top = &out.bodies[1];
+    assert!(
+        top.slip_max == 0.0 && top.theta_max_over_theta_c == 0.0,
+        "{top:?}"
+    );
+    assert!(!out.bodies.iter().any(|b| b.overturned));
+}

@@ -55,6 +55,26 @@ pub fn non_negative(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A cap on the free motion followed after the record's end, s: the
+/// range the spec's `solver.free_motion_max` accepts (its check, one place).
+pub fn free_motion_s(s: &str) -> Result<f64, String> {
+    let x = s
+        .trim()
+        .parse::<f64>()
+        .map_err(|_| "expected a time in s".to_string())?;
+    let settings = rockfrag::solver::SolverSettings {
+        free_motion_max: x,
+        ..rockfrag::solver::SolverSettings::default()
+    };
+    match settings.validate() {
+        Err(rockfrag::error::Error::InvalidParameter { expected, .. }) => {
+            Err(format!("expected {expected}"))
+        }
+        Err(e) => Err(e.to_string()),
+        Ok(()) => Ok(x),
+    }
+}
+
 /// A number in [0, 1].
 pub fn unit_interval(s: &str) -> Result<f64, String> {
     let x = number(s)?;

@@ -1,8 +1,8 @@
 //! `rockfrag simulate`: one block under one record, printing the outcome.
 
 use super::args::{
-    choice, damping_ratio, finite, non_negative, open_unit_interval, pga_g, pgv_m_s, positive,
-    unit_interval,
+    choice, damping_ratio, finite, free_motion_s, non_negative, open_unit_interval, pga_g, pgv_m_s,
+    positive, unit_interval,
 };
 use anyhow::Context;
 use clap::ValueEnum;
@@ -39,6 +39,7 @@ pub struct SimulateArgs {
         "motion", "seed", "pga", "pgv", "scale", "motion2", "orientation", "index",
         "floor_period", "floor_damping", "floor_participation", "model", "integrator",
         "impact", "rock_impact", "rtol", "settle_tol", "follow_cascades", "g",
+        "free_motion_max",
     ])]
     pub study: Option<PathBuf>,
     /// With --study: the case, by its id (the `case_id` of fragility.csv,
@@ -167,6 +168,12 @@ pub struct SimulateArgs {
     /// flight (a reading of the paper's program, not physics).
     #[arg(long, value_parser = choice::<RockImpact>(RockImpact::names()), default_value_t = RockImpact::default())]
     pub rock_impact: RockImpact,
+    /// Longest free motion (s) followed after the record's end: a body still
+    /// moving then goes on under still ground until it rests or overturns;
+    /// one still moving this long after the record is a failure naming it.
+    /// 0 stops at the record's end (the paper's program); at most 3600.
+    #[arg(long = "free-motion-max", value_name = "SECONDS", default_value_t = SolverSettings::default().free_motion_max, value_parser = free_motion_s, allow_negative_numbers = true)]
+    pub free_motion_max: f64,
     /// Gravity (m/s²), also used to convert accelerations given in g.
     #[arg(long, value_name = "M/S2", default_value_t = G_STANDARD, value_parser = positive)]
     pub g: f64,
@@ -322,6 +329,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
             settle_tol: args.settle_tol,
             json: args.json,
             history: args.history.clone(),
+            free_motion_max: args.free_motion_max,
         };
         return super::stack::run(&flags, &record);
     }
@@ -347,6 +355,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         settle_tol: args.settle_tol,
         settle_cascades: !args.follow_cascades,
         audit_energy: args.audit_energy,
+        free_motion_max: args.free_motion_max,
         ..SolverSettings::default()
     };
     let mut history = args.history.as_ref().map(|_| History::default());
@@ -525,11 +534,20 @@ fn run_study(args: &SimulateArgs, path: &std::path::Path) -> anyhow::Result<()> 
             let motion = r.motion.map_err(|e| anyhow::anyhow!("record: {e}"))?;
             let analysis = match r.analysed.analysis {
                 Some(rockfrag::case::Scene::Block(a)) => a,
-                Some(rockfrag::case::Scene::Stack(_)) => anyhow::bail!(
-                    "{id} is a stack: pass --csv for its row of outcomes.csv (every body's \
-                     columns), or solve it with `rockfrag simulate --stack` and its blocks \
-                     for its history"
-                ),
+                Some(rockfrag::case::Scene::Stack(stack)) => {
+                    let report = super::stack::Report {
+                        json: args.json,
+                        history: args.history.as_deref(),
+                        g: study.g,
+                        heading: Some(format!(
+                            "study             {} ({}), case {id}, level {} and record {record}",
+                            study.name,
+                            path.display(),
+                            number(level)
+                        )),
+                    };
+                    return report.solve(&stack, &motion.felt, &study.solver);
+                }
                 None => anyhow::bail!("block: {}", r.analysed.result.clone().unwrap_err()),
             };
             let outcome = r

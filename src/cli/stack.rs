@@ -43,6 +43,8 @@ pub struct StackFlags {
     pub json: bool,
     /// `--history`.
     pub history: Option<PathBuf>,
+    /// `--free-motion-max`.
+    pub free_motion_max: f64,
 }
 
 /// A list flag's values, one per body: `what` names the flag in errors.
@@ -156,26 +158,66 @@ pub fn run(args: &StackFlags, record: &Record) -> anyhow::Result<()> {
         impact: args.impact,
         rtol: args.rtol,
         settle_tol: args.settle_tol,
+        free_motion_max: args.free_motion_max,
         ..SolverSettings::default()
     };
-    let mut history = args.history.as_ref().map(|_| StackHistory::default());
-    let out = simulate_stack(&stack, record, &settings, history.as_mut())
-        .with_context(|| format!("solving the stack under record {}", record.name))?;
-    if let (Some(path), Some(h)) = (&args.history, &history) {
-        h.write_csv(path)?;
+    let out = Report {
+        json: args.json,
+        history: args.history.as_deref(),
+        g: args.g,
+        heading: None,
+    };
+    out.solve(&stack, record, &settings)
+}
+
+/// How [`Report::solve`] reports one analysis of a stack: `simulate
+/// --stack`'s and `simulate --study … --case stack_…`'s.
+pub struct Report<'a> {
+    /// `--json`: one JSON object `{"bodies": [...], ...}` instead of the summary.
+    pub json: bool,
+    /// `--history`: every body's state, written here.
+    pub history: Option<&'a std::path::Path>,
+    /// Gravity (m/s²), for the record's PGA in g.
+    pub g: f64,
+    /// A first line of the summary (the study's analysis it is).
+    pub heading: Option<String>,
+}
+
+impl Report<'_> {
+    /// Solves `stack` under `record` with `settings` and prints what
+    /// happened to each body; an analysis that left the modes the solver
+    /// models (or never came to rest) is printed, then an error. The
+    /// numbers are a solve without history (as a study's row is made);
+    /// with `history`, a second solve records it.
+    pub fn solve(
+        &self,
+        stack: &Stack,
+        record: &Record,
+        settings: &SolverSettings,
+    ) -> anyhow::Result<()> {
+        let solving = || format!("solving the stack under record {}", record.name);
+        let out = simulate_stack(stack, record, settings, None).with_context(solving)?;
+        if let Some(path) = self.history {
+            let mut h = StackHistory::default();
+            simulate_stack(stack, record, settings, Some(&mut h)).with_context(solving)?;
+            h.write_csv(path)?;
+        }
+        if self.json {
+            println!("{}", out.to_json());
+        } else {
+            if let Some(line) = &self.heading {
+                println!("{line}");
+            }
+            print_summary(stack, record, self.g, &out);
+        }
+        if let Some(reason) = &out.failure {
+            bail!(
+                "the analysis of the stack did not finish: {reason}; its numbers cover only the \
+                 motion before and are not the run's response"
+            );
+        }
+        Ok(())
     }
-    if args.json {
-        println!("{}", out.to_json());
-    } else {
-        print_summary(&stack, record, args.g, &out);
-    }
-    if let Some(reason) = &out.failure {
-        bail!(
-            "the analysis of the stack did not finish: {reason}; its numbers cover only the \
-             motion before and are not the run's response"
-        );
-    }
-    Ok(())
 }
 
 fn print_summary(stack: &Stack, record: &Record, g: f64, out: &StackOutcome) {
@@ -210,6 +252,7 @@ fn print_summary(stack: &Stack, record: &Record, g: f64, out: &StackOutcome) {
         "impacts           {} (energy gains {}, settles {}, lift-off holds {})",
         out.impacts, out.energy_gains, out.settles, out.liftoff_holds
     );
+    println!("end time          {} s", fixed(out.end_time, 4));
     if let Some(reason) = &out.failure {
         println!("FAILED            {reason}");
     }

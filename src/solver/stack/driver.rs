@@ -233,8 +233,9 @@ impl<'a> Run<'a> {
         // the record's samples, then still ground up to the free-motion cap
         let n_all = n_samples + self.set.free_samples(self.rec.dt);
         for i in 0..n_all - 1 {
-            if i + 1 >= n_samples && self.modes.dof() == 0 {
-                // past the record the ground is still: rest is final
+            if i + 1 >= n_samples && self.settled() {
+                // past the record the ground is still: rest is final, and
+                // so is a rigid slide on frictionless ground
                 return;
             }
             let seg = self.segment(i);
@@ -299,12 +300,28 @@ impl<'a> Run<'a> {
             self.t = t_end;
             self.push_row(false);
         }
-        if n_all > n_samples && self.modes.dof() > 0 {
+        if n_all > n_samples && !self.settled() {
             self.fail(format!(
                 "still moving {} s after the record's end (free_motion_max): no decided state",
                 self.set.free_motion_max
             ));
         }
+    }
+
+    /// Past the record (still ground), whether the state is final: every
+    /// interface flat and stuck (rest), or the ground interface sliding flat
+    /// with μk = 0 and every other stuck: the stack then translates rigidly
+    /// at constant speed, with no horizontal force on any body and the
+    /// bodies' weights where they were, so nothing can stop, tip or shift
+    /// it (the single block's rule; the slip grows without bound and is
+    /// reported at the record's end). A slide at an upper interface is not
+    /// final: it moves the weight of the bodies above along the one below.
+    fn settled(&self) -> bool {
+        (0..self.modes.n).all(|k| {
+            let m = self.modes.ifs[k];
+            let frictionless = k == 0 && matches!(self.sc.fric[0], Some((_, mu_k)) if mu_k == 0.0);
+            m.touch == Touch::Flat && (m.slip == Slip::Stick || frictionless)
+        })
     }
 
     /// A stack at rest over [t, t_end]: the first event, if any (then the
