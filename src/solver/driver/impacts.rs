@@ -300,6 +300,11 @@ impl Run<'_> {
             r = impact::two_corner_impact(&bl, vel, left, right, e, law);
             self.tally.out.settles += 1;
         }
+        if r.delta_kinetic > 0.0 {
+            // Newton's targets gained energy (u_t⁻ ≠ 0 couples into the normals):
+            // Poisson's u⁺ = −e u⁻ at all three contact velocities, ΔT = −(1 − e²)T⁻
+            r = impact::two_corner_impact(&bl, vel, left, right, e, ImpactLaw::Energetic);
+        }
         let demand = r.friction_demand();
         if r.p_left < 0.0 || r.p_right < 0.0 || !self.sticks(demand) {
             if e != self.given.e {
