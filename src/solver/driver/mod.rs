@@ -19,7 +19,8 @@
 //! corner within 1e-9·B of the ground is in contact. A flat landing, both
 //! corners in contact and both approaching faster than ε·√(gR), is one
 //! simultaneous impact (`impact::two_corner_impact`: u_n⁺ = −e u_n⁻ at each
-//! corner, no slip at the middle of the base), taken when both normal
+//! corner, no slip at the middle of the base; Poisson's u⁺ = −e u⁻ of all
+//! three contact velocities where that would add energy), taken when both normal
 //! impulses come out ≥ 0 and it sticks; so a symmetric landing rebounds
 //! straight up at e·v and never turns. Otherwise (a rock impact, whose pivot
 //! does not approach; a pull at one corner; a slipping base under Coulomb
