@@ -118,6 +118,85 @@ pub fn corner_impact(
     }
 }
 
+/// Result of a simultaneous impact of both corners (a flat landing).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TwoCornerImpact {
+    /// Velocity after the impact.
+    pub after: Velocity,
+    /// Total tangential impulse P_t per unit mass (m/s), applied at the
+    /// middle of the base.
+    pub p_t: f64,
+    /// Normal impulse at the left corner per unit mass (m/s).
+    pub p_left: f64,
+    /// Normal impulse at the right corner per unit mass (m/s).
+    pub p_right: f64,
+    /// Change of kinetic energy per unit mass (J/kg); > 0 is an energy gain.
+    pub delta_kinetic: f64,
+}
+
+impl TwoCornerImpact {
+    /// Friction needed to prevent sliding during the impact,
+    /// |P_t|/(P_left + P_right) (0 when there is no normal impulse).
+    #[inline]
+    pub fn friction_demand(&self) -> f64 {
+        let p_n = self.p_left + self.p_right;
+        if p_n > 0.0 {
+            (self.p_t / p_n).abs()
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Simultaneous no-slip impact of both corners, at offsets `left` and
+/// `right` from G (a flat landing: both on the ground at once), with
+/// restitution `e` at each: u_n⁺ = −e u_n⁻ at both corners, and at the
+/// middle of the base u_t⁺ = 0 (Newton) or −e u_t⁻ (energetic, which then
+/// gives u⁺ = −e u⁻ for all three contact velocities, so ΔT = −(1 − e²)T⁻ of
+/// the contact motion and never a gain). The three targets fix the velocity
+/// after; the impulses follow from momentum. A symmetric landing (ω = 0,
+/// v_x = 0) rebounds straight up at e·v_y and never turns: the sequential
+/// rule, one corner first, would turn it. Valid (an impact) only when both
+/// normal impulses are ≥ 0, which the caller checks.
+pub fn two_corner_impact(
+    block: &Block,
+    v: &Velocity,
+    left: (f64, f64),
+    right: (f64, f64),
+    e: f64,
+    law: ImpactLaw,
+) -> TwoCornerImpact {
+    let (rxl, ryl) = left;
+    let (rxr, ryr) = right;
+    let (rxm, rym) = (0.5 * (rxl + rxr), 0.5 * (ryl + ryr));
+    let unl = point_velocity(v, rxl, ryl).1;
+    let unr = point_velocity(v, rxr, ryr).1;
+    let utm = point_velocity(v, rxm, rym).0;
+    // targets: Newton's restitution at each corner, stick (or −e u_t) mid-base
+    let (tl, tr) = (-e * unl, -e * unr);
+    let tt = match law {
+        ImpactLaw::Newton => 0.0,
+        ImpactLaw::Energetic => -e * utm,
+    };
+    // u_n = v_y + ω r_x at each corner, u_t = v_x − ω r_y mid-base, inverted
+    let omega = (tr - tl) / (rxr - rxl);
+    let vy = tl - omega * rxl;
+    let vx = tt + omega * rym;
+    let after = Velocity { vx, vy, omega };
+    let (p_t, p_n) = (vx - v.vx, vy - v.vy);
+    // I Δω = r_xl P_l + r_xr P_r − r_ym P_t, with P_l + P_r = P_n
+    let p_right = (block.inertia * (omega - v.omega) + rym * p_t - rxl * p_n) / (rxr - rxl);
+    let p_left = p_n - p_right;
+    let delta_kinetic = block.kinetic(vx, vy, omega) - block.kinetic(v.vx, v.vy, v.omega);
+    TwoCornerImpact {
+        after,
+        p_t,
+        p_left,
+        p_right,
+        delta_kinetic,
+    }
+}
+
 /// Housner's angular velocity ratio at a rock impact with no slip:
 /// ω₂/ω₁ = 1 − 1.5(1+e) sin²θc (see `physics.md`, checked).
 pub fn rock_impact_ratio(block: &Block, e: f64) -> f64 {

@@ -41,7 +41,8 @@ pub use block::{ASPECT_RANGE, Block, WIDTH_RANGE, aspect_expected, width_expecte
 pub use driver::simulate;
 pub use history::{History, HistoryRow};
 pub use impact::{
-    ImpactLaw, ImpactResult, Velocity, corner_impact, eq5_mu, rock_impact_mu, rock_impact_ratio,
+    ImpactLaw, ImpactResult, TwoCornerImpact, Velocity, corner_impact, eq5_mu, rock_impact_mu,
+    rock_impact_ratio, two_corner_impact,
 };
 pub use sensitivity::{Sensitivity, sensitivity};
 pub use settings::{Analysis, Friction, Initial, Integrator, Model, RockImpact, SolverSettings};

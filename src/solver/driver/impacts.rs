@@ -25,6 +25,10 @@ impl Run<'_> {
         let touching: [bool; 2] =
             [-1.0, 1.0].map(|sd| bl.h + pose.y + offset(sd).1 <= self.rules.h_touch);
         let mut next = Some(side);
+        if touching == [true, true] && self.flat_landing(t, &mut vel, offset(-1.0), offset(1.0)) {
+            // both corners struck at once and the two-contact impact applied
+            next = None;
+        }
         let mut count = 0;
         // the end of a bounce series closed by the chatter rule
         let mut series_end = None;
@@ -260,6 +264,66 @@ impl Run<'_> {
         if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
             self.tally.out.energy_gains += 1;
         }
+    }
+
+    /// A flat landing: both corners touching and both approaching the ground
+    /// faster than the ring-down threshold. Applies the simultaneous
+    /// two-corner impact ([`impact::two_corner_impact`]) to `vel` and returns
+    /// true when it is an impact (both normal impulses ≥ 0) that sticks;
+    /// otherwise leaves `vel` alone for the sequential rule (one corner's
+    /// impulse would pull, or under Coulomb friction the base would slip).
+    /// Rebounds below the threshold are plastic (ring-down rule).
+    fn flat_landing(
+        &mut self,
+        t: f64,
+        vel: &mut Velocity,
+        left: (f64, f64),
+        right: (f64, f64),
+    ) -> bool {
+        let v_settle = self.rules.v_settle;
+        let approaching = |(rx, ry): (f64, f64)| impact::point_velocity(vel, rx, ry).1 < -v_settle;
+        if !approaching(left) || !approaching(right) {
+            // e.g. a rock impact: the pivot does not approach (Housner's rule)
+            return false;
+        }
+        let bl = self.given.bl;
+        let law = self.given.set.impact;
+        let mut e = self.given.e;
+        // simultaneous Newton restitution at both corners (physics.md, two-contact rule)
+        let mut r = impact::two_corner_impact(&bl, vel, left, right, e, law);
+        let rebound = |r: &impact::TwoCornerImpact, (rx, ry): (f64, f64)| {
+            impact::point_velocity(&r.after, rx, ry).1
+        };
+        if e > 0.0 && rebound(&r, left).max(rebound(&r, right)) <= v_settle {
+            // ring-down: a rebound below the threshold is plastic
+            e = 0.0;
+            r = impact::two_corner_impact(&bl, vel, left, right, e, law);
+            self.tally.out.settles += 1;
+        }
+        if r.delta_kinetic > 0.0 {
+            // Newton's targets gained energy (u_t⁻ ≠ 0 couples into the normals):
+            // Poisson's u⁺ = −e u⁻ at all three contact velocities, ΔT = −(1 − e²)T⁻
+            r = impact::two_corner_impact(&bl, vel, left, right, e, ImpactLaw::Energetic);
+        }
+        let demand = r.friction_demand();
+        if r.p_left < 0.0 || r.p_right < 0.0 || !self.sticks(demand) {
+            if e != self.given.e {
+                self.tally.out.settles -= 1;
+            }
+            return false;
+        }
+        let out = &mut self.tally.out;
+        out.impacts += 2;
+        out.first_impact_time.get_or_insert(t);
+        out.mu_impact = out.mu_impact.max(demand);
+        // eq. (5) of the two-corner sticking impulse is its |P_t/P_n|
+        out.mu_impact_eq5 = out.mu_impact_eq5.max(demand);
+        let t_before = bl.kinetic(vel.vx, vel.vy, vel.omega);
+        if r.delta_kinetic > 1e-12 * t_before.max(f64::MIN_POSITIVE) {
+            out.energy_gains += 1;
+        }
+        *vel = r.after;
+        true
     }
 
     /// Both corners down, no velocity: rest at the current footprint.

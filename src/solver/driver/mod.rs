@@ -16,10 +16,18 @@
 //! ε·√(gR) is treated as plastic (e = 0 at that impact), and a block whose
 //! corners are both within touching distance and move slower than ε·√(gR)
 //! is set to rest (ε = `settle_tol`). Two-contact rule: at an impact every
-//! corner within 1e-9·B of the ground is in contact; while any contact corner
-//! approaches the ground, the single-corner impact law is applied at the one
-//! approaching fastest (sequential impacts), at most 64 times, after which
-//! the block is set down flat and still.
+//! corner within 1e-9·B of the ground is in contact. A flat landing, both
+//! corners in contact and both approaching faster than ε·√(gR), is one
+//! simultaneous impact (`impact::two_corner_impact`: u_n⁺ = −e u_n⁻ at each
+//! corner, no slip at the middle of the base; Poisson's u⁺ = −e u⁻ of all
+//! three contact velocities where that would add energy), taken when both normal
+//! impulses come out ≥ 0 and it sticks; so a symmetric landing rebounds
+//! straight up at e·v and never turns. Otherwise (a rock impact, whose pivot
+//! does not approach; a pull at one corner; a slipping base under Coulomb
+//! friction), while any contact corner approaches the ground, the
+//! single-corner impact law is applied at the one approaching fastest
+//! (sequential impacts), at most 64 times, after which the block is set
+//! down flat and still.
 //!
 //! Cascade rule (`settle_cascades`; e = 0, and e > 0 below): after a rock
 //! impact, a block rocking on alternate corners with a shrinking speed u
