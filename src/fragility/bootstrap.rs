@@ -152,8 +152,11 @@ fn summarise(
     if ok.len() >= 2 {
         let mut p = vec![0.0; ok.len()];
         for &x in grid {
+            // ln x once a point, not once a replicate (the same bits as
+            // `fit.probability(x)`)
+            let ln_x = if x <= 0.0 { None } else { Some(dm::ln(x)) };
             for (pi, fit) in p.iter_mut().zip(&ok) {
-                *pi = fit.probability(x);
+                *pi = ln_x.map_or(0.0, |l| fit.probability_at_ln(l));
             }
             curve_lo.push(select_percentile(&mut p, q[0]));
             curve_hi.push(select_percentile(&mut p, q[1]));
