@@ -22,7 +22,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use common::{rockfrag, stderr};
-use rockfrag::figures::{HistoryCase, HistoryFigure, SpectrumFigure};
+use rockfrag::figures::{HistoryFigure, SpectrumFigure};
 use rockfrag::motion::{SynthesisSettings, preset};
 use rockfrag::outcome::Mode;
 
@@ -319,17 +319,9 @@ bootstrap = 20
 /// (they were merged into one "flight" of 0.2–0.4 s).
 #[test]
 fn a_run_of_bounces_is_drawn_as_its_flights() {
-    let case = HistoryCase {
-        aspect: 2.0,
-        width: 0.5,
-        restitution: 0.6,
-        mu_s: 0.6,
-        mu_k: 0.4,
-        pga: 0.9,
-        seed: 1991,
-        records: 25,
-    };
-    let fig = HistoryFigure::compute(&case, &preset("shenton-jones").unwrap()).unwrap();
+    let motion = preset("shenton-jones").unwrap();
+    let case = rockfrag::paper::history_case(&motion, 1991).unwrap();
+    let fig = HistoryFigure::compute(&case, &motion).unwrap();
     let flights: Vec<_> = fig
         .intervals
         .iter()

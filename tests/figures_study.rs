@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 
 use rockfrag::figures::StudyData;
 use rockfrag::figures::{FigureOptions, study_figures};
-use rockfrag::figures::{HistoryCase, HistoryFigure, bounce_colour, mode_colour};
+use rockfrag::figures::{HistoryFigure, bounce_colour, mode_colour};
 use rockfrag::motion::SynthesisSettings;
 
 const ASPECTS: [f64; 2] = [2.0, 4.0];
@@ -459,16 +459,20 @@ fn history_shades_every_mode_interval_and_shows_several_modes() {
     // e = 0.6) chosen for showing modes: at least three, including a sliding
     // one. Its SVG has two curves (ground acceleration and θ/θc, black, every
     // sample) and one background rectangle per mode interval in each panel.
-    let case = HistoryCase {
-        aspect: 2.0,
-        width: 0.5,
-        restitution: 0.6,
-        mu_s: 0.6,
-        mu_k: 0.4,
-        pga: 0.9,
-        seed: 1,
-        records: 25,
-    };
+    // the paper layer chooses the record among 25 (through the ensemble
+    // primitive); the figure solves that one with its history
+    let case = rockfrag::paper::history_case(&SynthesisSettings::default(), 1).unwrap();
+    assert_eq!(
+        (
+            case.aspect,
+            case.width,
+            case.restitution,
+            case.mu_s,
+            case.mu_k
+        ),
+        (2.0, 0.5, 0.6, 0.6, 0.4)
+    );
+    assert_eq!((case.pga, case.seed, case.records), (0.9, 1, 25));
     let fig = HistoryFigure::compute(&case, &SynthesisSettings::default()).unwrap();
     let modes: std::collections::BTreeSet<&str> =
         fig.intervals.iter().map(|iv| iv.mode.name()).collect();

@@ -209,9 +209,7 @@ fn simulate_study_names_what_the_study_has() {
 /// default motion model, not the study's `shenton-jones` preset).
 #[test]
 fn the_history_figure_names_the_command_that_solves_it_again() {
-    use rockfrag::figures::{
-        FigureOptions, HistoryCase, HistoryChoice, StudyFigures, study_of_folder,
-    };
+    use rockfrag::figures::{FigureOptions, HistoryChoice, StudyFigures, study_of_folder};
     let tmp = tempfile::tempdir().unwrap();
     let vase = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/studies/vase.toml"))
         .unwrap()
@@ -249,16 +247,9 @@ fn the_history_figure_names_the_command_that_solves_it_again() {
         let mut options = FigureOptions::for_study(&study);
         if spec.is_none() {
             // the paper layer's illustrative block (src/paper/figures.rs)
-            options.history = HistoryChoice::Case(HistoryCase {
-                aspect: 2.0,
-                width: 0.5,
-                restitution: 0.6,
-                mu_s: 0.6,
-                mu_k: 0.4,
-                pga: 0.9,
-                seed: options.seed,
-                records: 25,
-            });
+            options.history = HistoryChoice::Case(
+                rockfrag::paper::history_case(&options.synthesis, options.seed).unwrap(),
+            );
         }
         let figures = StudyFigures::compute(&out, &options).unwrap();
         let history = figures.history.expect("a history figure");

@@ -25,11 +25,12 @@
 //!    θmax/θc that did not overturn (else the largest overall); ties go to
 //!    the lowest record index.
 //!
-//! Or one block under the first records of a synthetic ensemble at one PGA
-//! ([`HistoryCase`]): the run that shows the most modes (each for at least
-//! [`MIN_MODE_S`]) is drawn, preferring runs that do not overturn and then
-//! the longest motion; ties go to the lowest record index. The paper layer
-//! draws its illustrative block so.
+//! Or one block under one record of a synthetic ensemble (or of the
+//! study's record files) at one PGA ([`HistoryCase`]), chosen by the
+//! caller among the ensemble's first records: the paper layer solves them
+//! through the ensemble primitive ([`crate::study::ensemble`]) and picks
+//! the run that shows the most modes; the figure solves only the record it
+//! is given, once, with its time history.
 
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend, Rectangle};
@@ -87,11 +88,12 @@ pub enum HistoryChoice {
         /// The record's index.
         record: Option<u64>,
     },
-    /// One block under the first records of a synthetic ensemble.
+    /// One block under one record of an ensemble, chosen by the caller.
     Case(HistoryCase),
 }
 
-/// One block at one PGA, over records 0..`records` of an ensemble.
+/// One block at one PGA under record `record` of an ensemble, chosen (by
+/// the caller, e.g. the paper layer) among records 0..`records`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HistoryCase {
     /// Aspect ratio H/B.
@@ -108,8 +110,11 @@ pub struct HistoryCase {
     pub pga: f64,
     /// Ensemble seed.
     pub seed: u64,
-    /// Records 0..`records` are tried.
+    /// Records 0..`records` were tried (the heading says so when more than
+    /// one).
     pub records: u64,
+    /// The record drawn, one of 0..`records`.
+    pub record: u64,
 }
 
 /// A stretch of time in one mode.
@@ -318,47 +323,51 @@ impl HistoryFigure {
         Ok(Drawn::Block(Box::new(figure)))
     }
 
-    /// Runs the case's records, chooses one (see the module docs) and
-    /// extracts what the figure draws.
+    /// The figure of the case's record `case.record` of ensemble
+    /// `case.seed` (made by `motion`, at `case.pga`), solved once with its
+    /// time history.
+    ///
+    /// Errors: a record or block that cannot be made, or a record not
+    /// among the `case.records` tried.
     pub fn compute(case: &HistoryCase, motion: &SynthesisSettings) -> Result<Self> {
         let mut synth = Synthesizer::new(motion)?;
         let pga = motion.pga_from_g(case.pga);
         let seed = case.seed;
-        Self::choose(
+        Self::of_case(
             case,
             motion.g,
-            case.records.max(1),
             |i| synth.generate(seed, i, pga),
             |i| format!("record {i} of seed {seed}"),
         )
     }
 
-    /// As [`HistoryFigure::compute`], choosing among a study's recorded
-    /// motions (the first `case.records` of `records`, each scaled to
-    /// `case.pga` by its PGA, as the study runner scales them) instead of a
-    /// synthetic ensemble; `case.seed` is not used. `names` label the
-    /// records in the title (one per record).
+    /// As [`HistoryFigure::compute`], under a study's recorded motion
+    /// `records[case.record]` (scaled to `case.pga` by its PGA, as the
+    /// study runner scales it) instead of a synthetic one; `case.seed` is
+    /// not used. `names` label the records in the title (one per record).
     ///
-    /// Errors: no record, or a record whose PGA is not positive.
+    /// Errors: no such record, or a record whose PGA is not positive.
     pub fn compute_recorded(
         case: &HistoryCase,
         records: &[Record],
         names: &[String],
         g: f64,
     ) -> Result<Self> {
-        if records.is_empty() {
+        if case.record as usize >= records.len() {
             return Err(Error::InvalidRecord {
                 name: "history".to_string(),
-                message: "no recorded motion to choose from".to_string(),
+                message: format!(
+                    "record {} asked for, of {} recorded motions",
+                    case.record,
+                    records.len()
+                ),
             });
         }
         // the runner's own scaling: every series by target PGA / record PGA
         let mut source = Source::Files(Arc::new(records.to_vec()));
-        let n = (case.records.max(1) as usize).min(records.len()) as u64;
-        Self::choose(
+        Self::of_case(
             case,
             g,
-            n,
             |i| source.record(&Intensity::Pga(Vec::new()), case.pga, i as usize, g),
             |i| {
                 names
@@ -369,16 +378,23 @@ impl HistoryFigure {
         )
     }
 
-    /// Runs records 0..`count` from `record(i)` (already at the case's PGA),
-    /// chooses one (see the module docs) and extracts what the figure draws;
-    /// `label(i)` names record i in the title.
-    fn choose(
+    /// The figure of record `case.record` from `record_at(i)` (already at
+    /// the case's PGA); `label(i)` names record i in the title.
+    fn of_case(
         case: &HistoryCase,
         g: f64,
-        count: u64,
-        mut record_at: impl FnMut(u64) -> Result<Record>,
+        record_at: impl FnOnce(u64) -> Result<Record>,
         label: impl Fn(u64) -> String,
     ) -> Result<Self> {
+        let count = case.records.max(1);
+        let index = case.record;
+        if index >= count {
+            return Err(Error::invalid(
+                "history record",
+                index,
+                &format!("one of the records tried (0–{})", count - 1),
+            ));
+        }
         let block = Block::new(case.width, case.aspect, g)?;
         let mut analysis = Analysis::new(block, case.restitution);
         analysis.friction = Friction::Coulomb {
@@ -386,25 +402,6 @@ impl HistoryFigure {
             mu_k: case.mu_k,
         };
         let solver = SolverSettings::default();
-
-        let mut best: Option<((bool, usize, f64), u64)> = None;
-        for i in 0..count {
-            let record = record_at(i)?;
-            let out = simulate(&analysis, &record, &solver, None)?;
-            let modes = out
-                .time_in_mode
-                .iter()
-                .filter(|&&t| t >= MIN_MODE_S)
-                .count();
-            let moving = out.end_time - out.time_in_mode[Mode::Rest.index()];
-            let score = (!out.overturned, modes, moving);
-            // lexicographic: standing, then modes, then time moving
-            let better = best.as_ref().is_none_or(|(s, _)| score > *s);
-            if better {
-                best = Some((score, i));
-            }
-        }
-        let index = best.map_or(0, |(_, i)| i);
         let record = record_at(index)?;
         let title = format!(
             "H/B = {}, 2B = {} m, e = {}, μₛ = {}, μₖ = {}; {} at {} g",

@@ -51,7 +51,7 @@ pub use figure::{DrawResult, Figure, Format, save};
 pub use fragility::{FragilityFigure, ShortCurves};
 pub use friction::FrictionDemandFigure;
 pub use history::{
-    HistoryCase, HistoryChoice, HistoryFigure, ModeInterval, bounce_colour, mode_colour,
+    HistoryCase, HistoryChoice, HistoryFigure, MIN_MODE_S, ModeInterval, bounce_colour, mode_colour,
 };
 pub use motion::plot_record;
 pub use restitution::RestitutionFigure;

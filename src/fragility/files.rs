@@ -480,18 +480,28 @@ pub struct BootstrapRow {
 impl BootstrapRow {
     /// The row's line, without its newline (columns of [`BOOTSTRAP_HEADER`]).
     pub fn line(&self) -> String {
-        let (median, beta, status) = match &self.fit {
-            Ok((m, b)) => (number(*m), number(*b), "ok"),
-            Err(reason) => (String::new(), String::new(), reason.keyword()),
-        };
+        format!("{},{}", self.curve(), self.replicate_fields())
+    }
+
+    /// The row's first four fields: its curve (index, case, limit state,
+    /// IM), the same for every replicate of a fit.
+    fn curve(&self) -> String {
         format!(
-            "{},{},{},{},{},{median},{beta},{status}",
+            "{},{},{},{}",
             self.index,
             self.case.fields(),
             self.limit_state,
             crate::io_util::csv_field(self.im.name()),
-            self.replicate
         )
+    }
+
+    /// The row's other fields: the replicate and its fit.
+    fn replicate_fields(&self) -> String {
+        let (median, beta, status) = match &self.fit {
+            Ok((m, b)) => (number(*m), number(*b), "ok"),
+            Err(reason) => (String::new(), String::new(), reason.keyword()),
+        };
+        format!("{},{median},{beta},{status}", self.replicate)
     }
 }
 
@@ -648,8 +658,13 @@ pub(crate) fn write_bootstrap_csv(path: &Path, fits: &[CaseFit]) -> Result<()> {
     write_atomic(path, |w| {
         writeln!(w, "{BOOTSTRAP_HEADER}")?;
         for (i, f) in fits.iter().enumerate() {
-            for row in bootstrap_rows(i, f) {
-                writeln!(w, "{}", row.line())?;
+            let rows = bootstrap_rows(i, f);
+            // the curve's fields formatted once, not once a replicate
+            let Some(curve) = rows.first().map(BootstrapRow::curve) else {
+                continue;
+            };
+            for row in &rows {
+                writeln!(w, "{curve},{}", row.replicate_fields())?;
             }
         }
         Ok(())

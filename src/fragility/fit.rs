@@ -60,8 +60,15 @@ impl LognormalFit {
         if im <= 0.0 {
             0.0
         } else {
-            dm::norm_cdf(self.a + self.b * dm::ln(im))
+            self.probability_at_ln(dm::ln(im))
         }
+    }
+
+    /// Probability of overturning at the intensity whose logarithm is
+    /// `ln_im` (Φ(a + b ln IM)), for a caller that evaluates many fits at
+    /// one intensity.
+    pub fn probability_at_ln(&self, ln_im: f64) -> f64 {
+        dm::norm_cdf(self.a + self.b * ln_im)
     }
 
     /// Standard error of ln θ by the delta method: ∂lnθ/∂a = −1/b, ∂lnθ/∂b = a/b².

@@ -27,6 +27,7 @@ pub use check::{
     CheckOptions, ReadingResult, Scores, check, markdown as check_markdown, paper_totals, score,
     write_report,
 };
+pub use figures::{history_case, most_modes};
 pub use tables::{Reading, readings};
 
 use std::path::Path;
