@@ -44,7 +44,7 @@ pub struct SimulateArgs {
     pub study: Option<PathBuf>,
     /// With --study: the case, by its id (the `case_id` of fragility.csv,
     /// e.g. `a4_w0p2_edrawn_mudrawn`); its block, drawn values drawn as the
-    /// run drew them.
+    /// run drew them, or a stack's bodies (`stack_NAME`), each reported.
     #[arg(long, value_name = "CASE_ID", requires = "study", conflicts_with_all = [
         "width", "aspect", "restitution", "mu_s", "mu_k", "friction",
     ])]
