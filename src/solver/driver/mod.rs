@@ -528,6 +528,9 @@ struct Given<'a> {
     acc: &'a [f64],
     acc_v: Option<&'a [f64]>,
     dt: f64,
+    /// Samples of the record followed by those of still ground up to the
+    /// free-motion cap ([`SolverSettings::free_motion_max`]), set once.
+    samples: usize,
     /// Initial conditions.
     init: Initial,
 }
@@ -638,6 +641,7 @@ impl<'a> Run<'a> {
                 acc: &rec.acc,
                 acc_v: rec.acc_v.as_deref(),
                 dt: rec.dt,
+                samples: rec.acc.len() + set.free_samples(rec.dt),
                 init: an.initial,
             },
             tally: Tally {
@@ -686,11 +690,10 @@ impl<'a> Run<'a> {
         }
     }
 
-    /// Samples of the record followed by those of still ground up to the
-    /// free-motion cap ([`SolverSettings::free_motion_max`]).
+    /// Samples of the record and of still ground after it ([`Given::samples`]).
     #[inline]
     fn samples(&self) -> usize {
-        self.given.acc.len() + self.given.set.free_samples(self.given.dt)
+        self.given.samples
     }
 
     fn initial_state(&self) -> State {
