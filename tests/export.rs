@@ -259,3 +259,101 @@ fn sa_curves_go_to_pelicun_as_peak_spectral_acceleration() {
     let row = text.lines().nth(1).unwrap();
     assert!(row.contains(",Peak Spectral Acceleration|0.50,g,"), "{row}");
 }
+
+/// A statue on a pedestal that never overturns must still reach pelicun:
+/// a case whose last limit states were never exceeded at any stripe is
+/// written with the limit states before them (their damage states keep
+/// their numbers; the blank trailing columns are what pelicun reads as "no
+/// more damage states"), and named in `Partial`; a case with an unfitted
+/// limit state before a fitted one is still left out, since a blank in the
+/// middle would renumber pelicun's damage states. Before the partial rule
+/// the stack was left out (`Omitted`), and `scripts/check-clients.sh` runs
+/// the written file through pelicun itself.
+#[test]
+fn trailing_limit_states_never_exceeded_leave_a_partial_component() {
+    let dir = tempfile::tempdir().unwrap();
+    // the pedestal (0.6 x 1.0 m, onset 0.6 g under a statue; it never
+    // overturned up to 1 g in studies/statue-on-pedestal.toml) stays up
+    let write = |name: &str, order: &[(&str, &str)]| -> std::path::PathBuf {
+        let mut text = format!(
+            "name = \"{name}\"\nseed = 40\nrecords = 12\n[motion]\nduration = 12.0\n\
+             [grid]\nwidth = [0.3]\naspect = [4]\nrestitution = [0.0]\npga = [0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 1.0]\n\
+             [[grid.stack]]\nname = \"statue\"\n\
+             blocks = [ {{ width = 0.6, height = 1.0 }}, {{ width = 0.3, height = 1.2 }} ]\n\
+             interfaces = [ {{ restitution = 0.0, friction = \"inf\" }}, \
+             {{ restitution = 0.0, friction = \"inf\" }} ]\n\
+             [output]\nfigures = false\n[fragility]\nbootstrap = 0\n"
+        );
+        for (ls, measure) in order {
+            text.push_str(&format!(
+                "[[fragility.limit_state]]\nname = \"{ls}\"\nmeasure = \"{measure}\"\n"
+            ));
+        }
+        let spec = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&spec, text).unwrap();
+        let out = dir.path().join(name);
+        let o = common::run_spec(&spec, &out);
+        assert!(o.status.success(), "{}", common::stderr(&o));
+        out
+    };
+    let statue = ("statue", "top.overturned");
+    let pedestal = ("pedestal", "base.overturned");
+    let trailing = write("trailing", &[statue, pedestal]);
+    let db = export_pelicun(&trailing, &dir.path().join("p1"), "db", "t", &[]).unwrap();
+    assert_eq!(db.components, 2, "the statue alone and on its pedestal");
+    assert!(db.omitted.is_empty(), "{:?}", db.omitted);
+    assert_eq!(db.partial.len(), 1, "{:?}", db.partial);
+    assert!(
+        db.partial[0].starts_with("stack_statue (written with statue; pedestal never exceeded"),
+        "{:?}",
+        db.partial
+    );
+    let rows = read_fragility_csv(&trailing.join("fragility.csv")).unwrap();
+    let fit = rows
+        .iter()
+        .find(|r| r.case.id() == "stack_statue" && r.limit_state == "statue")
+        .and_then(|r| r.fit())
+        .unwrap();
+    let text = std::fs::read_to_string(&db.csv).unwrap();
+    let row: Vec<&str> = text
+        .lines()
+        .find(|l| l.starts_with("stack_statue,"))
+        .unwrap()
+        .split(',')
+        .collect();
+    assert_eq!(
+        row.len(),
+        12,
+        "LS2's three columns are written blank: {row:?}"
+    );
+    assert_eq!(
+        row[6..9],
+        [
+            "lognormal",
+            &format!("{:?}", fit.0),
+            &format!("{:?}", fit.1)
+        ]
+    );
+    assert_eq!(row[9..], ["", "", ""]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&db.json).unwrap()).unwrap();
+    assert!(json["_GeneralInformation"]["Partial"].is_array());
+    assert_eq!(
+        json["stack_statue"]["LimitStates"]
+            .as_object()
+            .unwrap()
+            .len(),
+        1
+    );
+
+    // the never-exceeded limit state first: a blank LS1 would renumber
+    let leading = write("leading", &[pedestal, statue]);
+    let db = export_pelicun(&leading, &dir.path().join("p2"), "db", "l", &[]).unwrap();
+    assert!(db.partial.is_empty(), "{:?}", db.partial);
+    assert_eq!(db.omitted.len(), 1, "{:?}", db.omitted);
+    assert!(
+        db.omitted[0].starts_with("stack_statue (pedestal: none-overturned"),
+        "{:?}",
+        db.omitted
+    );
+}

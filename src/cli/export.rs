@@ -109,6 +109,12 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
                      where it is exceeded, or more records"
                 );
             }
+            for o in &db.partial {
+                eprintln!(
+                    "note: {o}; pelicun will never predict those damage states for it, \
+                     which the study supports only up to its highest stripe"
+                );
+            }
             println!("{}", db.csv.display());
         }
     }

@@ -17,6 +17,13 @@
 //! named in the JSON's `_GeneralInformation.Omitted`: pelicun needs every
 //! limit state (a blank one is skipped and silently renumbers the damage
 //! states above it; `Incomplete = 1` drops the component without a word).
+//! One exception: when the limit states that could not be fitted are the
+//! last ones and none of them was exceeded at any stripe (the pedestal of a
+//! statue that never overturns), the case is written with the limit states
+//! before them, whose damage states keep their numbers, and named in
+//! `_GeneralInformation.Partial` and its own `Comments`: pelicun then never
+//! predicts the higher damage states, which the study supports only up to
+//! its highest stripe.
 //! pelicun 3.10 reads only the CSV; the JSON describes the components and
 //! their damage states for people and SimCenter tools.
 
@@ -24,7 +31,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::fragility::{Caveat, FragilityRow, LimitState, read_fragility_csv};
+use crate::fragility::{
+    Caveat, FitStatus, FragilityRow, LimitState, UnfitKind, read_fragility_csv,
+};
 use crate::im::Im;
 use crate::io_util::write_atomic;
 
@@ -39,6 +48,9 @@ pub struct PelicunDatabase {
     pub components: usize,
     /// Cases left out: id and the limit states that could not be fitted.
     pub omitted: Vec<String>,
+    /// Cases written without their last limit states, none of which was
+    /// exceeded at any stripe: id and those limit states.
+    pub partial: Vec<String>,
 }
 
 /// pelicun's demand type and unit for curves fitted against `im`.
@@ -101,6 +113,7 @@ pub fn export_pelicun(
     csv.push('\n');
     let mut components = Vec::new();
     let mut omitted = Vec::new();
+    let mut partial = Vec::new();
     for (id, case_rows) in &cases {
         let fits: Vec<Option<(f64, f64)>> = names
             .iter()
@@ -123,7 +136,24 @@ pub fn export_pelicun(
             ));
             continue;
         }
-        if fits.iter().any(Option::is_none) {
+        // The limit states written: all, or those before trailing ones that
+        // were never exceeded (their damage states keep their numbers).
+        let status_of = |ls: &String| {
+            case_rows
+                .iter()
+                .find(|r| &r.limit_state == ls)
+                .map(|r| r.status)
+        };
+        let kept = fits.iter().take_while(|f| f.is_some()).count();
+        let never_exceeded =
+            |ls: &String| status_of(ls) == Some(FitStatus::Unfit(UnfitKind::NoneOverturned));
+        if kept > 0 && kept < names.len() && names[kept..].iter().all(never_exceeded) {
+            partial.push(format!(
+                "{id} (written with {}; {} never exceeded at any stripe)",
+                names[..kept].join(", "),
+                names[kept..].join(", ")
+            ));
+        } else if fits.iter().any(Option::is_none) {
             let missing: Vec<String> = names
                 .iter()
                 .zip(&fits)
@@ -144,8 +174,10 @@ pub fn export_pelicun(
             // Rust's shortest round-trip form: the file holds the fit's θ and β.
             let _ = write!(csv, ",lognormal,{m:?},{b:?}");
         }
+        // blank trailing limit states: pelicun reads the ones before them
+        csv.push_str(&",,,".repeat(names.len() - kept));
         csv.push('\n');
-        components.push((id.clone(), case_rows[0].case));
+        components.push((id.clone(), case_rows[0].case, kept));
     }
     if components.is_empty() {
         return Err(Error::Parse {
@@ -180,11 +212,14 @@ pub fn export_pelicun(
     if !omitted.is_empty() {
         general["Omitted"] = serde_json::json!(omitted);
     }
+    if !partial.is_empty() {
+        general["Partial"] = serde_json::json!(partial);
+    }
     let mut json = serde_json::Map::new();
     json.insert("_GeneralInformation".into(), general);
-    for (id, case) in &components {
+    for (id, case, kept) in &components {
         let mut states = serde_json::Map::new();
-        for (k, ls) in names.iter().enumerate() {
+        for (k, ls) in names.iter().enumerate().take(*kept) {
             states.insert(
                 format!("LS{}", k + 1),
                 serde_json::json!({ format!("DS{}", k + 1): { "Description": describe(k + 1, ls) } }),
@@ -197,7 +232,21 @@ pub fn export_pelicun(
                 "Comments": format!(
                     "Lognormal fragility fitted by rockfrag (probit maximum likelihood over \
                      stripes of {}); Theta_0 = median in {unit}, Theta_1 = lognormal dispersion \
-                     beta.", im.name()),
+                     beta.{}", im.name(),
+                    if *kept < names.len() {
+                        let (these, were) = if names.len() - kept == 1 {
+                            ("The limit state", "was")
+                        } else {
+                            ("The limit states", "were")
+                        };
+                        format!(
+                            " {these} {} {were} never exceeded at any stripe of the study \
+                             and left out: this component never reaches their damage \
+                             states, which the study supports only up to its highest stripe.",
+                            names[*kept..].join(", "))
+                    } else {
+                        String::new()
+                    }),
                 "SuggestedComponentBlockSize": "1 EA",
                 "RoundUpToIntegerQuantity": "True",
                 "LimitStates": states,
@@ -219,5 +268,6 @@ pub fn export_pelicun(
         json: paths.1,
         components: components.len(),
         omitted,
+        partial,
     })
 }
