@@ -310,6 +310,10 @@ def rockfrag(binary, stack, record, e, workdir, tag, tilts=None, scale=None):
     cmd = [
         binary, "simulate", "--stack", stack.text, "--motion", record,
         "--restitution", str(e), "--json", "--history", hist,
+        # Siconos stops at the record's end: rockfrag does too here, so that
+        # both engines answer the same question (the motion after the record
+        # is compared in the free-rocking group)
+        "--free-motion-max", "0",
     ]
     if tilts is not None:
         cmd += ["--tilts", f"{tilts[0]},{tilts[1]}"]
@@ -506,7 +510,9 @@ def main():
     ap.add_argument("--mu", type=float, default=100.0,
                     help="Siconos's μ standing for infinite friction")
     ap.add_argument("--seed", type=int, default=40)
-    ap.add_argument("--records", type=int, default=5)
+    ap.add_argument("--records", type=int, default=10)
+    ap.add_argument("--first-record", type=int, default=0,
+                    help="index of the first record (run a part of the table)")
     ap.add_argument("--pgas", default="0.45,0.6", help="record intensities, g")
     ap.add_argument("--duration", type=float, default=12.0, help="record duration, s")
     ap.add_argument("--restitution", type=float, default=0.0, help="e of the records' analyses")
@@ -538,12 +544,14 @@ def main():
     if not args.quick:
         recs = []
         for pga in [float(x) for x in args.pgas.split(",")]:
-            for i in range(args.records):
+            for i in range(args.first_record, args.first_record + args.records):
                 rec = record_csv(args.rockfrag, args.seed, pga, i, args.duration, work)
                 recs.append((f"record {i}, {pga:g} g", rec, args.duration, args.restitution,
                              None))
+        last = args.first_record + args.records - 1
         groups.append((f"Records (rockfrag motion --seed {args.seed} --duration "
-                       f"{args.duration:g}), e {args.restitution:g}",
+                       f"{args.duration:g}, indexes {args.first_record}–{last}), "
+                       f"e {args.restitution:g}",
                        [float(s) for s in args.steps.split(",")], recs, args.eps))
     out = {"stack": args.stack, "mu": args.mu, "groups": []}
     n = 0
