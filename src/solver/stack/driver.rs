@@ -53,6 +53,10 @@ const SLOTS: usize = 4;
 const NE: usize = SLOTS * MAX_BODIES;
 /// Interior points at which a step is scanned for events.
 const SUB: usize = 4;
+/// The cascade rule's rest threshold ε_r (`settle_cascades`): after an
+/// impact, a corner on its face whose normal speed is below ε_r√(gR) rests
+/// on it (docs/stack.md, "Rules": what it changes and by how much).
+pub(super) const CASCADE_REST: f64 = 1e-4;
 
 /// What an event slot detects.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -140,7 +144,27 @@ struct Run<'a> {
     out: StackOutcome,
     /// Rest place of each body's footprint centre along its face.
     x0: [f64; MAX_BODIES],
+    /// The contact forces of the last state at rest, affine in the ground's
+    /// acceleration ([`Run::rest_interval`]).
+    rest: Option<RestForces>,
 }
+
+/// The contact forces of a stack at rest (every interface flat and stuck),
+/// affine in the ground's acceleration: per interface, (N_L, N_R, N, T) =
+/// c₀ + c_x ẍg + c_y ÿg, from the forces at (0, 0), (1, 0) and (0, 1).
+#[derive(Clone, Copy, Debug)]
+struct RestForces {
+    /// The state they belong to.
+    modes: Modes,
+    /// Per interface, (c₀, c_x, c_y) of N_L, N_R, N and T.
+    c: [[[f64; 3]; 4]; MAX_BODIES],
+}
+
+/// How far above 0 every event function of a state at rest must be, as
+/// the affine forces give it, for the sample to be passed without its exact
+/// scan: their difference to [`Run::values`] is roundoff (about 1e-14 of
+/// the carried weight), so the exact scan would find no event either.
+const REST_MARGIN: f64 = 1e-9;
 
 impl<'a> Run<'a> {
     fn new(
@@ -163,6 +187,7 @@ impl<'a> Run<'a> {
             bodies: Default::default(),
             out: StackOutcome::default(),
             x0,
+            rest: None,
         }
     }
 
@@ -329,6 +354,24 @@ impl<'a> Run<'a> {
     fn rest_interval(&mut self, seg: &Segment, t_end: f64) -> Option<(f64, Ev)> {
         let y = self.y;
         let t0 = self.t;
+        // the forces at rest are affine in (ẍg, ÿg): every event function
+        // clearly positive at both ends from them is positive over the
+        // sample, as the exact scan below would find (bit for bit the same
+        // answer, at a fraction of its cost: no chain, no forces)
+        let rf = match self.rest {
+            Some(r) if r.modes == self.modes => r,
+            _ => {
+                let r = self.rest_forces();
+                self.rest = Some(r);
+                r
+            }
+        };
+        let ((ax0, ay0), (ax1, ay1)) = (seg.at(t0), seg.at(t_end));
+        if self.rest_clear(&rf, ax0, ay0) && self.rest_clear(&rf, ax1, ay1) {
+            self.time_in_modes(t_end - t0);
+            self.t = t_end;
+            return None;
+        }
         // at rest every event function is affine in (ẍg, ÿg), so linear in
         // t over the sample (the cone's μs N − |T| concave): positive at
         // both ends, positive between them; the ends suffice
@@ -339,6 +382,45 @@ impl<'a> Run<'a> {
             self.t = t_end;
         }
         found
+    }
+
+    /// The affine contact forces of the current state at rest.
+    fn rest_forces(&self) -> RestForces {
+        let ch = self.chain(&self.y);
+        let at = |ax: f64, ay: f64| forces(&self.sc, &self.modes, &ch, ax, ay).contact;
+        let (f0, fx, fy) = (at(0.0, 0.0), at(1.0, 0.0), at(0.0, 1.0));
+        let mut c = [[[0.0; 3]; 4]; MAX_BODIES];
+        for k in 0..self.modes.n {
+            let parts = |f: &super::dynamics::Contact| [f.nl, f.nr, f.n, f.t];
+            let (p0, px, py) = (parts(&f0[k]), parts(&fx[k]), parts(&fy[k]));
+            for i in 0..4 {
+                c[k][i] = [p0[i], px[i] - p0[i], py[i] - p0[i]];
+            }
+        }
+        RestForces {
+            modes: self.modes,
+            c,
+        }
+    }
+
+    /// Whether every event function of the state at rest (a flat corner's
+    /// normal force, μs N − |T| under finite friction, each over the carried
+    /// weight, as [`Run::values`] has them) is above [`REST_MARGIN`] under
+    /// the ground acceleration (ax, ay), by the affine forces `rf`.
+    fn rest_clear(&self, rf: &RestForces, ax: f64, ay: f64) -> bool {
+        let n = self.modes.n;
+        (0..n).all(|k| {
+            let w = self.sc.g * self.sc.carried(k, n);
+            let f = |i: usize| {
+                let c = rf.c[k][i];
+                c[0] + c[1] * ax + c[2] * ay
+            };
+            let cone = match self.sc.fric[k] {
+                Some((mu_s, _)) => (mu_s * f(2) - f(3).abs()) / w,
+                None => 1.0,
+            };
+            f(0) / w > REST_MARGIN && f(1) / w > REST_MARGIN && cone > REST_MARGIN
+        })
     }
 
     /// Integrates the current state over [t, t_end]; stops at the first event.
@@ -855,7 +937,13 @@ impl<'a> Run<'a> {
                 b.v = [imp.v[3 * k], imp.v[3 * k + 1]];
                 b.w = imp.v[3 * k + 2];
             }
-            match select(&sc, &bodies, n, ax, ay, Exclude::None) {
+            // the cascade rule: a corner left moving along its normal
+            // slower than CASCADE_REST √(gR) rests on its face
+            let mut sc_r = sc;
+            if self.set.settle_cascades {
+                sc_r.rest_after_impact = CASCADE_REST;
+            }
+            match select(&sc_r, &bodies, n, ax, ay, Exclude::None) {
                 Ok(c) => {
                     self.set_state(c.modes, &c.q, &c.qd);
                     return;
