@@ -7,8 +7,14 @@
 //! state are located on its dense output: every accepted step is scanned at
 //! four interior points and a sign change of an event function is refined by
 //! Brent's method. A stack at rest (no free coordinate) is not integrated:
-//! its contact forces are affine in the ground's acceleration and are
+//! its contact forces are affine in the ground's acceleration: they are
+//! taken once per state at rest as such, and a sample over which every
+//! event function stays clear of 0 is passed on them; the others are
 //! scanned in the same way over the interval.
+//!
+//! The cascade rule (`settle_cascades`): in the choice of the state after
+//! an impact, a corner on its face moving along the normal slower than
+//! `CASCADE_REST` √(gR) rests on it (docs/stack.md, "Rules").
 //!
 //! Event functions, per interface (each positive while its state holds):
 //! - flat: the normal force at each corner (N_L, N_R), μs N − |T| if stuck,
