@@ -38,6 +38,7 @@ use super::dynamics::{accelerations, forces};
 use super::impact::{Resolution, kinetic, resolve, touching, velocities};
 use super::kinematics::{Body, Chain, MAX_DOF, Modes, Slip, Touch, corner_rel, initial_modes};
 use super::outcome::{BodyOutcome, StackHistory, StackOutcome, StackRow};
+use super::rest::RestForces;
 use super::scene::MAX_BODIES;
 use super::scene::{Scene, Stack};
 use super::select::{Exclude, NoState, select, tolerances};
@@ -154,23 +155,6 @@ struct Run<'a> {
     /// acceleration ([`Run::rest_interval`]).
     rest: Option<RestForces>,
 }
-
-/// The contact forces of a stack at rest (every interface flat and stuck),
-/// affine in the ground's acceleration: per interface, (N_L, N_R, N, T) =
-/// c₀ + c_x ẍg + c_y ÿg, from the forces at (0, 0), (1, 0) and (0, 1).
-#[derive(Clone, Copy, Debug)]
-struct RestForces {
-    /// The state they belong to.
-    modes: Modes,
-    /// Per interface, (c₀, c_x, c_y) of N_L, N_R, N and T.
-    c: [[[f64; 3]; 4]; MAX_BODIES],
-}
-
-/// How far above 0 every event function of a state at rest must be, as
-/// the affine forces give it, for the sample to be passed without its exact
-/// scan: their difference to [`Run::values`] is roundoff (about 1e-14 of
-/// the carried weight), so the exact scan would find no event either.
-const REST_MARGIN: f64 = 1e-9;
 
 impl<'a> Run<'a> {
     fn new(
@@ -367,13 +351,13 @@ impl<'a> Run<'a> {
         let rf = match self.rest {
             Some(r) if r.modes == self.modes => r,
             _ => {
-                let r = self.rest_forces();
+                let r = RestForces::new(&self.sc, &self.modes, &self.chain(&self.y));
                 self.rest = Some(r);
                 r
             }
         };
         let ((ax0, ay0), (ax1, ay1)) = (seg.at(t0), seg.at(t_end));
-        if self.rest_clear(&rf, ax0, ay0) && self.rest_clear(&rf, ax1, ay1) {
+        if rf.clear(&self.sc, ax0, ay0) && rf.clear(&self.sc, ax1, ay1) {
             self.time_in_modes(t_end - t0);
             self.t = t_end;
             return None;
@@ -388,45 +372,6 @@ impl<'a> Run<'a> {
             self.t = t_end;
         }
         found
-    }
-
-    /// The affine contact forces of the current state at rest.
-    fn rest_forces(&self) -> RestForces {
-        let ch = self.chain(&self.y);
-        let at = |ax: f64, ay: f64| forces(&self.sc, &self.modes, &ch, ax, ay).contact;
-        let (f0, fx, fy) = (at(0.0, 0.0), at(1.0, 0.0), at(0.0, 1.0));
-        let mut c = [[[0.0; 3]; 4]; MAX_BODIES];
-        for k in 0..self.modes.n {
-            let parts = |f: &super::dynamics::Contact| [f.nl, f.nr, f.n, f.t];
-            let (p0, px, py) = (parts(&f0[k]), parts(&fx[k]), parts(&fy[k]));
-            for i in 0..4 {
-                c[k][i] = [p0[i], px[i] - p0[i], py[i] - p0[i]];
-            }
-        }
-        RestForces {
-            modes: self.modes,
-            c,
-        }
-    }
-
-    /// Whether every event function of the state at rest (a flat corner's
-    /// normal force, μs N − |T| under finite friction, each over the carried
-    /// weight, as [`Run::values`] has them) is above [`REST_MARGIN`] under
-    /// the ground acceleration (ax, ay), by the affine forces `rf`.
-    fn rest_clear(&self, rf: &RestForces, ax: f64, ay: f64) -> bool {
-        let n = self.modes.n;
-        (0..n).all(|k| {
-            let w = self.sc.g * self.sc.carried(k, n);
-            let f = |i: usize| {
-                let c = rf.c[k][i];
-                c[0] + c[1] * ax + c[2] * ay
-            };
-            let cone = match self.sc.fric[k] {
-                Some((mu_s, _)) => (mu_s * f(2) - f(3).abs()) / w,
-                None => 1.0,
-            };
-            f(0) / w > REST_MARGIN && f(1) / w > REST_MARGIN && cone > REST_MARGIN
-        })
     }
 
     /// Integrates the current state over [t, t_end]; stops at the first event.
