@@ -105,8 +105,11 @@ pub struct SolverSettings {
     /// and close the tail of a series of bounces on one corner in closed form
     /// when bounds prove it converges onto rock about that corner (e > 0;
     /// third-order error in the rebound). Under Coulomb friction both apply
-    /// only while bounds prove nothing can slip. Default: true; false follows
-    /// every impact. See the solver's module documentation.
+    /// only while bounds prove nothing can slip. For a stack
+    /// (`solver::stack`): after an impact, a corner moving along its face's
+    /// normal slower than 1e-4 √(gR) rests on it (docs/stack.md, "Rules").
+    /// Default: true; false follows every impact. See the solver's module
+    /// documentation.
     pub settle_cascades: bool,
     /// Largest number of events in one analysis before it is abandoned as
     /// stalled (default: 1,000,000).

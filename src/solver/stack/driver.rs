@@ -7,8 +7,14 @@
 //! state are located on its dense output: every accepted step is scanned at
 //! four interior points and a sign change of an event function is refined by
 //! Brent's method. A stack at rest (no free coordinate) is not integrated:
-//! its contact forces are affine in the ground's acceleration and are
+//! its contact forces are affine in the ground's acceleration: they are
+//! taken once per state at rest as such, and a sample over which every
+//! event function stays clear of 0 is passed on them; the others are
 //! scanned in the same way over the interval.
+//!
+//! The cascade rule (`settle_cascades`): in the choice of the state after
+//! an impact, a corner on its face moving along the normal slower than
+//! `CASCADE_REST` √(gR) rests on it (docs/stack.md, "Rules").
 //!
 //! Event functions, per interface (each positive while its state holds):
 //! - flat: the normal force at each corner (N_L, N_R), μs N − |T| if stuck,
@@ -32,6 +38,7 @@ use super::dynamics::{accelerations, forces};
 use super::impact::{Resolution, kinetic, resolve, touching, velocities};
 use super::kinematics::{Body, Chain, MAX_DOF, Modes, Slip, Touch, corner_rel, initial_modes};
 use super::outcome::{BodyOutcome, StackHistory, StackOutcome, StackRow};
+use super::rest::RestForces;
 use super::scene::MAX_BODIES;
 use super::scene::{Scene, Stack};
 use super::select::{Exclude, NoState, select, tolerances};
@@ -53,6 +60,10 @@ const SLOTS: usize = 4;
 const NE: usize = SLOTS * MAX_BODIES;
 /// Interior points at which a step is scanned for events.
 const SUB: usize = 4;
+/// The cascade rule's rest threshold ε_r (`settle_cascades`): after an
+/// impact, a corner on its face whose normal speed is below ε_r√(gR) rests
+/// on it (docs/stack.md, "Rules": what it changes and by how much).
+pub(super) const CASCADE_REST: f64 = 1e-4;
 
 /// What an event slot detects.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -140,6 +151,9 @@ struct Run<'a> {
     out: StackOutcome,
     /// Rest place of each body's footprint centre along its face.
     x0: [f64; MAX_BODIES],
+    /// The contact forces of the last state at rest, affine in the ground's
+    /// acceleration ([`Run::rest_interval`]).
+    rest: Option<RestForces>,
 }
 
 impl<'a> Run<'a> {
@@ -163,6 +177,7 @@ impl<'a> Run<'a> {
             bodies: Default::default(),
             out: StackOutcome::default(),
             x0,
+            rest: None,
         }
     }
 
@@ -329,6 +344,24 @@ impl<'a> Run<'a> {
     fn rest_interval(&mut self, seg: &Segment, t_end: f64) -> Option<(f64, Ev)> {
         let y = self.y;
         let t0 = self.t;
+        // the forces at rest are affine in (ẍg, ÿg): every event function
+        // clearly positive at both ends from them is positive over the
+        // sample, as the exact scan below would find (bit for bit the same
+        // answer, at a fraction of its cost: no chain, no forces)
+        let rf = match self.rest {
+            Some(r) if r.modes == self.modes => r,
+            _ => {
+                let r = RestForces::new(&self.sc, &self.modes, &self.chain(&self.y));
+                self.rest = Some(r);
+                r
+            }
+        };
+        let ((ax0, ay0), (ax1, ay1)) = (seg.at(t0), seg.at(t_end));
+        if rf.clear(&self.sc, ax0, ay0) && rf.clear(&self.sc, ax1, ay1) {
+            self.time_in_modes(t_end - t0);
+            self.t = t_end;
+            return None;
+        }
         // at rest every event function is affine in (ẍg, ÿg), so linear in
         // t over the sample (the cone's μs N − |T| concave): positive at
         // both ends, positive between them; the ends suffice
@@ -855,7 +888,13 @@ impl<'a> Run<'a> {
                 b.v = [imp.v[3 * k], imp.v[3 * k + 1]];
                 b.w = imp.v[3 * k + 2];
             }
-            match select(&sc, &bodies, n, ax, ay, Exclude::None) {
+            // the cascade rule: a corner left moving along its normal
+            // slower than CASCADE_REST √(gR) rests on its face
+            let mut sc_r = sc;
+            if self.set.settle_cascades {
+                sc_r.rest_after_impact = CASCADE_REST;
+            }
+            match select(&sc_r, &bodies, n, ax, ay, Exclude::None) {
                 Ok(c) => {
                     self.set_state(c.modes, &c.q, &c.qd);
                     return;

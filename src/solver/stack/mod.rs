@@ -16,6 +16,8 @@
 //!   corners' states: a small linear complementarity problem);
 //! - `impact.rs`: impacts at any interface (Newton, energetic, Stronge);
 //! - `driver.rs`: the event loop (Dormand–Prince with dense output);
+//! - `rest.rs`: a stack at rest, its contact forces affine in the ground's
+//!   acceleration (a sample passed without the chain where no event can be);
 //! - `outcome.rs`: what an analysis of a stack gives ([`StackOutcome`]) and
 //!   its history ([`StackHistory`]).
 
@@ -28,6 +30,7 @@ mod dynamics;
 mod impact;
 mod kinematics;
 mod outcome;
+mod rest;
 mod scene;
 mod select;
 

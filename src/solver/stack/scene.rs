@@ -246,6 +246,11 @@ pub(super) struct Scene {
     /// Settle threshold ε: corners slower than ε√(gR) are at rest on
     /// their face (the single block's rest rule; `settle_tol`).
     pub settle: f64,
+    /// Rest threshold ε_r of a corner's normal speed in the choice of the
+    /// state after an impact (the stack's cascade rule, `settle_cascades`):
+    /// a corner on its face moving along its normal slower than ε_r√(gR)
+    /// rests on it. 0 (the rule off): ε applies, as everywhere else.
+    pub rest_after_impact: f64,
 }
 
 impl Scene {
@@ -266,6 +271,7 @@ impl Scene {
             tilt: [0.0; MAX_BODIES],
             g: stack.g,
             settle: 1e-6,
+            rest_after_impact: 0.0,
         };
         for (i, body) in stack.bodies.iter().enumerate() {
             let (b, h) = (0.5 * body.width, 0.5 * body.height);

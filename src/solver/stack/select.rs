@@ -125,14 +125,16 @@ pub(super) fn select(
         rels[k] = rel;
         let (sp, cp) = sin_cos(rel.phi);
         let (touch, vtol) = tolerances(sc, k);
+        // normal speeds: the cascade rule's threshold after an impact
+        let vtol_n = vtol.max(sc.rest_after_impact * (sc.g * sc.r[k]).sqrt());
         let mut ut = 0.0;
         for (i, side) in [-1.0, 1.0].into_iter().enumerate() {
             let d = corner_rel(&rel, sp, cp, sc.b[k], sc.h[k], side);
             if d[1] <= touch {
-                if d[3] < -vtol {
+                if d[3] < -vtol_n {
                     return Err(NoState::Approaching(k));
                 }
-                if d[3] <= vtol {
+                if d[3] <= vtol_n {
                     contact[k][i] = true;
                     ut = d[2];
                 }
