@@ -341,7 +341,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
     // rows go to disk. An interruption stops the solving; the chunk under
     // way is still written and checkpointed.
     let mut next = ckpt.units_done;
-    let mut pending: Option<(usize, String, Vec<(usize, f64)>)> = None;
+    let mut pending: Option<SolvedChunk> = None;
     loop {
         let todo =
             (next < limit && !interrupted()).then(|| &units[next..(next + chunk_units).min(limit)]);
@@ -535,6 +535,10 @@ pub fn write_summary(
     }
     crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(Error::io(&path))
 }
+
+/// A chunk solved and not yet written: its unit count, its rows, and the
+/// units solved in it with their thread seconds.
+type SolvedChunk = (usize, String, Vec<(usize, f64)>);
 
 /// Appends the rows of a chunk of `units` units to the partial file,
 /// syncs it and checkpoints the run past them.
