@@ -335,29 +335,51 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<RunReport> {
             );
         }
     }
-    while ckpt.units_done < limit && !interrupted() {
-        let chunk = &units[ckpt.units_done..(ckpt.units_done + chunk_units).min(limit)];
-        let (text, solved_here) =
-            pool.install(|| run_chunk(study, &cases, &cols, &source, chunk, &mut ahead));
-        file.write_all(text.as_bytes())
-            .map_err(Error::io(&partial_path))?;
-        file.sync_data().map_err(Error::io(&partial_path))?;
-        ckpt.bytes += text.len() as u64;
-        ckpt.units_done += chunk.len();
-        write_checkpoint(&ckpt_path, &ckpt)?;
-        if !space_checked {
-            space_checked = true;
-            let left = ((units.len() - ckpt.units_done) * cases.len()) as u64;
-            SpaceEstimate::new(dir, text.len(), chunk.len() * cases.len(), left)
-                .check(dir, opts.no_space_check)?;
+    // A pipeline of two: while one worker appends the chunk solved last
+    // (write, fsync, checkpoint), the others solve the next one, and the
+    // writer joins them when it is done, so no worker idles while the
+    // rows go to disk. An interruption stops the solving; the chunk under
+    // way is still written and checkpointed.
+    let mut next = ckpt.units_done;
+    let mut pending: Option<SolvedChunk> = None;
+    loop {
+        let todo =
+            (next < limit && !interrupted()).then(|| &units[next..(next + chunk_units).min(limit)]);
+        if todo.is_none() && pending.is_none() {
+            break;
         }
-        let n = (chunk.len() * cases.len()) as u64;
-        analyses_run += n;
-        let solved: Vec<(usize, f64)> = solved_here
-            .iter()
-            .map(|&(u, seconds)| (level_of(u), seconds))
-            .collect();
-        bar.inc(n, &solved);
+        let saving = pending.take();
+        let (saved, solved) = pool.install(|| {
+            rayon::join(
+                || {
+                    saving.map(|(len, text, solved_here)| {
+                        save_chunk(&mut file, &partial_path, &ckpt_path, &mut ckpt, len, &text)
+                            .map(|()| (len, text.len(), solved_here))
+                    })
+                },
+                || todo.map(|chunk| run_chunk(study, &cases, &cols, &source, chunk, &mut ahead)),
+            )
+        });
+        if let Some(saved) = saved {
+            let (len, bytes, solved_here) = saved?;
+            if !space_checked {
+                space_checked = true;
+                let left = ((units.len() - ckpt.units_done) * cases.len()) as u64;
+                SpaceEstimate::new(dir, bytes, len * cases.len(), left)
+                    .check(dir, opts.no_space_check)?;
+            }
+            let n = (len * cases.len()) as u64;
+            analyses_run += n;
+            let solved: Vec<(usize, f64)> = solved_here
+                .iter()
+                .map(|&(u, seconds)| (level_of(u), seconds))
+                .collect();
+            bar.inc(n, &solved);
+        }
+        if let (Some(chunk), Some((text, solved_here))) = (todo, solved) {
+            next += chunk.len();
+            pending = Some((chunk.len(), text, solved_here));
+        }
     }
     bar.finish();
     drop(file);
@@ -512,6 +534,28 @@ pub fn write_summary(
         text.push_str(section);
     }
     crate::io_util::write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(Error::io(&path))
+}
+
+/// A chunk solved and not yet written: its unit count, its rows, and the
+/// units solved in it with their thread seconds.
+type SolvedChunk = (usize, String, Vec<(usize, f64)>);
+
+/// Appends the rows of a chunk of `units` units to the partial file,
+/// syncs it and checkpoints the run past them.
+fn save_chunk(
+    file: &mut std::fs::File,
+    partial_path: &Path,
+    ckpt_path: &Path,
+    ckpt: &mut Checkpoint,
+    units: usize,
+    text: &str,
+) -> Result<()> {
+    file.write_all(text.as_bytes())
+        .map_err(Error::io(partial_path))?;
+    file.sync_data().map_err(Error::io(partial_path))?;
+    ckpt.bytes += text.len() as u64;
+    ckpt.units_done += units;
+    write_checkpoint(ckpt_path, ckpt)
 }
 
 /// The rows of one chunk of units, in canonical order: the units solved
