@@ -124,11 +124,36 @@ impl SpecFile {
         };
         let stacks = super::stack::stacks(&spec, &grid_file.stack, g)?;
         // with stacks, the block lists make cases only when a block is named
-        let blocks = stacks.is_empty() || grid_file.width.is_some() || grid_file.aspect.is_some();
+        // (on the grid, or drawn)
+        let drawn_block = uncertainty_file
+            .as_ref()
+            .is_some_and(|u| u.width.is_some() || u.aspect.is_some());
+        let blocks = stacks.is_empty()
+            || grid_file.width.is_some()
+            || grid_file.aspect.is_some()
+            || drawn_block;
         if !stacks.is_empty() {
-            super::stack::settings(&spec, &self.solver, uncertainty_file.as_ref(), &grid_file)?;
+            super::stack::settings(&spec, &self.solver, &grid_file)?;
         }
-        let uncertainty = uncertainty(&spec, uncertainty_file, &grid_file, seed)?;
+        if !blocks && let Some(u) = &uncertainty_file {
+            // a block's draw in a study of stacks alone would draw nothing
+            let given = [
+                ("restitution", u.restitution.is_some()),
+                ("mu_s", u.mu_s.is_some()),
+                ("mu_k_over_mu_s", u.mu_k_over_mu_s.is_some()),
+            ];
+            if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+                return Err(spec.bad(
+                    &format!("uncertainty.{key}"),
+                    &"(given)",
+                    "a draw of a block case, and this study has stacks only: draw a \
+                     stack's under [uncertainty.stack.NAME.BODY] (BODY base, middle or top), \
+                     or give grid.width or grid.aspect for block cases (rockfrag infer \
+                     takes no stacks yet)",
+                ));
+            }
+        }
+        let uncertainty = uncertainty(&spec, uncertainty_file, &grid_file, seed, &stacks)?;
         let mut grid = grid(&spec, grid_file, g, recorded, uncertainty.as_ref())?;
         if !blocks {
             grid.widths.clear();
@@ -417,6 +442,7 @@ fn only_seed(u: &UncertaintyFile) -> bool {
         && u.restitution.is_none()
         && u.mu_s.is_none()
         && u.mu_k_over_mu_s.is_none()
+        && u.stack.is_empty()
 }
 
 /// What `record_files` holds: single components, or pairs of them.
