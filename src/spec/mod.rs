@@ -51,8 +51,8 @@ pub use raw::{
     FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
     StackBlockEntry, StackDrawEntry, StackEntry, StackInterfaceEntry, UncertaintyFile,
 };
-pub use stack::StudyStack;
-pub use stack_draws::{BodyForm, StackDraws};
+pub use stack::{BodyForm, StudyStack};
+pub use stack_draws::StackDraws;
 pub use study::{
     Adaptive, Intensity, MAX_SPEC_BYTES, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN,
     SHENTON_JONES_TOML, Study, Uncertainty, analysis_values, fnv1a64, friction_label,

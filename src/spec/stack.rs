@@ -33,8 +33,19 @@ pub struct StudyStack {
     /// The stack, at rest, under the study's gravity.
     pub stack: Stack,
     /// How each body gives its height and mass (bottom first), which a
-    /// drawn width or height carries along ([`StudyStack::drawn`]).
-    pub forms: Vec<super::stack_draws::BodyForm>,
+    /// drawn width or height carries along (`StudyStack::drawn`).
+    pub forms: Vec<BodyForm>,
+}
+
+/// How a body of `[[grid.stack]]` gives its height and mass, so that a
+/// drawn width or height carries them along.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyForm {
+    /// The aspect ratio H/B, when the block gives it instead of a height.
+    pub aspect: Option<f64>,
+    /// The relative density, when the stack gives no masses (mass =
+    /// density × width × height).
+    pub density: Option<f64>,
 }
 
 /// Two stacks are equal when their names and stacks are: how the spec gave
@@ -221,7 +232,7 @@ pub(super) fn stacks(spec: &Origin, entries: &[StackEntry], g: f64) -> Result<Ve
                 mass,
                 offset,
             });
-            forms.push(super::stack_draws::BodyForm {
+            forms.push(BodyForm {
                 aspect: b.height.is_none().then_some(b.aspect).flatten(),
                 density: (masses == 0).then(|| b.density.unwrap_or(1.0)),
             });

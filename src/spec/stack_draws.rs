@@ -51,17 +51,6 @@ impl StackDraws {
     }
 }
 
-/// How a body of `[[grid.stack]]` gives its height and mass, so that a
-/// drawn width or height carries them along.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct BodyForm {
-    /// The aspect ratio H/B, when the block gives it instead of a height.
-    pub aspect: Option<f64>,
-    /// The relative density, when the stack gives no masses (mass =
-    /// density × width × height).
-    pub density: Option<f64>,
-}
-
 impl StudyStack {
     /// The stack of one analysis: each property `draws` gives, at its
     /// uniform in `u` (bottom first, in the order of [`StackProperty::ALL`]),

@@ -118,3 +118,25 @@ pub(super) fn uncertainty(
         stacks: stack_draws,
     }))
 }
+
+/// In a study of stacks alone (no block case), `[uncertainty]` keys of a
+/// block would draw nothing: refused, saying where a stack's draws go.
+pub(super) fn no_block_draws(spec: &Origin, table: Option<&UncertaintyFile>) -> Result<()> {
+    let Some(u) = table else { return Ok(()) };
+    let given = [
+        ("restitution", u.restitution.is_some()),
+        ("mu_s", u.mu_s.is_some()),
+        ("mu_k_over_mu_s", u.mu_k_over_mu_s.is_some()),
+    ];
+    if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+        return Err(spec.bad(
+            &format!("uncertainty.{key}"),
+            &"(given)",
+            "a draw of a block case, and this study has stacks only: draw a \
+             stack's under [uncertainty.stack.NAME.BODY] (BODY base, middle or top), \
+             or give grid.width or grid.aspect for block cases (rockfrag infer \
+             takes no stacks yet)",
+        ));
+    }
+    Ok(())
+}

@@ -135,23 +135,8 @@ impl SpecFile {
         if !stacks.is_empty() {
             super::stack::settings(&spec, &self.solver, &grid_file)?;
         }
-        if !blocks && let Some(u) = &uncertainty_file {
-            // a block's draw in a study of stacks alone would draw nothing
-            let given = [
-                ("restitution", u.restitution.is_some()),
-                ("mu_s", u.mu_s.is_some()),
-                ("mu_k_over_mu_s", u.mu_k_over_mu_s.is_some()),
-            ];
-            if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
-                return Err(spec.bad(
-                    &format!("uncertainty.{key}"),
-                    &"(given)",
-                    "a draw of a block case, and this study has stacks only: draw a \
-                     stack's under [uncertainty.stack.NAME.BODY] (BODY base, middle or top), \
-                     or give grid.width or grid.aspect for block cases (rockfrag infer \
-                     takes no stacks yet)",
-                ));
-            }
+        if !blocks {
+            super::uncertainty::no_block_draws(&spec, uncertainty_file.as_ref())?;
         }
         let uncertainty = uncertainty(&spec, uncertainty_file, &grid_file, seed, &stacks)?;
         let mut grid = grid(&spec, grid_file, g, recorded, uncertainty.as_ref())?;
