@@ -333,3 +333,38 @@ fn stack_draws_are_the_same_whatever_the_thread_count() {
     assert_eq!(a, std::fs::read(two.join("outcomes.csv")).unwrap());
     assert!(String::from_utf8(a).unwrap().contains("top.width"));
 }
+
+/// The history figure of a stack that draws solves the row's own drawn
+/// stack, not the study's nominal one: each body's drawn peak |φ|/θc is
+/// the row's `outcomes.csv` value to 1e-9 (relative; the same solve, whose
+/// history has a row at every peak). It drew the nominal stack before.
+#[test]
+fn the_history_figure_of_a_drawn_stack_is_the_rows_analysis() {
+    use rockfrag::figures::{FigureOptions, HistoryChoice, StudyFigures};
+    let dir = tempfile::tempdir().unwrap();
+    let spec = format!("{}{DRAWS}", statue(3, "0.4, 0.8", 8.0, INF));
+    let study = load(dir.path(), "h.toml", &spec).unwrap();
+    let out = dir.path().join("out");
+    run(&study, &out, 2);
+    let mut compared = 0;
+    for row in rows(&out).iter().filter(|r| r["status"] == "ok") {
+        let mut options = FigureOptions::for_folder(&out).unwrap();
+        options.history = HistoryChoice::At {
+            case: Some("stack_statue".to_string()),
+            level: Some(num(row, "pga")),
+            record: Some(num(row, "record") as u64),
+        };
+        let figures = StudyFigures::compute(&out, &options).unwrap();
+        let fig = figures.stack_history.expect("a stack's history figure");
+        for (body, name) in fig.bodies.iter().zip(["base", "top"]) {
+            let want = num(row, &format!("{name}.theta_max_over_theta_c"));
+            let peak = body.phi.iter().fold(0.0_f64, |m, p| m.max(p.1.abs()));
+            assert!(
+                (peak - want).abs() <= 1e-9 * want.max(1e-300),
+                "{name}: peak {peak} against the row's {want}"
+            );
+            compared += 1;
+        }
+    }
+    assert!(compared >= 8, "{compared}");
+}

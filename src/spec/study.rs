@@ -570,7 +570,10 @@ impl Study {
     }
 
     /// What stack `name` draws per analysis, if it draws anything.
-    pub fn stack_draws(&self, name: crate::case::StackName) -> Option<&super::StackDraws> {
+    pub fn stack_draws(
+        &self,
+        name: crate::case::StackName,
+    ) -> Option<&super::stack_draws::StackDraws> {
         self.uncertainty
             .as_ref()?
             .stacks
