@@ -352,6 +352,47 @@ fn parse_friction(
     }
 }
 
+/// One body of a stack's analysis as simulated (drawn values as drawn):
+/// its own values and those of the interface under it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyValues {
+    /// Width 2B, m.
+    pub width: f64,
+    /// Height 2H, m.
+    pub height: f64,
+    /// Mass, relative to the other bodies'.
+    pub mass: f64,
+    /// Offset of its centre from the centre of the body below, m.
+    pub offset: f64,
+    /// Restitution of the interface under it.
+    pub restitution: f64,
+    /// Friction of the interface under it.
+    pub friction: Friction,
+}
+
+/// A stack's bodies by slot ([`crate::outcome::Slot::index`]; `None` for a
+/// middle a stack of two has not).
+pub type StackValues = [Option<BodyValues>; 3];
+
+impl BodyValues {
+    /// The bodies of `stack`, by slot.
+    pub fn of(stack: &crate::solver::stack::Stack) -> StackValues {
+        let n = stack.bodies.len();
+        let mut out = [None; 3];
+        for (i, (b, f)) in stack.bodies.iter().zip(&stack.interfaces).enumerate() {
+            out[crate::outcome::Slot::of(i, n).index()] = Some(BodyValues {
+                width: b.width,
+                height: b.height,
+                mass: b.mass,
+                offset: b.offset,
+                restitution: f.restitution,
+                friction: f.friction,
+            });
+        }
+        out
+    }
+}
+
 /// What one analysis simulates, made from its [`Case`] (drawn values
 /// drawn): one block on the ground, solved by the single block's solver,
 /// or a stack, solved by the stack solver.
@@ -448,8 +489,14 @@ impl Case {
 
     /// This case with `fields` drawn (or pooled) too: those fields marked
     /// [`Param::Drawn`]. Infinite friction stays infinite: only Coulomb
-    /// coefficients are drawn.
+    /// coefficients are drawn. A stack's case is its stack, whose six
+    /// columns are its top body's values as `[[grid.stack]]` gives them,
+    /// drawn or not (its draws are `outcomes.csv`'s `SLOT.width`, … columns):
+    /// it is left as it is.
     pub fn pooled(mut self, fields: &[Field]) -> Case {
+        if self.stack.is_some() {
+            return self;
+        }
         for f in fields {
             match f {
                 Field::Aspect => self.aspect = Param::Drawn,

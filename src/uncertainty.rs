@@ -190,7 +190,11 @@ impl Distribution {
             return outside(
                 "min",
                 s_lo,
-                format!("a lower bound ≥ {lo}: {what} (truncate the distribution with `min`)"),
+                if lo == f64::MIN_POSITIVE {
+                    format!("a lower bound > 0: {what} (truncate the distribution with `min`)")
+                } else {
+                    format!("a lower bound ≥ {lo}: {what} (truncate the distribution with `min`)")
+                },
             );
         }
         if s_hi > hi {
@@ -383,6 +387,116 @@ impl Property {
             Property::MuKOverMuS => (0.0, 1.0, "a ratio μk/μs in [0, 1]"),
         }
     }
+}
+
+/// A property of one body of a stack that `[uncertainty.stack.NAME.BODY]`
+/// can draw: the body's own (width, height or aspect, mass or density,
+/// offset) and those of the interface it stands on (restitution, friction),
+/// as a single block's `[uncertainty]` draws its own and its contact's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StackProperty {
+    /// Width 2B, m.
+    Width,
+    /// Height 2H, m.
+    Height,
+    /// Aspect ratio H/B (the height is then aspect × width).
+    Aspect,
+    /// Mass relative to the other bodies' (where the stack gives masses).
+    Mass,
+    /// Density relative to the other bodies' (where the stack gives none of
+    /// its masses: mass = density × width × height).
+    Density,
+    /// Offset of the body's centre from the centre of the body below, m.
+    Offset,
+    /// Coefficient of restitution e of the interface under the body.
+    Restitution,
+    /// μs of the interface under the body (with `mu_k_over_mu_s`).
+    MuS,
+    /// μk/μs of the interface under the body (with `mu_s`).
+    MuKOverMuS,
+}
+
+impl StackProperty {
+    /// Every property, in the order an analysis draws them for each body.
+    pub const ALL: [StackProperty; 9] = [
+        StackProperty::Width,
+        StackProperty::Height,
+        StackProperty::Aspect,
+        StackProperty::Mass,
+        StackProperty::Density,
+        StackProperty::Offset,
+        StackProperty::Restitution,
+        StackProperty::MuS,
+        StackProperty::MuKOverMuS,
+    ];
+
+    /// The position of the property in [`StackProperty::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The property's key under `[uncertainty.stack.NAME.BODY]`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StackProperty::Width => "width",
+            StackProperty::Height => "height",
+            StackProperty::Aspect => "aspect",
+            StackProperty::Mass => "mass",
+            StackProperty::Density => "density",
+            StackProperty::Offset => "offset",
+            StackProperty::Restitution => "restitution",
+            StackProperty::MuS => "mu_s",
+            StackProperty::MuKOverMuS => "mu_k_over_mu_s",
+        }
+    }
+
+    /// The physical range `[lo, hi]` of the property and its description.
+    pub fn range(self) -> (f64, f64, &'static str) {
+        let positive = f64::MIN_POSITIVE;
+        match self {
+            StackProperty::Width => (positive, f64::INFINITY, "a positive width 2B in m"),
+            StackProperty::Height => (positive, f64::INFINITY, "a positive height 2H in m"),
+            StackProperty::Aspect => (positive, f64::INFINITY, "a positive aspect ratio H/B"),
+            StackProperty::Mass => (positive, f64::INFINITY, "a positive relative mass"),
+            StackProperty::Density => (positive, f64::INFINITY, "a positive relative density"),
+            StackProperty::Offset => (
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                "a finite offset in m (the footprint within the face below)",
+            ),
+            StackProperty::Restitution => (0.0, 1.0, "a coefficient of restitution in [0, 1]"),
+            StackProperty::MuS => (0.0, f64::INFINITY, "a static friction coefficient μs ≥ 0"),
+            StackProperty::MuKOverMuS => (0.0, 1.0, "a ratio μk/μs in [0, 1]"),
+        }
+    }
+}
+
+/// The level and case keys' domain tag of a stack's draws: a stack's
+/// analysis draws its bodies' properties from a stream of its own, not the
+/// block draws' of the same (seed, record, level, case).
+const STACK_STREAM: u64 = 0x57AC_D2A5_0B0D_1E50;
+
+/// The uniform numbers of one stack analysis's draws: one per body (up to
+/// three, bottom first) and property of [`StackProperty::ALL`], in that
+/// order, whatever is drawn (adding a distribution for one property does
+/// not change the draws of another), from the stream
+/// [`analysis_seed`]`(seed ^ tag, record, level, case)`.
+///
+/// ```
+/// use rockfrag::uncertainty::stack_uniforms;
+/// let u = stack_uniforms(1, 0, 0, 3);
+/// assert!(u.iter().flatten().all(|&x| (0.0..1.0).contains(&x)));
+/// assert_ne!(u, stack_uniforms(1, 1, 0, 3));
+/// ```
+pub fn stack_uniforms(
+    seed: u64,
+    record: u64,
+    level: u64,
+    case: u64,
+) -> [[f64; StackProperty::ALL.len()]; 3] {
+    let mut rng =
+        Xoshiro256PlusPlus::seed_from_u64(analysis_seed(seed ^ STACK_STREAM, record, level, case));
+    std::array::from_fn(|_| std::array::from_fn(|_| rng.random::<f64>()))
 }
 
 /// How one parameter is given under `[uncertainty]`: a distribution, or (for

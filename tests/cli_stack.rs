@@ -246,3 +246,45 @@ fn simulate_study_stack_history_and_mistakes() {
         assert!(stderr(&o).contains(named), "{flags:?}: {}", stderr(&o));
     }
 }
+
+/// Issue 40, item 3: three blocks of one width under finite friction end
+/// with "reached the edge of the body below" at a slip that printed as
+/// 0.0000 m. It is a limit of the model, not a fault: an upper footprint as
+/// wide as the face below has its corners on that face's edges (no
+/// margin), so any slip, or a landing after flight (4.6e-8 m here even
+/// under infinite friction at the upper interfaces), takes one past them
+/// (contact is corner-on-face only). The reason now says so, with the slip
+/// and the margin in metres; narrower upper blocks (0.38 and 0.36 m, margins
+/// of 1 cm) run to the end under the same record and friction.
+#[test]
+fn equal_widths_under_friction_say_the_footprint_has_no_margin() {
+    let run = |stack: &str, mu: &str| {
+        rockfrag(&[
+            "simulate",
+            "--stack",
+            stack,
+            "--seed",
+            "1",
+            "--pga",
+            "0.8",
+            "--interface-mu",
+            mu,
+        ])
+    };
+    let equal = "0.4x0.4,0.4x0.4,0.4x0.4";
+    for mu in ["0.6:0.5,0.6:0.5,0.6:0.5", "0.6:0.5,inf,inf"] {
+        let o = run(equal, mu);
+        let err = stderr(&o);
+        assert!(!o.status.success(), "{err}");
+        for want in [
+            "body 2 reached the edge of the body below",
+            "margin 0.000e0 m",
+            "its footprint reaches the edges of that face",
+            "a narrower upper body is modelled",
+        ] {
+            assert!(err.contains(want), "{mu}: no {want:?} in {err}");
+        }
+    }
+    let o = run("0.4x0.4,0.38x0.4,0.36x0.4", "0.6:0.5,0.6:0.5,0.6:0.5");
+    assert!(o.status.success(), "{}", stderr(&o));
+}

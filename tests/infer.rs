@@ -584,3 +584,37 @@ fn the_joint_interval_is_calibrated_and_the_naive_one_is_not() {
     // Every event has a posterior from the joint method.
     assert!(c.events.iter().all(|e| e.joint.is_some()));
 }
+
+/// A spec with stacks: a surveyed kind is one block, so `infer` refuses it
+/// naming the stack and what is missing (stacked kinds, with which body
+/// fell), instead of leaving the stack out of the inference without a word.
+#[test]
+fn a_spec_with_stacks_is_refused_naming_the_stack() {
+    let tmp = tempfile::tempdir().unwrap();
+    // (with a block list, else the spec's block draws are refused first:
+    // a study of stacks alone draws no block)
+    let small = SMALL.replace("[grid]\n", "[grid]\nwidth = [0.3]\naspect = [4]\n");
+    let text = format!(
+        "{small}[[grid.stack]]\nname = \"tomb\"\n\
+         blocks = [{{ width = 0.8, height = 0.3 }}, {{ width = 0.6, height = 1.0 }}]\n\
+         interfaces = [{{ restitution = 0 }}, {{ restitution = 0 }}]\n"
+    );
+    let spec = write(tmp.path(), "stacked.toml", &text);
+    let o = infer_cli(
+        tmp.path(),
+        "tombs",
+        "name,width,aspect,count,overturned\nslab,0.2,5,10,3\n",
+        &spec,
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    for want in [
+        "stacked.toml",
+        "grid.stack",
+        "stack tomb",
+        "not supported yet",
+    ] {
+        assert!(err.contains(want), "no {want:?} in {err}");
+    }
+    assert!(!tmp.path().join("out-tombs/posterior.csv").exists());
+}

@@ -481,6 +481,7 @@ fn every_outcomes_column_is_documented() {
         sensitivity: true,
         stack: true,
         middle: true,
+        stack_values: true,
     };
     for column in all.list() {
         let name = format!("`{}`", column.name());

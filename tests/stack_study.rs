@@ -141,7 +141,8 @@ fn stack_specs_are_read_and_bad_ones_refused_by_field() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("a study with stacks"), "{err}");
-    // drawn properties beside a stack are refused, not ignored
+    // a block's draw in a study of stacks alone is refused, not ignored,
+    // and says where a stack's draws go
     let drawn = format!(
         "{good}[uncertainty]\nrestitution = {{ dist = \"uniform\", min = 0, max = 0.5 }}\n"
     );
@@ -149,7 +150,7 @@ fn stack_specs_are_read_and_bad_ones_refused_by_field() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains("uncertainty") && err.contains("not supported"),
+        err.contains("uncertainty.restitution") && err.contains("[uncertainty.stack.NAME.BODY]"),
         "{err}"
     );
 }

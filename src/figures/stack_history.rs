@@ -134,12 +134,30 @@ impl StackHistoryFigure {
                  manifest is missing)",
             ));
         };
-        let stack = chosen
-            .own
-            .stack
-            .and_then(|name| study.stacks.iter().find(|s| s.name == name))
-            .map(|s| s.stack.clone())
-            .ok_or_else(|| Error::invalid("history case", id, "a stack of the study"))?;
+        let drawn = chosen.own.stack.and_then(|name| study.stack_draws(name));
+        let stack = match drawn {
+            // a stack that draws: this analysis's own draws, as the run made
+            // them (the study's stack is only their nominal values)
+            Some(_) => {
+                let again = crate::study::reanalyse(study, &id, chosen.level, chosen.record, None)?;
+                match again.analysed.analysis {
+                    Some(crate::case::Scene::Stack(stack)) => stack,
+                    _ => {
+                        return Err(Error::invalid(
+                            "history case",
+                            id,
+                            "an analysis whose draws make a valid stack (its row failed)",
+                        ));
+                    }
+                }
+            }
+            None => chosen
+                .own
+                .stack
+                .and_then(|name| study.stacks.iter().find(|s| s.name == name))
+                .map(|s| s.stack.clone())
+                .ok_or_else(|| Error::invalid("history case", id, "a stack of the study"))?,
+        };
         if !study.intensity.levels().contains(&chosen.level) {
             return Err(Error::invalid(
                 "history level",

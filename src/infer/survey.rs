@@ -390,6 +390,22 @@ pub fn models(
     settings: &InferSettings,
     spec: &Path,
 ) -> Result<Vec<KindModel>> {
+    if let Some(stack) = study.stacks.first() {
+        // a surveyed kind is one block: a stack of the spec would be left
+        // out of the inference without a word
+        return Err(Error::Spec {
+            path: spec.to_path_buf(),
+            line: 0,
+            field: "grid.stack".into(),
+            value: format!("stack {}", stack.name),
+            expected: format!(
+                "no [[grid.stack]] for rockfrag infer: a surveyed kind is one block on the \
+                 ground (width, aspect in {}); kinds that are stacks (a tombstone's die on its \
+                 base, with which body fell) are not supported yet",
+                survey.path.display()
+            ),
+        });
+    }
     if let Some(u) = &study.uncertainty {
         for p in [Property::Width, Property::Aspect] {
             if u.get(p).is_some() {
@@ -432,6 +448,7 @@ fn model(
         restitution: None,
         mu_s: None,
         mu_k_over_mu_s: None,
+        stacks: Vec::new(),
     };
     let restitution = match kind.restitution {
         Some(e) => Param::Fixed(e),

@@ -110,6 +110,72 @@ pub enum Column {
     FirstOverturned,
     /// One body's response (`top.overturned`, …; empty for a block's row).
     Body(Slot, BodyField),
+    /// One body's value in the analysis (`top.width`, …: drawn values as
+    /// drawn; studies whose stacks draw under `[uncertainty]`; empty for a
+    /// block's row).
+    BodyValue(Slot, ValueField),
+}
+
+/// One body's values in a stack study whose stacks draw
+/// (`[uncertainty.stack]`), each named `SLOT.FIELD` (`top.width`,
+/// `base.mu_s`): the body's own and those of the interface under it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ValueField {
+    /// Width 2B (m).
+    Width,
+    /// Height 2H (m).
+    Height,
+    /// Mass, relative to the others'.
+    Mass,
+    /// Offset of its centre from the centre of the body below (m).
+    Offset,
+    /// Restitution of the interface under it.
+    Restitution,
+    /// μs of the interface under it (empty under infinite friction).
+    MuS,
+    /// μk of the interface under it (empty under infinite friction).
+    MuK,
+}
+
+impl ValueField {
+    /// Every field, in column order.
+    pub const ALL: [ValueField; 7] = [
+        ValueField::Width,
+        ValueField::Height,
+        ValueField::Mass,
+        ValueField::Offset,
+        ValueField::Restitution,
+        ValueField::MuS,
+        ValueField::MuK,
+    ];
+
+    /// The field's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ValueField::Width => "width",
+            ValueField::Height => "height",
+            ValueField::Mass => "mass",
+            ValueField::Offset => "offset",
+            ValueField::Restitution => "restitution",
+            ValueField::MuS => "mu_s",
+            ValueField::MuK => "mu_k",
+        }
+    }
+
+    /// The field of `b` (`None`: μ under infinite friction).
+    pub fn of(self, b: &crate::case::BodyValues) -> Option<f64> {
+        use crate::solver::Friction;
+        match (self, b.friction) {
+            (ValueField::Width, _) => Some(b.width),
+            (ValueField::Height, _) => Some(b.height),
+            (ValueField::Mass, _) => Some(b.mass),
+            (ValueField::Offset, _) => Some(b.offset),
+            (ValueField::Restitution, _) => Some(b.restitution),
+            (ValueField::MuS, Friction::Coulomb { mu_s, .. }) => Some(mu_s),
+            (ValueField::MuK, Friction::Coulomb { mu_k, .. }) => Some(mu_k),
+            (_, Friction::Infinite) => None,
+        }
+    }
 }
 
 /// One body's columns in a stack study's `outcomes.csv`, each named
@@ -303,13 +369,16 @@ impl Column {
         if let Column::Body(slot, field) = self {
             return Cow::Owned(format!("{}.{}", slot.name(), field.name()));
         }
+        if let Column::BodyValue(slot, field) = self {
+            return Cow::Owned(format!("{}.{}", slot.name(), field.name()));
+        }
         Cow::Borrowed(self.static_name())
     }
 
     /// The name of a column other than an IM's.
     const fn static_name(self) -> &'static str {
         match self {
-            Column::Im(_) | Column::Body(..) => "",
+            Column::Im(_) | Column::Body(..) | Column::BodyValue(..) => "",
             Column::Stack => "stack",
             Column::FirstOverturned => "first_overturned",
             Column::Aspect => "aspect",
@@ -631,6 +700,9 @@ pub struct Columns {
     pub stack: bool,
     /// A stack of three: the `middle.…` columns too.
     pub middle: bool,
+    /// The study's stacks draw properties (`[uncertainty.stack]`): each
+    /// body's values (`base.width`, …, `top.mu_k`) after the case columns.
+    pub stack_values: bool,
 }
 
 impl Columns {
@@ -647,6 +719,7 @@ impl Columns {
         sensitivity: true,
         stack: true,
         middle: true,
+        stack_values: true,
     };
 
     /// The outcome columns of a successful row, in order: [`OUTCOME`], then
@@ -678,7 +751,15 @@ impl Columns {
         if self.stack {
             v.push(Column::Stack);
         }
-        v.extend(CASE.into_iter().chain(GROUND));
+        v.extend(CASE);
+        if self.stack_values {
+            for slot in Slot::ALL {
+                if slot != Slot::Middle || self.middle {
+                    v.extend(ValueField::ALL.map(|f| Column::BodyValue(slot, f)));
+                }
+            }
+        }
+        v.extend(GROUND);
         if self.pairs {
             v.extend(ROTD50);
         }
@@ -746,6 +827,7 @@ mod tests {
             sensitivity: true,
             stack: false,
             middle: false,
+            stack_values: false,
         };
         let names = all.names();
         let mut sorted = names.clone();

@@ -36,6 +36,10 @@ pub struct OutcomeRow {
     pub scale: Option<f64>,
     /// The outcome, or why the analysis failed.
     pub result: std::result::Result<Outcome, String>,
+    /// A stack's bodies as simulated, by slot (drawn values as drawn;
+    /// `None` for a block, or a stack whose values are not written: see
+    /// [`Columns::stack_values`]).
+    pub bodies: Option<crate::case::StackValues>,
     /// Whether the analysis is sensitive: solved again under its record
     /// scaled by 1 + 1e-9, its outcome changed
     /// ([`crate::solver::sensitivity()`]). `None` when the study did not ask
@@ -125,6 +129,7 @@ impl Columns {
             scale,
             result,
             sensitive: None,
+            bodies: None,
         }
     }
 
@@ -181,12 +186,55 @@ impl OutcomeRow {
                     let _ = write!(out, "{b}");
                 }
             }
+            Column::BodyValue(slot, field) => {
+                num(
+                    out,
+                    self.bodies
+                        .and_then(|b| b[slot.index()])
+                        .and_then(|b| field.of(&b)),
+                );
+            }
             c => {
                 if let Ok(o) = &self.result {
                     c.write_value(o, out);
                 }
             }
         }
+    }
+}
+
+/// Sets `field` of the body at `slot` of `row` to `x` (as
+/// [`OutcomeRow::write_field`] wrote it: μs and μk make Coulomb friction,
+/// infinite friction writes neither).
+fn read_body_value(
+    row: &mut OutcomeRow,
+    slot: crate::outcome::Slot,
+    field: super::columns::ValueField,
+    x: f64,
+) {
+    use super::columns::ValueField as V;
+    use crate::solver::Friction;
+    let body =
+        row.bodies.get_or_insert([None; 3])[slot.index()].get_or_insert(crate::case::BodyValues {
+            width: f64::NAN,
+            height: f64::NAN,
+            mass: f64::NAN,
+            offset: f64::NAN,
+            restitution: f64::NAN,
+            friction: Friction::Infinite,
+        });
+    let (mu_s, mu_k) = match body.friction {
+        Friction::Coulomb { mu_s, mu_k } => (mu_s, mu_k),
+        Friction::Infinite => (f64::NAN, f64::NAN),
+    };
+    match field {
+        V::Width => body.width = x,
+        V::Height => body.height = x,
+        V::Mass => body.mass = x,
+        V::Offset => body.offset = x,
+        V::Restitution => body.restitution = x,
+        V::MuS => body.friction = Friction::Coulomb { mu_s: x, mu_k },
+        V::MuK => body.friction = Friction::Coulomb { mu_s, mu_k: x },
     }
 }
 
@@ -285,6 +333,7 @@ impl OutcomesFile {
             scale: None,
             result: Ok(Outcome::default()),
             sensitive: None,
+            bodies: None,
         };
         let failed = row.failed();
         let mut error = String::new();
@@ -321,6 +370,11 @@ impl OutcomesFile {
                     }
                 }
                 Column::Stack => {}
+                Column::BodyValue(slot, field) => {
+                    if let Some(x) = opt()? {
+                        read_body_value(&mut out, slot, field, x);
+                    }
+                }
                 Column::Sensitive => {
                     out.sensitive = match text {
                         "" => None,
@@ -377,6 +431,7 @@ mod tests {
                 sensitivity: false,
                 stack: false,
                 middle: false,
+                stack_values: false,
             },
             Columns::ALL,
         ] {

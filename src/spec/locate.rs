@@ -88,6 +88,20 @@ fn locate(text: &str, field: &str) -> usize {
         .split('.')
         .map(|p| p.split('[').next().unwrap_or(p))
         .collect();
+    // a field that is a table written only as deeper headers
+    // (`uncertainty.stack.NAME` of `[uncertainty.stack.NAME.top]`): its
+    // first header
+    let whole = parts.join(".");
+    if let Some(h) = lines.iter().position(|l| {
+        let t = l.trim().trim_start_matches('[').trim_start();
+        t.strip_prefix(whole.as_str())
+            .is_some_and(|rest| rest.starts_with(['.', ']']))
+            && l.trim().starts_with('[')
+    }) && index.iter().all(|&i| i == 0)
+        && !lines.iter().any(|l| assigns(l, parts[parts.len() - 1]))
+    {
+        return h + 1;
+    }
     for split in (0..parts.len()).rev() {
         let table = parts[..split].join(".");
         let (start, header) = if table.is_empty() {
@@ -161,6 +175,11 @@ mod tests {
         let tables = "[[f.ls]]\nname = \"a\"\n[[f.ls]]\nname = \"a\"\n";
         assert_eq!(locate(tables, "f.ls[1].name"), 4);
         assert_eq!(locate(tables, "f.ls[0].name"), 2);
+        // a table written as deeper headers only
+        let deep = "[u]\nseed = 1\n[u.stack.s.top]\nwidth = 1\n";
+        assert_eq!(locate(deep, "u.stack.s"), 3);
+        assert_eq!(locate(deep, "u.stack.s.top"), 3);
+        assert_eq!(locate(deep, "u.stack.s.top.width"), 4);
     }
 
     #[test]

@@ -41,6 +41,7 @@ mod infer;
 mod locate;
 mod raw;
 mod stack;
+mod stack_draws;
 mod study;
 mod uncertainty;
 mod validate;
@@ -48,9 +49,10 @@ mod validate;
 pub use infer::InferSettings;
 pub use raw::{
     FrictionEntry, GridFile, LevelRange, Levels, MotionFile, OutputFile, RecordEntry, SpecFile,
-    StackBlockEntry, StackEntry, StackInterfaceEntry, UncertaintyFile,
+    StackBlockEntry, StackDrawEntry, StackEntry, StackInterfaceEntry, UncertaintyFile,
 };
-pub use stack::StudyStack;
+pub use stack::{BodyForm, StudyStack};
+pub use stack_draws::StackDraws;
 pub use study::{
     Adaptive, Intensity, MAX_SPEC_BYTES, Motions, Orientation, RecordFile, SHENTON_JONES_ORIGIN,
     SHENTON_JONES_TOML, Study, Uncertainty, analysis_values, fnv1a64, friction_label,

@@ -223,6 +223,100 @@ pub struct UncertaintyFile {
     /// with `seed`, as the block's parameters are.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub orientation: Option<Value>,
+    /// The drawn properties of the bodies of the study's stacks, by the
+    /// stack's name and the body's (`base`, `middle`, `top`):
+    /// `[uncertainty.stack.statue_on_pedestal.top]` (see [`StackDrawEntry`]).
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub stack:
+        std::collections::BTreeMap<String, std::collections::BTreeMap<String, StackDrawEntry>>,
+}
+
+/// `[uncertainty.stack.NAME.BODY]`: what one body of a stack draws per
+/// analysis, each replacing its value in `[[grid.stack]]`; `restitution`,
+/// `mu_s` and `mu_k_over_mu_s` are those of the interface the body stands
+/// on, as a single block's are of its contact with the ground.
+///
+/// ```toml
+/// [uncertainty.stack.statue_on_pedestal.top]
+/// width = { dist = "normal", mean = 0.3, sd = 0.01, min = 0.27, max = 0.33 }
+/// restitution = { dist = "uniform", min = 0.0, max = 0.3 }
+/// mu_s = { dist = "lognormal", median = 0.6, beta = 0.15 }
+/// mu_k_over_mu_s = 0.85
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct StackDrawEntry {
+    /// Width 2B, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub width: Option<Value>,
+    /// Height 2H, m (or `aspect`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub height: Option<Value>,
+    /// Aspect ratio H/B (or `height`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<Value>,
+    /// Relative mass (where the stack gives masses).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass: Option<Value>,
+    /// Relative density (where the stack gives no masses).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub density: Option<Value>,
+    /// Offset from the centre of the body below, m (not the base's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub offset: Option<Value>,
+    /// Restitution of the interface under the body.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<Value>,
+    /// μs of the interface under the body (with `mu_k_over_mu_s`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu_s: Option<Value>,
+    /// μk/μs of the interface under the body (with `mu_s`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu_k_over_mu_s: Option<Value>,
+}
+
+impl StackDrawEntry {
+    /// The values given, in the order of
+    /// [`crate::uncertainty::StackProperty::ALL`].
+    pub fn values(&self) -> [Option<Value>; 9] {
+        [
+            self.width,
+            self.height,
+            self.aspect,
+            self.mass,
+            self.density,
+            self.offset,
+            self.restitution,
+            self.mu_s,
+            self.mu_k_over_mu_s,
+        ]
+    }
+
+    /// The entry that gives `values` (in the order of [`StackDrawEntry::values`]).
+    pub fn from_values(values: [Option<Value>; 9]) -> StackDrawEntry {
+        let [
+            width,
+            height,
+            aspect,
+            mass,
+            density,
+            offset,
+            restitution,
+            mu_s,
+            mu_k_over_mu_s,
+        ] = values;
+        StackDrawEntry {
+            width,
+            height,
+            aspect,
+            mass,
+            density,
+            offset,
+            restitution,
+            mu_s,
+            mu_k_over_mu_s,
+        }
+    }
 }
 
 /// The `[output]` table. `outcomes.csv` and `manifest.json` are always

@@ -26,30 +26,61 @@ use crate::solver::Friction;
 use crate::solver::stack::{Stack, StackBody, StackInterface};
 
 /// A validated stack of a study: its name and the stack the solver takes.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct StudyStack {
     /// Its name (`outcomes.csv`'s `stack` column).
     pub name: StackName,
     /// The stack, at rest, under the study's gravity.
     pub stack: Stack,
+    /// How each body gives its height and mass (bottom first), which a
+    /// drawn width or height carries along (`StudyStack::drawn`).
+    pub forms: Vec<BodyForm>,
+}
+
+/// How a body of `[[grid.stack]]` gives its height and mass, so that a
+/// drawn width or height carries them along.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyForm {
+    /// The aspect ratio H/B, when the block gives it instead of a height.
+    pub aspect: Option<f64>,
+    /// The relative density, when the stack gives no masses (mass =
+    /// density × width × height).
+    pub density: Option<f64>,
+}
+
+/// Two stacks are equal when their names and stacks are: how the spec gave
+/// a height or a mass ([`StudyStack::forms`]) matters only to a stack's
+/// draws, and the canonical text of a stack that draws keeps it
+/// ([`StudyStack::to_entry`]).
+impl PartialEq for StudyStack {
+    fn eq(&self, other: &StudyStack) -> bool {
+        self.name == other.name && self.stack == other.stack
+    }
 }
 
 impl StudyStack {
     /// The stack as a canonical `[[grid.stack]]` table: every value
-    /// explicit (heights, masses, offsets, friction).
-    pub fn to_entry(&self) -> StackEntry {
+    /// explicit (heights, masses, offsets, friction); `as_given` writes an
+    /// aspect or a density where the spec gave one instead of the height or
+    /// mass it makes (what drawn properties of the stack follow).
+    pub fn to_entry(&self, as_given: bool) -> StackEntry {
         StackEntry {
             name: Some(self.name.to_string()),
             blocks: self
                 .stack
                 .bodies
                 .iter()
-                .map(|b| StackBlockEntry {
-                    width: Some(b.width),
-                    height: Some(b.height),
-                    mass: Some(b.mass),
-                    offset: Some(b.offset),
-                    ..StackBlockEntry::default()
+                .zip(&self.forms)
+                .map(|(b, form)| {
+                    let form = if as_given { *form } else { Default::default() };
+                    StackBlockEntry {
+                        width: Some(b.width),
+                        height: form.aspect.is_none().then_some(b.height),
+                        aspect: form.aspect,
+                        mass: form.density.is_none().then_some(b.mass),
+                        density: form.density,
+                        offset: Some(b.offset),
+                    }
                 })
                 .collect(),
             interfaces: self
@@ -121,6 +152,7 @@ pub(super) fn stacks(spec: &Origin, entries: &[StackEntry], g: f64) -> Result<Ve
         }
         let masses = entry.blocks.iter().filter(|b| b.mass.is_some()).count();
         let mut bodies = Vec::with_capacity(n);
+        let mut forms = Vec::with_capacity(n);
         for (i, b) in entry.blocks.iter().enumerate() {
             let field = |f: &str| at(&format!("blocks[{i}].{f}"));
             let positive = |f: &str, v: f64, what: &str| {
@@ -200,6 +232,10 @@ pub(super) fn stacks(spec: &Origin, entries: &[StackEntry], g: f64) -> Result<Ve
                 mass,
                 offset,
             });
+            forms.push(BodyForm {
+                aspect: b.height.is_none().then_some(b.aspect).flatten(),
+                density: (masses == 0).then(|| b.density.unwrap_or(1.0)),
+            });
         }
         let mut interfaces = Vec::with_capacity(n);
         for (i, f) in entry.interfaces.iter().enumerate() {
@@ -266,7 +302,7 @@ pub(super) fn stacks(spec: &Origin, entries: &[StackEntry], g: f64) -> Result<Ve
         if let Err(e) = stack.validate() {
             return Err(spec.nested(&format!("grid.stack[{s}]."), body_field(e)));
         }
-        out.push(StudyStack { name, stack });
+        out.push(StudyStack { name, stack, forms });
     }
     Ok(out)
 }
@@ -308,11 +344,10 @@ fn body_field(err: crate::error::Error) -> crate::error::Error {
 
 /// What a study with stacks cannot have: the linearised model or the
 /// paper's rock-impact reading (the stack solver integrates the full
-/// equations and the impact law in full), or drawn properties.
+/// equations and the impact law in full), or an adaptive run.
 pub(super) fn settings(
     spec: &Origin,
     solver: &crate::solver::SolverSettings,
-    uncertainty: Option<&super::raw::UncertaintyFile>,
     grid: &super::raw::GridFile,
 ) -> Result<()> {
     if solver.model == crate::solver::Model::Linear {
@@ -327,15 +362,6 @@ pub(super) fn settings(
             "solver.rock_impact",
             &String::from("rock"),
             "bounce in a study with stacks (the impact law in full)",
-        ));
-    }
-    if uncertainty.is_some() {
-        return Err(spec.bad(
-            "uncertainty",
-            &String::from("a table"),
-            "no [uncertainty] in a study with [[grid.stack]]: drawing the properties of a \
-             stack's blocks is not supported yet (give the stacks to compare as several \
-             [[grid.stack]] tables)",
         ));
     }
     if grid.scale_factors.is_none()

@@ -101,6 +101,9 @@ pub struct Uncertainty {
     pub mu_s: Option<Value>,
     /// μk/μs (with `mu_s`).
     pub mu_k_over_mu_s: Option<Value>,
+    /// What the study's stacks draw (`[uncertainty.stack.NAME.BODY]`), one
+    /// entry per stack that draws, in the order of their names.
+    pub stacks: Vec<super::stack_draws::StackDraws>,
 }
 
 impl Uncertainty {
@@ -502,7 +505,11 @@ impl Study {
                 pgv,
                 scale_factors,
                 orientation: grid_orientation,
-                stack: self.stacks.iter().map(|s| s.to_entry()).collect(),
+                stack: self
+                    .stacks
+                    .iter()
+                    .map(|s| s.to_entry(self.stack_draws(s.name).is_some()))
+                    .collect(),
             },
             uncertainty: match (&self.uncertainty, drawn_orientation) {
                 (Some(u), orientation) => Some(UncertaintyFile {
@@ -513,6 +520,7 @@ impl Study {
                     mu_s: u.mu_s,
                     mu_k_over_mu_s: u.mu_k_over_mu_s,
                     orientation,
+                    stack: super::stack_draws::to_table(&u.stacks),
                 }),
                 (None, Some(orientation)) => Some(UncertaintyFile {
                     seed: orientation_seed,
@@ -559,6 +567,18 @@ impl Study {
             ..self.clone()
         };
         analyses.hash()
+    }
+
+    /// What stack `name` draws per analysis, if it draws anything.
+    pub fn stack_draws(
+        &self,
+        name: crate::case::StackName,
+    ) -> Option<&super::stack_draws::StackDraws> {
+        self.uncertainty
+            .as_ref()?
+            .stacks
+            .iter()
+            .find(|d| d.stack == name)
     }
 
     /// The case fields drawn per analysis (none without `[uncertainty]`).

@@ -1,5 +1,6 @@
 //! `[uncertainty]`: block parameters drawn per analysis, each replacing the
-//! grid list of the same name.
+//! grid list of the same name, and a stack's (`[uncertainty.stack.NAME.BODY]`,
+//! [`super::stack_draws`]).
 
 use super::locate::Origin;
 use super::raw::{GridFile, UncertaintyFile};
@@ -17,6 +18,7 @@ pub(super) fn uncertainty(
     table: Option<UncertaintyFile>,
     grid: &GridFile,
     seed: u64,
+    stacks: &[super::stack::StudyStack],
 ) -> Result<Option<Uncertainty>> {
     let Some(table) = table else {
         return Ok(None);
@@ -28,13 +30,15 @@ pub(super) fn uncertainty(
         table.mu_s,
         table.mu_k_over_mu_s,
     ];
-    if values.iter().all(Option::is_none) {
+    if values.iter().all(Option::is_none) && table.stack.is_empty() {
         return Err(spec.bad(
             "uncertainty",
             &"[uncertainty]",
-            "at least one of width, aspect, restitution, mu_s (with mu_k_over_mu_s)",
+            "at least one of width, aspect, restitution, mu_s (with mu_k_over_mu_s), or a \
+             stack's [uncertainty.stack.NAME.BODY]",
         ));
     }
+    let stack_draws = super::stack_draws::stack_draws(spec, &table.stack, stacks)?;
     let on_grid = [
         grid.width.is_some(),
         grid.aspect.is_some(),
@@ -111,5 +115,28 @@ pub(super) fn uncertainty(
         restitution,
         mu_s,
         mu_k_over_mu_s,
+        stacks: stack_draws,
     }))
+}
+
+/// In a study of stacks alone (no block case), `[uncertainty]` keys of a
+/// block would draw nothing: refused, saying where a stack's draws go.
+pub(super) fn no_block_draws(spec: &Origin, table: Option<&UncertaintyFile>) -> Result<()> {
+    let Some(u) = table else { return Ok(()) };
+    let given = [
+        ("restitution", u.restitution.is_some()),
+        ("mu_s", u.mu_s.is_some()),
+        ("mu_k_over_mu_s", u.mu_k_over_mu_s.is_some()),
+    ];
+    if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+        return Err(spec.bad(
+            &format!("uncertainty.{key}"),
+            &"(given)",
+            "a draw of a block case, and this study has stacks only: draw a \
+             stack's under [uncertainty.stack.NAME.BODY] (BODY base, middle or top), \
+             or give grid.width or grid.aspect for block cases (rockfrag infer \
+             takes no stacks yet)",
+        ));
+    }
+    Ok(())
 }

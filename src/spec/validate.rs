@@ -124,11 +124,21 @@ impl SpecFile {
         };
         let stacks = super::stack::stacks(&spec, &grid_file.stack, g)?;
         // with stacks, the block lists make cases only when a block is named
-        let blocks = stacks.is_empty() || grid_file.width.is_some() || grid_file.aspect.is_some();
+        // (on the grid, or drawn)
+        let drawn_block = uncertainty_file
+            .as_ref()
+            .is_some_and(|u| u.width.is_some() || u.aspect.is_some());
+        let blocks = stacks.is_empty()
+            || grid_file.width.is_some()
+            || grid_file.aspect.is_some()
+            || drawn_block;
         if !stacks.is_empty() {
-            super::stack::settings(&spec, &self.solver, uncertainty_file.as_ref(), &grid_file)?;
+            super::stack::settings(&spec, &self.solver, &grid_file)?;
         }
-        let uncertainty = uncertainty(&spec, uncertainty_file, &grid_file, seed)?;
+        if !blocks {
+            super::uncertainty::no_block_draws(&spec, uncertainty_file.as_ref())?;
+        }
+        let uncertainty = uncertainty(&spec, uncertainty_file, &grid_file, seed, &stacks)?;
         let mut grid = grid(&spec, grid_file, g, recorded, uncertainty.as_ref())?;
         if !blocks {
             grid.widths.clear();
@@ -417,6 +427,7 @@ fn only_seed(u: &UncertaintyFile) -> bool {
         && u.restitution.is_none()
         && u.mu_s.is_none()
         && u.mu_k_over_mu_s.is_none()
+        && u.stack.is_empty()
 }
 
 /// What `record_files` holds: single components, or pairs of them.

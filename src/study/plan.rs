@@ -37,16 +37,33 @@ pub fn analysis(
     number: usize,
     unit: &Unit,
 ) -> (CaseValues, crate::error::Result<Scene>) {
-    // a stack's parameters are not drawn
+    // a stack's case values are its own (nominal) ones; its draws are its
+    // scene's
     let uncertainty = study.uncertainty.as_ref().filter(|_| case.stack.is_none());
     let own = analysis_values(uncertainty, case, unit.record, unit.level, number);
     let scene = match case.stack {
-        Some(name) => study
-            .stacks
-            .iter()
-            .find(|s| s.name == name)
-            .map(|s| Scene::Stack(s.stack.clone()))
-            .ok_or_else(|| Error::invalid("stack", name.to_string(), "a stack of the study")),
+        Some(name) => match (
+            study.stacks.iter().find(|s| s.name == name),
+            study.stack_draws(name),
+        ) {
+            // a stack's draws: one stream per (record, level, case), as a block's
+            (Some(s), Some(draws)) => {
+                let seed = study.uncertainty.as_ref().map_or(0, |u| u.seed);
+                let u = crate::uncertainty::stack_uniforms(
+                    seed,
+                    unit.record as u64,
+                    unit.level as u64,
+                    number as u64,
+                );
+                s.drawn(draws, &u).map(Scene::Stack)
+            }
+            (Some(s), None) => Ok(Scene::Stack(s.stack.clone())),
+            (None, _) => Err(Error::invalid(
+                "stack",
+                name.to_string(),
+                "a stack of the study",
+            )),
+        },
         None => own.analysis(study.g).map(Scene::Block),
     };
     (own, scene)
@@ -65,6 +82,10 @@ pub fn columns(study: &Study) -> Columns {
         sensitivity: study.output.sensitivity,
         stack: !study.stacks.is_empty(),
         middle: study.stacks.iter().any(|s| s.stack.bodies.len() == 3),
+        stack_values: study
+            .uncertainty
+            .as_ref()
+            .is_some_and(|u| !u.stacks.is_empty()),
     }
 }
 

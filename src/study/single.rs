@@ -244,6 +244,9 @@ pub(super) fn analyse(
     };
     let mut row = cols.row(own, &info, result.clone());
     row.sensitive = sensitive;
+    if let (true, Ok(Scene::Stack(stack))) = (cols.stack_values, &analysis) {
+        row.bodies = Some(crate::case::BodyValues::of(stack));
+    }
     let mut text = String::with_capacity(256);
     cols.write_row(&mut text, &row);
     let analysed = Analysed {

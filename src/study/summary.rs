@@ -490,10 +490,43 @@ fn provenance_section(study: &Study, manifest: Option<&Manifest>) -> String {
     s
 }
 
+/// `name ~ distribution(…)` or `name = x`, for the summary.
+fn value_text(name: &str, v: &Value) -> String {
+    let bounds = |min: Option<f64>, max: Option<f64>| match (min, max) {
+        (None, None) => String::new(),
+        (lo, hi) => format!(
+            " truncated to [{}, {}]",
+            lo.map_or("−∞".into(), |x| x.to_string()),
+            hi.map_or("∞".into(), |x| x.to_string())
+        ),
+    };
+    match v {
+        Value::Fixed(x) => format!("{name} = {x}"),
+        Value::Drawn(Distribution::Uniform { min, max }) => {
+            format!("{name} ~ uniform({min}, {max})")
+        }
+        Value::Drawn(Distribution::Normal { mean, sd, min, max }) => {
+            format!(
+                "{name} ~ normal(mean {mean}, sd {sd}){}",
+                bounds(*min, *max)
+            )
+        }
+        Value::Drawn(Distribution::Lognormal {
+            median,
+            beta,
+            min,
+            max,
+        }) => format!(
+            "{name} ~ lognormal(median {median}, β {beta}){}",
+            bounds(*min, *max)
+        ),
+    }
+}
+
 /// One sentence on what each analysis draws: "Drawn per analysis (seed 7):
 /// e ~ uniform(0, 0.9); …; the tables pool the draws (`drawn`)."
 fn uncertainty_text(u: &Uncertainty) -> String {
-    let parts: Vec<String> = Property::ALL
+    let mut parts: Vec<String> = Property::ALL
         .iter()
         .filter_map(|&p| u.get(p).map(|v| (p, v)))
         .map(|(p, v)| {
@@ -504,37 +537,28 @@ fn uncertainty_text(u: &Uncertainty) -> String {
                 Property::MuS => "μs",
                 Property::MuKOverMuS => "μk/μs",
             };
-            let bounds = |min: Option<f64>, max: Option<f64>| match (min, max) {
-                (None, None) => String::new(),
-                (lo, hi) => format!(
-                    " truncated to [{}, {}]",
-                    lo.map_or("−∞".into(), |x| x.to_string()),
-                    hi.map_or("∞".into(), |x| x.to_string())
-                ),
-            };
-            match v {
-                Value::Fixed(x) => format!("{name} = {x}"),
-                Value::Drawn(Distribution::Uniform { min, max }) => {
-                    format!("{name} ~ uniform({min}, {max})")
-                }
-                Value::Drawn(Distribution::Normal { mean, sd, min, max }) => {
-                    format!(
-                        "{name} ~ normal(mean {mean}, sd {sd}){}",
-                        bounds(*min, *max)
-                    )
-                }
-                Value::Drawn(Distribution::Lognormal {
-                    median,
-                    beta,
-                    min,
-                    max,
-                }) => format!(
-                    "{name} ~ lognormal(median {median}, β {beta}){}",
-                    bounds(*min, *max)
-                ),
-            }
+            value_text(name, v)
         })
         .collect();
+    // a stack's: `stack statue top: 2B (m) ~ normal(…), …`
+    for d in &u.stacks {
+        let n = d.bodies.len();
+        for (i, values) in d.bodies.iter().enumerate() {
+            let given: Vec<String> = crate::uncertainty::StackProperty::ALL
+                .iter()
+                .zip(values)
+                .filter_map(|(p, v)| v.as_ref().map(|v| value_text(p.name(), v)))
+                .collect();
+            if !given.is_empty() {
+                parts.push(format!(
+                    "stack {} {}: {}",
+                    d.stack,
+                    crate::outcome::Slot::of(i, n).name(),
+                    given.join(", ")
+                ));
+            }
+        }
+    }
     format!(
         "Drawn per analysis (`[uncertainty]`, seed {}): {}. Each case pools its analyses over \
          the draws (`drawn` in the tables); outcomes.csv holds each analysis's own values.",

@@ -755,11 +755,22 @@ impl<'a> Run<'a> {
                     touching && corner_rel(&rel, sp, cp, bk, hk, side)[0].abs() > edge
                 });
                 if off {
+                    // a footprint as wide as the face below leaves no margin:
+                    // any slip puts a corner past the edge
+                    let margin = self.sc.b[k - 1] - (self.sc.offset[k].abs() + bk);
+                    let why = if margin <= 1e-9 * self.sc.b[k - 1] {
+                        " (its footprint reaches the edges of that face, so a slip or a \
+                         landing after flight of any size takes a corner past them; a \
+                         narrower upper body is modelled)"
+                    } else {
+                        ""
+                    };
                     self.fail(format!(
-                        "body {} reached the edge of the body below (slip {:.4} m): a body \
-                         running off its support is not modelled",
+                        "body {} reached the edge of the body below (slip {:.3e} m, margin \
+                         {:.3e} m){why}: a body running off its support is not modelled",
                         k + 1,
-                        slip.abs()
+                        slip.abs(),
+                        margin.max(0.0)
                     ));
                 }
             }
