@@ -27,7 +27,9 @@ use super::figure::{DrawResult, Figure};
 use super::history::{ChosenRun, Drawn, HistoryFigure, HistorySource, acc_label, record_name};
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, PALETTE, Style, tick_label};
-use crate::case::{Case, Param};
+use crate::case::Case;
+use crate::solver::Friction;
+use crate::io_util::sig3;
 use crate::error::{Error, Result};
 use crate::outcome::{Mode, Slot};
 use crate::solver::stack::{Stack, StackHistory, StackOutcome, simulate_stack};
@@ -170,11 +172,14 @@ impl StackHistoryFigure {
         let mut history = StackHistory::default();
         let outcome = simulate_stack(&stack, record, &study.solver, Some(&mut history))?;
 
+        // a stack of the grid as the spec gave it; a drawn one to three
+        // figures (all its digits are in outcomes.csv)
+        let num: fn(f64) -> String = if drawn.is_some() { drawn_value } else { tick_label };
         let name = chosen.own.stack.map_or_else(String::new, |n| n.to_string());
         let title = format!(
             "Stack {name}: {}; {}; {} at {}",
-            bodies_text(&stack),
-            interfaces_text(&stack),
+            bodies_text(&stack, num),
+            interfaces_text(&stack, num),
             record_name(options, chosen.record),
             chosen.level_text
         );
@@ -242,8 +247,8 @@ impl StackHistoryFigure {
                 };
                 let mut label = format!(
                     "{slot} on {on} ({} × {} m)",
-                    tick_label(body.width),
-                    tick_label(body.height)
+                    num(body.width),
+                    num(body.height)
                 );
                 if let Some((t, _)) = over {
                     let fell = k > 0 && outcome.bodies[k - 1].overturn_time == Some(t);
@@ -288,9 +293,16 @@ fn sig(t: f64) -> String {
     tick_label((t * 1000.0).round() / 1000.0)
 }
 
+/// A drawn value for a title or legend: three significant figures, without
+/// trailing zeros.
+fn drawn_value(x: f64) -> String {
+    tick_label(sig3(x).parse().unwrap_or(x))
+}
+
 /// The bodies for a title: `base 0.6 × 1.0 m, top 0.3 × 1.2 m` (2B × 2H),
-/// with their relative masses when they are not of one density.
-fn bodies_text(stack: &Stack) -> String {
+/// with their relative masses when they are not of one density; values
+/// formatted by `num`.
+fn bodies_text(stack: &Stack, num: fn(f64) -> String) -> String {
     let n = stack.bodies.len();
     let density = |b: &crate::solver::stack::StackBody| b.mass / (b.width * b.height);
     let d0 = density(&stack.bodies[0]);
@@ -306,14 +318,14 @@ fn bodies_text(stack: &Stack) -> String {
             let mut s = format!(
                 "{} {} × {} m",
                 Slot::of(k, n).name(),
-                tick_label(b.width),
-                tick_label(b.height)
+                num(b.width),
+                num(b.height)
             );
             if !same {
-                s.push_str(&format!(" (mass {})", tick_label(b.mass)));
+                s.push_str(&format!(" (mass {})", num(b.mass)));
             }
             if b.offset != 0.0 {
-                s.push_str(&format!(", offset {} m", tick_label(b.offset)));
+                s.push_str(&format!(", offset {} m", num(b.offset)));
             }
             s
         })
@@ -323,10 +335,13 @@ fn bodies_text(stack: &Stack) -> String {
 
 /// The interfaces for a title: `e = 0, μ = ∞ at both interfaces`, or each
 /// named by the body standing on it (`under the base: …; under the top: …`).
-fn interfaces_text(stack: &Stack) -> String {
+fn interfaces_text(stack: &Stack, num: fn(f64) -> String) -> String {
     let text = |i: &crate::solver::stack::StackInterface| {
-        let mu = super::data::friction_label(&Param::Fixed(i.friction));
-        format!("e = {}, {mu}", tick_label(i.restitution))
+        let mu = match i.friction {
+            Friction::Infinite => "μ = ∞".to_string(),
+            Friction::Coulomb { mu_s, mu_k } => format!("μₛ = {}, μₖ = {}", num(mu_s), num(mu_k)),
+        };
+        format!("e = {}, {mu}", num(i.restitution))
     };
     let all: Vec<String> = stack.interfaces.iter().map(text).collect();
     let n = all.len();
@@ -443,5 +458,22 @@ impl Figure for StackHistoryFigure {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::drawn_value;
+
+    /// A drawn stack's title showed its draws to six figures
+    /// (`top 0.377614 × 1 m`, `μₛ = 0.569688`); three are what a reader
+    /// compares, without trailing zeros, with the figures' minus sign.
+    #[test]
+    fn drawn_values_are_titled_to_three_figures() {
+        assert_eq!(drawn_value(0.377_614), "0.378");
+        assert_eq!(drawn_value(0.569_688), "0.57");
+        assert_eq!(drawn_value(1.0), "1");
+        assert_eq!(drawn_value(12.345), "12.3");
+        assert_eq!(drawn_value(-0.0524), "\u{2212}0.0524");
     }
 }
