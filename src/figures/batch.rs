@@ -331,8 +331,8 @@ impl StudyFigures {
         let stacks = super::compare::CompareFigure::of_cases(&data);
         if stacks.is_some() {
             notes.push(
-                "fragility: a stack's case is drawn by its top block's H/B, e and μ there; \
-                 stacks.* draws each case and body apart"
+                "fragility: a stack's case is plotted there under its top block's H/B, e \
+                 and μ; stacks.* plots each case and body apart"
                     .to_string(),
             );
         }
