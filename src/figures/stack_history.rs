@@ -28,10 +28,10 @@ use super::history::{ChosenRun, Drawn, HistoryFigure, HistorySource, acc_label, 
 use super::layout::{self, Dash, Entry, Frame, Margins, Marker, Sample, curve, markers};
 use super::style::{LINE_PT, PAGE_WIDTH_IN, PALETTE, Style, tick_label};
 use crate::case::Case;
-use crate::solver::Friction;
-use crate::io_util::sig3;
 use crate::error::{Error, Result};
+use crate::io_util::sig3;
 use crate::outcome::{Mode, Slot};
+use crate::solver::Friction;
 use crate::solver::stack::{Stack, StackHistory, StackOutcome, simulate_stack};
 use crate::study::{CommandBlock, Source};
 use std::path::Path;
@@ -174,7 +174,11 @@ impl StackHistoryFigure {
 
         // a stack of the grid as the spec gave it; a drawn one to three
         // figures (all its digits are in outcomes.csv)
-        let num: fn(f64) -> String = if drawn.is_some() { drawn_value } else { tick_label };
+        let num: fn(f64) -> String = if drawn.is_some() {
+            drawn_value
+        } else {
+            tick_label
+        };
         let name = chosen.own.stack.map_or_else(String::new, |n| n.to_string());
         let title = format!(
             "Stack {name}: {}; {}; {} at {}",
