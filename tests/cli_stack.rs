@@ -272,7 +272,10 @@ fn equal_widths_under_friction_say_the_footprint_has_no_margin() {
         ])
     };
     let equal = "0.4x0.4,0.4x0.4,0.4x0.4";
-    for mu in ["0.6:0.5,0.6:0.5,0.6:0.5", "0.6:0.5,inf,inf"] {
+    // (with infinite friction between the blocks it ran off at a slip of
+    // rounding size, 4.6e-8 m, before the edge tolerance of 1e-6: see
+    // `equal_widths_are_not_ended_by_rounding_at_the_edge`)
+    for mu in ["0.6:0.5,0.6:0.5,0.6:0.5"] {
         let o = run(equal, mu);
         let err = stderr(&o);
         assert!(!o.status.success(), "{err}");
@@ -287,4 +290,44 @@ fn equal_widths_under_friction_say_the_footprint_has_no_margin() {
     }
     let o = run("0.4x0.4,0.38x0.4,0.36x0.4", "0.6:0.5,0.6:0.5,0.6:0.5");
     assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// Three blocks of one width: each upper body's corners sit on the edges of
+/// the face below, and under Coulomb friction at the ground the rounding of
+/// the slip's integration (1.1e-9 m for body 2 in the first run, 4.6e-8 m
+/// in the second, both with infinite friction between the blocks) took a
+/// corner past an edge held to 1e-9 of the half-width, ending the analysis
+/// (at 15.06 s and 17.2 s) as "a body running off its support". At the edge
+/// tolerance of 1e-6 (0.2 µm here) both run to the end (the second to the
+/// whole stack's overturning); the slips stay at rounding size (below
+/// 1e-7 m), so nothing ran off.
+#[test]
+fn equal_widths_are_not_ended_by_rounding_at_the_edge() {
+    for (seed, pga, overturns) in [("2", "0.5", false), ("1", "0.8", true)] {
+        let o = rockfrag(&[
+            "simulate",
+            "--stack",
+            "0.4x0.4,0.4x0.4,0.4x0.4",
+            "--seed",
+            seed,
+            "--pga",
+            pga,
+            "--interface-mu",
+            "0.6:0.5,inf,inf",
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+        assert!(v["failure"].is_null(), "{}", v["failure"]);
+        let bodies = v["bodies"].as_array().unwrap();
+        assert_eq!(
+            bodies[0]["overturned"].as_bool(),
+            Some(overturns),
+            "seed {seed}"
+        );
+        for b in &bodies[1..] {
+            let slip = b["slip_max"].as_f64().unwrap();
+            assert!(slip < 1e-7, "seed {seed}: an upper body slipped {slip} m");
+        }
+    }
 }

@@ -58,6 +58,14 @@ const QD: usize = MAX_DOF;
 const SLOTS: usize = 4;
 /// Event slots.
 const NE: usize = SLOTS * MAX_BODIES;
+/// How far past the edge of the face below, relative to that face's
+/// half-width, a corner of the body above may be and still count as on it.
+/// A stack of equal widths has its upper corners on the edges below, and
+/// under Coulomb friction slips of 1e-9 to 5e-8 m (rounding in the slip's
+/// integration) took them past an edge at 1e-9 and ended the analysis; at
+/// 1e-6 the contact's lever arm is off by at most that fraction, and a
+/// genuine slip off the support (millimetres) is still refused.
+const EDGE_TOLERANCE: f64 = 1e-6;
 /// Interior points at which a step is scanned for events.
 const SUB: usize = 4;
 /// The cascade rule's rest threshold ε_r (`settle_cascades`): after an
@@ -746,7 +754,7 @@ impl<'a> Run<'a> {
             if k > 0 && m.touch != Touch::Open {
                 let (sp, cp) = ch.rtrig[k];
                 let (bk, hk) = (self.sc.b[k], self.sc.h[k]);
-                let edge = self.sc.b[k - 1] * (1.0 + 1e-9);
+                let edge = self.sc.b[k - 1] * (1.0 + EDGE_TOLERANCE);
                 let off = [-1.0, 1.0].into_iter().any(|side| {
                     let touching = match m.touch {
                         Touch::Corner(c) => c == side,
@@ -758,7 +766,7 @@ impl<'a> Run<'a> {
                     // a footprint as wide as the face below leaves no margin:
                     // any slip puts a corner past the edge
                     let margin = self.sc.b[k - 1] - (self.sc.offset[k].abs() + bk);
-                    let why = if margin <= 1e-9 * self.sc.b[k - 1] {
+                    let why = if margin <= EDGE_TOLERANCE * self.sc.b[k - 1] {
                         " (its footprint reaches the edges of that face, so a slip or a \
                          landing after flight of any size takes a corner past them; a \
                          narrower upper body is modelled)"
