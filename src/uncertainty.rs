@@ -456,7 +456,7 @@ impl StackProperty {
         match self {
             StackProperty::Width => (positive, f64::INFINITY, "a positive width 2B in m"),
             StackProperty::Height => (positive, f64::INFINITY, "a positive height 2H in m"),
-            StackProperty::Aspect => (positive, f64::INFINITY, "a positive aspect ratio H/B"),
+            StackProperty::Aspect => Property::Aspect.range(),
             StackProperty::Mass => (positive, f64::INFINITY, "a positive relative mass"),
             StackProperty::Density => (positive, f64::INFINITY, "a positive relative density"),
             StackProperty::Offset => (
@@ -464,9 +464,10 @@ impl StackProperty {
                 f64::INFINITY,
                 "a finite offset in m (the footprint within the face below)",
             ),
-            StackProperty::Restitution => (0.0, 1.0, "a coefficient of restitution in [0, 1]"),
-            StackProperty::MuS => (0.0, f64::INFINITY, "a static friction coefficient μs ≥ 0"),
-            StackProperty::MuKOverMuS => (0.0, 1.0, "a ratio μk/μs in [0, 1]"),
+            // the interface's, as a block's contact with the ground
+            StackProperty::Restitution => Property::Restitution.range(),
+            StackProperty::MuS => Property::MuS.range(),
+            StackProperty::MuKOverMuS => Property::MuKOverMuS.range(),
         }
     }
 }

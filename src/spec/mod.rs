@@ -37,6 +37,7 @@
 //! summary = true
 
 mod adaptive;
+mod draw_checks;
 mod infer;
 mod locate;
 mod raw;

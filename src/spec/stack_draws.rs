@@ -23,6 +23,7 @@
 //! dimensions. Every analysis of the stack takes one uniform number per body
 //! and property, drawn or not ([`crate::uncertainty::stack_uniforms`]).
 
+use super::draw_checks::{check_value, friction_pair};
 use super::locate::Origin;
 use super::raw::StackDrawEntry;
 use super::stack::StudyStack;
@@ -208,49 +209,22 @@ pub(super) fn stack_draws(
                 if let Some(expected) = refused {
                     return Err(spec.bad(&field, &"(given)", &expected));
                 }
-                let (lo, hi, what) = p.range();
-                match value {
-                    Value::Drawn(d) => d
-                        .validate(&field, lo, hi, what)
-                        .map_err(|e| spec.nested("", e))?,
-                    Value::Fixed(x) if matches!(p, P::MuS | P::MuKOverMuS) => {
-                        if !(x.is_finite() && (lo..=hi).contains(x)) {
-                            return Err(spec.bad(&field, x, what));
-                        }
-                    }
-                    Value::Fixed(x) => {
-                        return Err(spec.bad(
-                            &field,
-                            x,
-                            &format!(
-                                "a distribution table such as {{ dist = \"uniform\", min = …, \
-                                 max = … }} (a fixed value belongs in {block}.{})",
-                                match p {
-                                    P::Restitution => "restitution of its interface",
-                                    _ => p.name(),
-                                }
-                            ),
-                        ));
-                    }
-                }
+                let fixed_allowed = matches!(p, P::MuS | P::MuKOverMuS);
+                check_value(spec, &field, value, p.range(), fixed_allowed, |_| {
+                    let key = match p {
+                        P::Restitution => "restitution of its interface",
+                        _ => p.name(),
+                    };
+                    format!("in {block}.{key}")
+                })?;
             }
-            match (values[P::MuS.index()], values[P::MuKOverMuS.index()]) {
-                (Some(_), None) => {
-                    return Err(spec.bad(
-                        &format!("{field}.mu_k_over_mu_s"),
-                        &"(missing)",
-                        "a distribution or a number in [0, 1] beside mu_s (μk = μs·ratio)",
-                    ));
-                }
-                (None, Some(_)) => {
-                    return Err(spec.bad(
-                        &format!("{field}.mu_s"),
-                        &"(missing)",
-                        "a distribution, or a number for a fixed μs, beside mu_k_over_mu_s",
-                    ));
-                }
-                _ => {}
-            }
+            friction_pair(
+                spec,
+                &field,
+                "",
+                values[P::MuS.index()].is_some(),
+                values[P::MuKOverMuS.index()].is_some(),
+            )?;
             draws.bodies[i] = values;
         }
         // the draws at their medians must make a valid stack; a draw

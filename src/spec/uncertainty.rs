@@ -2,11 +2,12 @@
 //! grid list of the same name, and a stack's (`[uncertainty.stack.NAME.BODY]`,
 //! [`super::stack_draws`]).
 
+use super::draw_checks::{check_value, friction_pair};
 use super::locate::Origin;
 use super::raw::{GridFile, UncertaintyFile};
 use super::study::Uncertainty;
 use crate::error::Result;
-use crate::uncertainty::{Property, Value};
+use crate::uncertainty::Property;
 
 /// Validates `[uncertainty]` against the `[grid]` as written: a parameter
 /// is on the grid or drawn, never both; `mu_s` and `mu_k_over_mu_s` come
@@ -63,51 +64,19 @@ pub(super) fn uncertainty(
                 ),
             ));
         }
-        let (lo, hi, what) = param.range();
-        match value {
-            Value::Drawn(d) => d
-                .validate(&field, lo, hi, what)
-                .map_err(|e| spec.nested("", e))?,
-            Value::Fixed(x) => {
-                if matches!(
-                    param,
-                    Property::Width | Property::Aspect | Property::Restitution
-                ) {
-                    return Err(spec.bad(
-                        &field,
-                        x,
-                        &format!(
-                            "a distribution table such as {{ dist = \"uniform\", min = …, max = … }} \
-                             (a fixed value belongs on the grid: grid.{} = [{x}])",
-                            param.name()
-                        ),
-                    ));
-                }
-                if !(x.is_finite() && (lo..=hi).contains(x)) {
-                    return Err(spec.bad(&field, x, what));
-                }
-            }
-        }
+        let fixed_allowed = matches!(param, Property::MuS | Property::MuKOverMuS);
+        check_value(spec, &field, value, param.range(), fixed_allowed, |x| {
+            format!("on the grid: grid.{} = [{x}]", param.name())
+        })?;
     }
     let [width, aspect, restitution, mu_s, mu_k_over_mu_s] = values;
-    match (&mu_s, &mu_k_over_mu_s) {
-        (Some(_), None) => {
-            return Err(spec.bad(
-                "uncertainty.mu_k_over_mu_s",
-                &"(missing)",
-                "a distribution or a number in [0, 1] beside uncertainty.mu_s (μk = μs·ratio)",
-            ));
-        }
-        (None, Some(_)) => {
-            return Err(spec.bad(
-                "uncertainty.mu_s",
-                &"(missing)",
-                "a distribution, or a number for a fixed μs, beside \
-                 uncertainty.mu_k_over_mu_s",
-            ));
-        }
-        _ => {}
-    }
+    friction_pair(
+        spec,
+        "uncertainty",
+        "uncertainty.",
+        mu_s.is_some(),
+        mu_k_over_mu_s.is_some(),
+    )?;
     Ok(Some(Uncertainty {
         seed: table.seed.unwrap_or(seed),
         width,
